@@ -1,0 +1,13 @@
+// LCM channel names of the landing-approach simulation.
+#pragma once
+
+namespace rnav::ch {
+inline constexpr const char* kWindow = "SIM_WINDOW";          // rnav::sim_window_t, clock -> all
+inline constexpr const char* kAck = "SIM_ACK";                // rnav::node_ack_t, all -> clock
+inline constexpr const char* kTruth = "TRUTH_AIRCRAFT";       // rnav::aircraft_truth_batch_t
+inline constexpr const char* kNav = "NAV_SOLUTION";           // rnav::nav_batch_t
+inline constexpr const char* kApoi = "PRL_APOI";              // rnav::prl_plot_batch_t, raw plots
+inline constexpr const char* kPrlError = "TRUTH_PRL_ERROR";   // rnav::prl_error_batch_t
+inline constexpr const char* kToi = "PRL_TOI";                // rnav::prl_plot_batch_t, compensated
+inline constexpr const char* kBias = "PRL_BIAS";              // rnav::prl_bias_batch_t
+}  // namespace rnav::ch

@@ -1,0 +1,176 @@
+#include "config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace rnav {
+
+namespace {
+std::string fmt(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+}  // namespace
+
+Section::Section(const nlohmann::json& j, std::string path) : j_(j), path_(std::move(path)) {
+  if (j_.is_null()) j_ = nlohmann::json::object();
+  if (!j_.is_object())
+    throw ConfigError("scenario key '" + (path_.empty() ? std::string("<root>") : path_) +
+                      "': expected an object, got " + j_.dump());
+}
+
+std::string Section::key_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+bool Section::has(const std::string& key) const { return j_.contains(key); }
+
+const nlohmann::json* Section::find(const std::string& key) {
+  used_.insert(key);
+  auto it = j_.find(key);
+  if (it == j_.end() || it->is_null()) return nullptr;
+  return &*it;
+}
+
+double Section::as_number(const std::string& key, const nlohmann::json& v, double lo,
+                          double hi) const {
+  if (!v.is_number())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a number, got " + v.dump());
+  const double x = v.get<double>();
+  if (!std::isfinite(x))
+    throw ConfigError("scenario key '" + key_path(key) + "': not a finite number");
+  if (x < lo || x > hi)
+    throw ConfigError("scenario key '" + key_path(key) + "': " + fmt(x) + " is out of range [" +
+                      fmt(lo) + ", " + fmt(hi) + "]");
+  return x;
+}
+
+double Section::number(const std::string& key, double def, double lo, double hi) {
+  const auto* v = find(key);
+  return v ? as_number(key, *v, lo, hi) : def;
+}
+
+double Section::required_number(const std::string& key, double lo, double hi) {
+  const auto* v = find(key);
+  if (!v) throw ConfigError("scenario key '" + key_path(key) + "' is required");
+  return as_number(key, *v, lo, hi);
+}
+
+long Section::integer(const std::string& key, long def, long lo, long hi) {
+  const auto* v = find(key);
+  if (!v) return def;
+  if (!v->is_number_integer())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected an integer, got " +
+                      v->dump());
+  const long x = v->get<long>();
+  if (x < lo || x > hi)
+    throw ConfigError("scenario key '" + key_path(key) + "': " + std::to_string(x) +
+                      " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return x;
+}
+
+bool Section::boolean(const std::string& key, bool def) {
+  const auto* v = find(key);
+  if (!v) return def;
+  if (!v->is_boolean())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected true or false, got " +
+                      v->dump());
+  return v->get<bool>();
+}
+
+std::string Section::string(const std::string& key, const std::string& def) {
+  const auto* v = find(key);
+  if (!v) return def;
+  if (!v->is_string())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a string, got " + v->dump());
+  return v->get<std::string>();
+}
+
+std::vector<std::pair<double, double>> Section::intervals(const std::string& key, double lo,
+                                                          double hi) {
+  std::vector<std::pair<double, double>> out;
+  const auto* v = find(key);
+  if (!v) return out;
+  if (!v->is_array())
+    throw ConfigError("scenario key '" + key_path(key) +
+                      "': expected a list of [begin, end] pairs, got " + v->dump());
+  for (const auto& p : *v) {
+    if (!p.is_array() || p.size() != 2)
+      throw ConfigError("scenario key '" + key_path(key) + "': expected [begin, end], got " +
+                        p.dump());
+    const double a = as_number(key, p[0], lo, hi), b = as_number(key, p[1], lo, hi);
+    if (!(a < b))
+      throw ConfigError("scenario key '" + key_path(key) + "': interval " + p.dump() +
+                        " must have begin < end");
+    out.emplace_back(a, b);
+  }
+  return out;
+}
+
+std::vector<double> Section::numbers(const std::string& key, const std::vector<double>& def,
+                                     double lo, double hi) {
+  const auto* v = find(key);
+  if (!v) return def;
+  if (!v->is_array())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a list of numbers, got " +
+                      v->dump());
+  std::vector<double> out;
+  for (const auto& x : *v) out.push_back(as_number(key, x, lo, hi));
+  return out;
+}
+
+Section Section::section(const std::string& key) {
+  const auto* v = find(key);
+  return Section(v ? *v : nlohmann::json::object(), key_path(key));
+}
+
+void Section::finish() const {
+  std::string unknown;
+  for (auto it = j_.begin(); it != j_.end(); ++it)
+    if (!used_.count(it.key())) unknown += (unknown.empty() ? "" : ", ") + key_path(it.key());
+  if (!unknown.empty()) throw ConfigError("unknown scenario key(s): " + unknown);
+}
+
+nlohmann::json load_json_file(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError("cannot open scenario file '" + file + "'");
+  try {
+    return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ConfigError("scenario file '" + file + "': " + e.what());
+  }
+}
+
+void apply_override(nlohmann::json& doc, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError("override '" + assignment + "': expected key.path=value");
+  const std::string path = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  nlohmann::json value;
+  try {
+    value = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error&) {
+    value = text;
+  }
+  nlohmann::json* node = &doc;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = path.find('.', start);
+    const std::string part = path.substr(start, dot == std::string::npos ? dot : dot - start);
+    if (part.empty()) throw ConfigError("override '" + assignment + "': empty key component");
+    if (!node->is_object()) throw ConfigError("override '" + assignment + "': '" + part +
+                                              "' is inside a non-object");
+    if (dot == std::string::npos) {
+      (*node)[part] = value;
+      return;
+    }
+    node = &(*node)[part];
+    if (node->is_null()) *node = nlohmann::json::object();
+    start = dot + 1;
+  }
+}
+
+}  // namespace rnav

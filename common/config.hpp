@@ -1,0 +1,69 @@
+// Scenario configuration: JSON files with sections, strict validation.
+//
+// Every key read is recorded; Section::finish() throws for any key that was not read,
+// so a misspelt key is an error naming it, never silently ignored. Numbers are checked
+// for type, finiteness and range, and errors name the full key path (e.g. "prl.period_s").
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// Bad user input in a scenario or on the command line. what() names the culprit.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A view of one JSON object (a scenario section) that records which keys were read.
+class Section {
+ public:
+  /// @param j     the JSON object (must be an object, else ConfigError)
+  /// @param path  full key path of this section, used in error messages ("" for the root)
+  Section(const nlohmann::json& j, std::string path);
+
+  /// A finite number in [lo, hi]; `def` when the key is absent.
+  double number(const std::string& key, double def, double lo, double hi);
+  /// A required finite number in [lo, hi].
+  double required_number(const std::string& key, double lo, double hi);
+  /// An integer in [lo, hi]; `def` when absent.
+  long integer(const std::string& key, long def, long lo, long hi);
+  bool boolean(const std::string& key, bool def);
+  std::string string(const std::string& key, const std::string& def);
+  /// A list of [begin, end] pairs of finite numbers in [lo, hi] with begin < end.
+  std::vector<std::pair<double, double>> intervals(const std::string& key, double lo, double hi);
+  /// A list of finite numbers in [lo, hi]; `def` when absent.
+  std::vector<double> numbers(const std::string& key, const std::vector<double>& def, double lo,
+                              double hi);
+  /// A nested section; an absent key gives an empty section.
+  Section section(const std::string& key);
+  bool has(const std::string& key) const;
+
+  /// Throws ConfigError naming every key of this section that was never read.
+  void finish() const;
+
+  const std::string& path() const { return path_; }
+  std::string key_path(const std::string& key) const;
+
+ private:
+  const nlohmann::json* find(const std::string& key);
+  double as_number(const std::string& key, const nlohmann::json& v, double lo, double hi) const;
+
+  nlohmann::json j_;
+  std::string path_;
+  std::set<std::string> used_;
+};
+
+/// Load a JSON file; errors name the file and the parse position.
+nlohmann::json load_json_file(const std::string& file);
+
+/// Apply an override "a.b.c=value" to a JSON document. `value` is parsed as JSON when it
+/// parses (numbers, true/false, arrays), otherwise taken as a string.
+void apply_override(nlohmann::json& doc, const std::string& assignment);
+
+}  // namespace rnav

@@ -1,0 +1,216 @@
+#include "scenario.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace rnav {
+
+std::int64_t to_us(double t_s) { return std::llround(t_s * 1e6); }
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One description of every key, used both to parse (Reader) and to print (Writer).
+struct Reader {
+  Section& s;
+  void num(const char* k, double& x, double lo, double hi) { x = s.number(k, x, lo, hi); }
+  void integer(const char* k, long& x, long lo, long hi) { x = s.integer(k, x, lo, hi); }
+  void i64(const char* k, std::int64_t& x, double lo, double hi) {
+    x = static_cast<std::int64_t>(s.number(k, static_cast<double>(x), lo, hi));
+  }
+  void flag(const char* k, bool& x) { x = s.boolean(k, x); }
+  void list(const char* k, std::vector<double>& x, double lo, double hi) {
+    x = s.numbers(k, x, lo, hi);
+  }
+  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double lo, double hi) {
+    if (s.has(k)) x = s.intervals(k, lo, hi); else (void)s.intervals(k, lo, hi);
+  }
+};
+
+struct Writer {
+  nlohmann::json& j;
+  void num(const char* k, double& x, double, double) { j[k] = x; }
+  void integer(const char* k, long& x, long, long) { j[k] = x; }
+  void i64(const char* k, std::int64_t& x, double, double) { j[k] = x; }
+  void flag(const char* k, bool& x) { j[k] = x; }
+  void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
+  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
+    j[k] = nlohmann::json::array();
+    for (auto& p : x) j[k].push_back({p.first, p.second});
+  }
+};
+
+template <class V> void visit(RunwayOptions& o, V& v) {
+  v.num("threshold_lat_deg", o.threshold.lat_deg, -89, 89);
+  v.num("threshold_lon_deg", o.threshold.lon_deg, -180, 180);
+  v.num("threshold_h_m", o.threshold.h_m, -500, 9000);
+  v.num("heading_deg", o.heading_deg, 0, 360);
+}
+template <class V> void visit(RadarSiteOptions& o, V& v) {
+  v.num("x_m", o.x_m, -5000, 5000);
+  v.num("z_m", o.z_m, -3000, 3000);
+  v.num("antenna_height_m", o.antenna_height_m, 0, 100);
+  v.num("azimuth_reference_deg", o.azimuth_reference_deg, -1, 360);
+}
+template <class V> void visit(TrajectoryOptions& o, V& v) {
+  v.num("start_x_m", o.start_x_m, 1000, 200000);
+  v.num("start_y_m", o.start_y_m, 10, 15000);
+  v.num("start_z_m", o.start_z_m, -100000, 100000);
+  v.num("speed_mps", o.speed_mps, 10, 300);
+  v.num("intercept_x_m", o.intercept_x_m, 0, 200000);
+  v.num("bank_deg", o.bank_deg, 1, 60);
+  v.num("glide_deg", o.glide_deg, 0.5, 10);
+  v.num("aim_x_m", o.aim_x_m, -5000, 5000);
+  v.num("end_x_m", o.end_x_m, -5000, 50000);
+  v.num("step_s", o.step_s, 0.01, 10);
+}
+template <class V> void visit(PrlOptions& o, V& v) {
+  v.num("period_s", o.period_s, 0.01, 60);
+  v.num("phase_s", o.phase_s, 0, 60);
+  v.num("max_range_m", o.max_range_m, 100, 500000);
+  v.num("bias_range_m", o.bias_range_m, -1000, 1000);
+  v.num("bias_course_deg", o.bias_course_deg, -10, 10);
+  v.num("bias_glide_deg", o.bias_glide_deg, -10, 10);
+  v.num("noise2s_range_m", o.noise2s_range_m, 0, 1000);
+  v.num("noise2s_course_deg", o.noise2s_course_deg, 0, 10);
+  v.num("noise2s_glide_deg", o.noise2s_glide_deg, 0, 10);
+  v.num("drift_sigma_range_m", o.drift_sigma_range_m, 0, 1000);
+  v.num("drift_sigma_course_deg", o.drift_sigma_course_deg, 0, 10);
+  v.num("drift_sigma_glide_deg", o.drift_sigma_glide_deg, 0, 10);
+  v.num("drift_tau_s", o.drift_tau_s, 1, kInf);
+}
+template <class V> void visit(SnsinsOptions& o, V& v) {
+  v.num("link_period_s", o.link_period_s, 0.01, 60);
+  v.num("link_phase_s", o.link_phase_s, 0, 60);
+  v.num("latency_s", o.latency_s, 0, 10);
+  v.num("corr_sigma_m", o.corr_sigma_m, 0, 1000);
+  v.num("corr_tau_s", o.corr_tau_s, 0.01, kInf);
+  v.num("white_sigma_m", o.white_sigma_m, 0, 1000);
+  v.num("sns_period_s", o.sns_period_s, 0.001, 10);
+  v.num("ins_tau_s", o.ins_tau_s, 0, 10000);
+  v.num("vel_sigma_mps", o.vel_sigma_mps, 0, 100);
+  v.intervals("dropouts", o.dropouts, 0, 1e6);
+}
+template <class V> void visit(PrlBiasOptions& o, V& v) {
+  v.num("switch_time_s", o.switch_time_s, 0, 1e6);
+  v.num("delta_range_m", o.delta_range_m, 1e-6, 1e4);
+  v.num("delta_course_deg", o.delta_course_deg, 1e-9, 10);
+  v.num("delta_glide_deg", o.delta_glide_deg, 1e-9, 10);
+  v.num("tau_s", o.tau_s, 1, kInf);
+  v.num("noise2s_range_m", o.noise2s_range_m, 1e-6, 1000);
+  v.num("noise2s_course_deg", o.noise2s_course_deg, 1e-9, 10);
+  v.num("noise2s_glide_deg", o.noise2s_glide_deg, 1e-9, 10);
+  v.flag("add_nav_variance", o.add_nav_variance);
+  v.num("nav_wait_s", o.nav_wait_s, 0, 60);
+  v.num("max_nav_gap_s", o.max_nav_gap_s, 0.01, 60);
+  v.flag("compensate_during_estimation", o.compensate_during_estimation);
+}
+template <class V> void visit(LoggerOptions& o, V& v) {
+  v.list("table_ranges_m", o.table_ranges_m, 0, 1e6);
+  v.num("table_halfwidth_m", o.table_halfwidth_m, 1, 1e5);
+  v.num("range_bin_m", o.range_bin_m, 10, 1e5);
+}
+template <class V> void visit(RunnerOptions& o, V& v) {
+  v.num("window_s", o.window_s, 0.01, 1e5);
+  v.num("flush_s", o.flush_s, 0, 1e4);
+  v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
+  v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);
+  v.integer("max_attempts", o.max_attempts, 1, 100);
+  v.i64("epoch_utime", o.epoch_utime, 0, 4e15);
+}
+
+template <class O> void read_section(Section& root, const char* name, O& o) {
+  Section s = root.section(name);
+  Reader r{s};
+  visit(o, r);
+  s.finish();
+}
+template <class O> void write_section(nlohmann::json& root, const char* name, O& o) {
+  Writer w{root[name]};
+  visit(o, w);
+}
+
+// t must be an integer multiple of step (both in us).
+void require_multiple(double t_s, double step_s, const std::string& key) {
+  const auto t = to_us(t_s), step = to_us(step_s);
+  if (step <= 0 || t % step != 0)
+    throw ConfigError("scenario key '" + key + "' = " + std::to_string(t_s) +
+                      " s must be a multiple of trajectory.step_s = " + std::to_string(step_s) +
+                      " s (radar and nav samples lie on the truth grid)");
+}
+
+}  // namespace
+
+Scenario Scenario::from_json(const nlohmann::json& doc) {
+  Scenario sc;
+  Section root(doc, "");
+  sc.name = root.string("name", sc.name);
+  read_section(root, "runway", sc.runway);
+  read_section(root, "radar", sc.radar);
+  read_section(root, "trajectory", sc.trajectory);
+  read_section(root, "prl", sc.prl);
+  read_section(root, "snsins", sc.snsins);
+  read_section(root, "prl_bias", sc.prl_bias);
+  read_section(root, "logger", sc.logger);
+  read_section(root, "runner", sc.runner);
+  root.finish();
+
+  if (sc.radar.azimuth_reference_deg < 0)
+    sc.radar.azimuth_reference_deg = std::fmod(sc.runway.heading_deg + 180.0, 360.0);
+  const double step = sc.trajectory.step_s;
+  require_multiple(sc.prl.period_s, step, "prl.period_s");
+  require_multiple(sc.prl.phase_s, step, "prl.phase_s");
+  require_multiple(sc.snsins.link_period_s, step, "snsins.link_period_s");
+  require_multiple(sc.snsins.link_phase_s, step, "snsins.link_phase_s");
+  require_multiple(sc.runner.window_s, step, "runner.window_s");
+  if (sc.runner.flush_s <= sc.prl_bias.nav_wait_s + sc.snsins.latency_s)
+    throw ConfigError("scenario key 'runner.flush_s' must exceed prl_bias.nav_wait_s + "
+                      "snsins.latency_s so every plot is decided before the realization ends");
+  if (sc.trajectory.end_x_m >= sc.trajectory.intercept_x_m)
+    throw ConfigError("scenario key 'trajectory.end_x_m' must be below trajectory.intercept_x_m");
+  if (sc.logger.table_ranges_m.empty())
+    throw ConfigError("scenario key 'logger.table_ranges_m' must list at least one range");
+  return sc;
+}
+
+Scenario Scenario::load(const std::string& file, const std::vector<std::string>& overrides) {
+  nlohmann::json doc = load_json_file(file);
+  for (const auto& o : overrides) apply_override(doc, o);
+  try {
+    return from_json(doc);
+  } catch (const ConfigError& e) {
+    throw ConfigError(file + ": " + e.what());
+  }
+}
+
+LocalLevelFrame Scenario::landing_frame() const {
+  return LocalLevelFrame(runway.threshold, std::fmod(runway.heading_deg + 180.0, 360.0));
+}
+
+Geodetic Scenario::radar_site() const {
+  Geodetic g = landing_frame().to_geodetic(Eigen::Vector3d(radar.x_m, 0.0, radar.z_m));
+  g.h_m = runway.threshold.h_m + radar.antenna_height_m;
+  return g;
+}
+
+LocalLevelFrame Scenario::radar_frame() const {
+  return LocalLevelFrame(radar_site(), radar.azimuth_reference_deg);
+}
+
+void Scenario::print(std::ostream& os) const {
+  Scenario c = *this;
+  nlohmann::json j;
+  j["name"] = c.name;
+  write_section(j, "runway", c.runway);
+  write_section(j, "radar", c.radar);
+  write_section(j, "trajectory", c.trajectory);
+  write_section(j, "prl", c.prl);
+  write_section(j, "snsins", c.snsins);
+  write_section(j, "prl_bias", c.prl_bias);
+  write_section(j, "logger", c.logger);
+  write_section(j, "runner", c.runner);
+  os << j.dump(2) << "\n";
+}
+
+}  // namespace rnav

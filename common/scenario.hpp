@@ -1,0 +1,153 @@
+// The landing-approach scenario: every option of every process, with unit, default and range.
+//
+// One JSON file configures all processes; each process loads the whole file (so a misspelt
+// key anywhere is an error in every process, naming it) and uses its own sections.
+// Defaults reproduce the paper's conditions (../shared/docs/method.md) plus the documented
+// choices for what the paper leaves open (speed, lateral path, radar site, airfield).
+#pragma once
+
+#include "config.hpp"
+#include "frames.hpp"
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rnav {
+
+/// Runway: origin and orientation of the landing frame L.
+struct RunwayOptions {
+  /// Threshold on WGS84. Default: Vienna (LOWW) runway 29 threshold, approximate public
+  /// coordinates (not from the AIP); the airfield of our real ADS-B approaches.
+  Geodetic threshold{48.10153, 16.58495, 228.0};
+  double heading_deg = 295.9;  ///< landing true heading [deg], [0, 360)
+};
+
+/// Radar (PRL) site and azimuth reference. Site given in L, surveyed (known to the estimator).
+struct RadarSiteOptions {
+  double x_m = -900.0;  ///< [m] along the runway axis from the threshold (negative: beside the runway), [-5000, 5000]
+  double z_m = 180.0;   ///< [m] lateral offset from the centreline in L, [-3000, 3000]
+  double antenna_height_m = 4.0;  ///< [m] antenna above the threshold's ellipsoidal height, [0, 100]
+  /// [deg] true bearing of the radar's x-axis (course angle 0); default: the runway axis
+  /// pointing away from the runway (landing heading + 180). [0, 360)
+  double azimuth_reference_deg = -1;  // -1 = default, resolved in Scenario::load
+};
+
+/// Aircraft path in L (paper: start x = 30860 m, z = 9860 m, y = 400 m; level, then 2 deg 40').
+/// Lateral path: a straight leg from the start towards the centreline point (intercept_x_m, 0),
+/// a coordinated turn at bank_deg onto the centreline, then straight in. Constant ground speed.
+struct TrajectoryOptions {
+  double start_x_m = 30860;   ///< [m] paper
+  double start_y_m = 400;     ///< [m] paper; also the level-leg height in L
+  double start_z_m = 9860;    ///< [m] paper
+  double speed_mps = 75;      ///< [m/s] horizontal ground speed (our choice: a military approach speed), (10, 300]
+  double intercept_x_m = 27000;  ///< [m] where the first leg would cross the centreline (our choice)
+  double bank_deg = 25;       ///< [deg] bank angle of the turn onto final (our choice), (0, 60]
+  double glide_deg = 2.0 + 40.0 / 60.0;  ///< [deg] descent angle 2 deg 40' (paper), (0, 10]
+  double aim_x_m = -300;      ///< [m] where the glide path meets y = 0 (our choice: touchdown zone)
+  double end_x_m = 0;         ///< [m] the run ends when the aircraft reaches this x on final
+  double step_s = 0.25;       ///< [s] truth sample step; radar and nav sample times lie on this grid
+};
+
+/// Landing radar error model (Table 1) and schedule.
+struct PrlOptions {
+  double period_s = 1.0;       ///< [s] plot period (update rate), multiple of trajectory.step_s
+  double phase_s = 0.0;        ///< [s] time of the first plot, multiple of trajectory.step_s
+  double max_range_m = 40000;  ///< [m] no plots beyond this slant range
+  double bias_range_m = 6;     ///< [m] constant systematic range error (Table 1)
+  double bias_course_deg = 0.1;  ///< [deg] constant systematic course-angle error (Table 1)
+  double bias_glide_deg = 0.15;  ///< [deg] constant systematic glide-angle error (Table 1)
+  double noise2s_range_m = 24;   ///< [m] fluctuation error, 2 sigma (Table 1)
+  double noise2s_course_deg = 0.5;  ///< [deg] fluctuation, 2 sigma (Table 1)
+  double noise2s_glide_deg = 0.6;   ///< [deg] fluctuation, 2 sigma (Table 1)
+  double drift_sigma_range_m = 0;   ///< [m] slowly varying (Gauss-Markov) part of the systematic error, 1 sigma
+  double drift_sigma_course_deg = 0;  ///< [deg] idem, course
+  double drift_sigma_glide_deg = 0;   ///< [deg] idem, glide
+  double drift_tau_s = 600;         ///< [s] correlation time of the drift
+};
+
+/// SNS/INS navigation solution as received on the ground.
+struct SnsinsOptions {
+  double link_period_s = 0.5;  ///< [s] data-link period, multiple of trajectory.step_s
+  double link_phase_s = 0.25;  ///< [s] validity time of the first solution, multiple of trajectory.step_s
+  double latency_s = 0.3;      ///< [s] data-link latency (arrival minus validity), [0, 10]
+  double corr_sigma_m = 1.9;   ///< [m] time-correlated SNS error per axis, 1 sigma
+  double corr_tau_s = 120;     ///< [s] its correlation time
+  double white_sigma_m = 0.62; ///< [m] white SNS error per axis, 1 sigma (total RMS sqrt(1.9^2+0.62^2) = 2.0 m)
+  double sns_period_s = 0.1;   ///< [s] SNS fix period (for the INS smoothing of the white part)
+  double ins_tau_s = 10;       ///< [s] INS smoothing time constant of the white part; 0 = no smoothing
+  double vel_sigma_mps = 0.05; ///< [m/s] velocity error per axis, 1 sigma, white
+  std::vector<std::pair<double, double>> dropouts;  ///< [s] intervals with no solutions sent
+};
+
+/// Estimator of the radar's systematic error (method.md section 1).
+struct PrlBiasOptions {
+  double switch_time_s = 400;     ///< [s] estimation before, compensation after (paper)
+  double delta_range_m = 10;      ///< [m] delta: prior 1 sigma of the bias (Gauss-Markov model)
+  double delta_course_deg = 0.2;  ///< [deg] idem, course
+  double delta_glide_deg = 0.3;   ///< [deg] idem, glide
+  double tau_s = 3600;            ///< [s] T: correlation time of the bias model
+  double noise2s_range_m = 24;    ///< [m] assumed radar fluctuation, 2 sigma (radar spec = Table 1)
+  double noise2s_course_deg = 0.5;  ///< [deg] idem
+  double noise2s_glide_deg = 0.6;   ///< [deg] idem
+  bool add_nav_variance = true;   ///< r = r1 + p2 (nav variance projected to polar) instead of r1
+  double nav_wait_s = 1.0;        ///< [s] a plot waits at most this long for the nav solution after it
+  double max_nav_gap_s = 2.0;     ///< [s] largest gap between nav solutions to interpolate over
+  bool compensate_during_estimation = false;  ///< also compensate before the switch time
+};
+
+/// Ensemble statistics.
+struct LoggerOptions {
+  std::vector<double> table_ranges_m{25000, 4000};  ///< [m] Table 2 slant ranges from the radar
+  double table_halfwidth_m = 250;  ///< [m] plots within +- this of a table range form its bin
+  double range_bin_m = 1000;       ///< [m] width of the range bins of stats_range.csv
+};
+
+/// Lock-step protocol.
+struct RunnerOptions {
+  double window_s = 100;        ///< [s] sim time per lock-step window (batch size), >= trajectory.step_s
+  double flush_s = 5;           ///< [s] sim time after the aircraft's last state, > prl_bias.nav_wait_s
+  double stall_timeout_s = 2;   ///< [s wall] a node waiting this long for an input reports loss
+  double ack_timeout_s = 6;     ///< [s wall] the clock waiting this long for acks repeats the realization
+  long max_attempts = 3;        ///< attempts per realization before the run fails
+  std::int64_t epoch_utime = 1767225600000000LL;  ///< [us since Unix epoch] sim time 0 (2026-01-01T00:00Z)
+};
+
+struct Scenario {
+  std::string name = "paper";
+  RunwayOptions runway;
+  RadarSiteOptions radar;
+  TrajectoryOptions trajectory;
+  PrlOptions prl;
+  SnsinsOptions snsins;
+  PrlBiasOptions prl_bias;
+  LoggerOptions logger;
+  RunnerOptions runner;
+
+  /// Load and validate a scenario file with "a.b=value" overrides applied first.
+  /// Throws ConfigError naming the key for unknown keys, wrong types, NaN, out-of-range values
+  /// and inconsistent combinations.
+  static Scenario load(const std::string& file, const std::vector<std::string>& overrides = {});
+  /// Parse from an already-loaded JSON document.
+  static Scenario from_json(const nlohmann::json& doc);
+
+  /// Landing frame L at the threshold.
+  LocalLevelFrame landing_frame() const;
+  /// The radar site on WGS84.
+  Geodetic radar_site() const;
+  /// Radar frame R at the site, x along radar.azimuth_reference_deg.
+  LocalLevelFrame radar_frame() const;
+
+  /// Sim time [us] -> utime [us since Unix epoch].
+  std::int64_t utime(std::int64_t t_us) const { return runner.epoch_utime + t_us; }
+
+  /// Human-readable dump of every option (printed by every process at start-up).
+  void print(std::ostream& os) const;
+};
+
+/// Seconds -> integer microseconds (rounded).
+std::int64_t to_us(double t_s);
+
+}  // namespace rnav

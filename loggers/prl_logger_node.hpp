@@ -1,0 +1,43 @@
+// Node "logger": joins, per plot, the truth (TRUTH_AIRCRAFT), the raw plot (PRL_APOI), the
+// injected error (TRUTH_PRL_ERROR), the compensated plot (PRL_TOI) and the bias estimate
+// (PRL_BIAS); keeps a realization until the clock moves past it, then adds it to PrlStats; on
+// FINISH writes the result files. A plot missing any part at the end of its realization, or
+// an ensemble short of realizations, is an error: nothing is averaged silently over less.
+#pragma once
+
+#include "lockstep_node.hpp"
+#include "prl_stats.hpp"
+
+#include <rnav/prl_bias_estimate_t.hpp>
+#include <rnav/prl_error_t.hpp>
+#include <rnav/prl_plot_t.hpp>
+
+#include <map>
+
+namespace rnav {
+
+class PrlLoggerNode : public LockstepNode {
+ public:
+  PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir);
+  const PrlStats& stats() const { return stats_; }
+
+ protected:
+  void reset(const sim_window_t& w) override;
+  int process(const sim_window_t& w) override;
+  void commit() override;
+  void finish(const sim_window_t& w) override;
+
+ private:
+  Scenario sc_;
+  std::string out_dir_;
+  Eigen::Isometry3d T_L_R_;  // radar frame R -> landing frame L
+  PrlStats stats_;
+  std::int64_t seed_ = 0;
+  std::map<std::int64_t, Eigen::Vector3d> truth_;  // utime -> p_TA_L
+  std::map<std::int64_t, prl_plot_t> apoi_, toi_;   // plot_id -> plot
+  std::map<std::int64_t, prl_error_t> err_;
+  std::map<std::int64_t, prl_bias_estimate_t> bias_;
+  std::vector<PlotErrors> current_;
+};
+
+}  // namespace rnav

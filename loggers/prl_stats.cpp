@@ -1,0 +1,215 @@
+#include "prl_stats.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rnav {
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+constexpr double kZ95 = 1.959963984540054;  // two-sided 95 % normal quantile
+
+std::string range_key(double r) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.0f", r);
+  return b;
+}
+
+std::string num(double x, int prec = 6) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*f", prec, x);
+  return b;
+}
+
+// Write `text` to dir/name atomically: a temporary file, then rename.
+void write_file(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string tmp = dir + "/." + name + ".partial", dst = dir + "/" + name;
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw std::runtime_error("cannot write " + tmp);
+    f << text;
+    f.flush();
+    if (!f) throw std::runtime_error("error writing " + tmp);
+  }
+  if (std::rename(tmp.c_str(), dst.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
+}
+
+}  // namespace
+
+bool PaperTable2::has(double r) { return r == 25000 || r == 4000; }
+std::array<double, 3> PaperTable2::apoi(double r) {
+  if (r == 25000) return {4.62, 45.12, 67.79};
+  if (r == 4000) return {5.39, 7.64, 12.94};
+  throw std::invalid_argument("the paper's Table 2 has no range " + range_key(r));
+}
+std::array<double, 3> PaperTable2::toi(double r) {
+  if (r == 25000) return {3.71, 37.23, 54.81};
+  if (r == 4000) return {0.04, 0.08, -0.07};
+  throw std::invalid_argument("the paper's Table 2 has no range " + range_key(r));
+}
+
+PrlStats::PrlStats(const Scenario& sc)
+    : sc_(sc),
+      table_apoi_(sc.logger.table_ranges_m.size()),
+      table_toi_(sc.logger.table_ranges_m.size()),
+      table_plots_(sc.logger.table_ranges_m.size(), -1) {}
+
+void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
+  const auto& ranges = sc_.logger.table_ranges_m;
+  std::vector<Moments<3>> a(ranges.size()), t(ranges.size());
+  for (const auto& p : plots) {
+    auto& tb = by_time_[p.utime];
+    tb.range_true_m = p.range_true_m;
+    tb.apoi.add(p.apoi);
+    tb.toi.add(p.toi);
+    tb.bias_err.add(p.bias_err);
+    tb.bias_var.add(p.bias_var);
+    auto& rb = by_range_[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
+    rb.first.add(p.apoi);
+    rb.second.add(p.toi);
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (std::abs(p.range_true_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
+        a[i].add(p.apoi);
+        t[i].add(p.toi);
+      }
+  }
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    if (a[i].n == 0)
+      throw std::runtime_error("realization has no plot within " +
+                               num(sc_.logger.table_halfwidth_m, 0) + " m of table range " +
+                               range_key(ranges[i]) + " m (logger.table_ranges_m)");
+    if (table_plots_[i] >= 0 && table_plots_[i] != a[i].n)
+      throw std::runtime_error("table range " + range_key(ranges[i]) +
+                               " m: realizations differ in the number of plots in the bin");
+    table_plots_[i] = a[i].n;
+    std::array<double, 3> ma, mt;
+    for (int k = 0; k < 3; ++k) {
+      ma[k] = a[i].mean(k);
+      mt[k] = t[i].mean(k);
+    }
+    table_apoi_[i].add(ma);
+    table_toi_[i].add(mt);
+  }
+  ++n_real_;
+}
+
+std::string PrlStats::table2_text(std::int64_t seed) const {
+  std::ostringstream o;
+  o << "Table 2: systematic error (ensemble mean over " << n_real_ << " realizations, seed "
+    << seed << "), metres, landing frame\n";
+  o << "range from radar   row    X (+-95%)            Z (+-95%)            Y (+-95%)           "
+       "| paper X   Z      Y\n";
+  const char* rows[2] = {"APOI", "TOI"};
+  for (std::size_t i = 0; i < sc_.logger.table_ranges_m.size(); ++i) {
+    const double r = sc_.logger.table_ranges_m[i];
+    for (int row = 0; row < 2; ++row) {
+      const auto& m = row == 0 ? table_apoi_[i] : table_toi_[i];
+      char b[256];
+      std::snprintf(b, sizeof b, "%8.0f m  %6s ", r, rows[row]);
+      o << b;
+      for (int k = 0; k < 3; ++k) {
+        std::snprintf(b, sizeof b, "%8.2f +- %-8.2f ", m.mean(k),
+                      kZ95 * m.sd(k) / std::sqrt(std::max<long>(m.n, 1)));
+        o << b;
+      }
+      if (PaperTable2::has(r)) {
+        const auto p = row == 0 ? PaperTable2::apoi(r) : PaperTable2::toi(r);
+        std::snprintf(b, sizeof b, "| %6.2f %6.2f %6.2f", p[0], p[1], p[2]);
+        o << b;
+      }
+      o << "\n";
+    }
+  }
+  return o.str();
+}
+
+void PrlStats::write(const std::string& dir, std::int64_t seed) const {
+  if (n_real_ == 0) throw std::runtime_error("no complete realization to write");
+  const auto& ranges = sc_.logger.table_ranges_m;
+  // table2.json: the interface users and checks script against.
+  nlohmann::ordered_json t2;
+  t2["realizations"] = n_real_;
+  t2["seed"] = seed;
+  nlohmann::ordered_json detail;
+  detail["realizations"] = n_real_;
+  detail["seed"] = seed;
+  detail["unit"] = "m, landing frame L (X along the runway axis, Z lateral, Y up)";
+  detail["range_definition"] = "true slant range from the radar; per realization the mean over "
+                               "plots within +-halfwidth_m, then the ensemble mean";
+  detail["halfwidth_m"] = sc_.logger.table_halfwidth_m;
+  for (const char* row : {"APOI", "TOI"}) {
+    t2[row] = nlohmann::ordered_json::object();
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      const auto& m = std::string(row) == "APOI" ? table_apoi_[i] : table_toi_[i];
+      nlohmann::ordered_json mean = nlohmann::ordered_json::array(), se = mean, within = mean;
+      for (int k = 0; k < 3; ++k) {
+        const double s = m.sd(k) / std::sqrt(static_cast<double>(m.n));
+        mean.push_back(m.mean(k));
+        se.push_back(s);
+        within.push_back(std::abs(m.mean(k)) <= kZ95 * s);
+      }
+      t2[row][range_key(ranges[i])] = mean;
+      auto& d = detail[row][range_key(ranges[i])];
+      d["mean"] = mean;
+      d["stderr"] = se;
+      d["band95_halfwidth"] = {kZ95 * se[0].get<double>(), kZ95 * se[1].get<double>(),
+                               kZ95 * se[2].get<double>()};
+      d["zero_within_band95"] = within;
+      d["plots_per_realization"] = table_plots_[i];
+      if (PaperTable2::has(ranges[i]))
+        d["paper"] = std::string(row) == "APOI" ? PaperTable2::apoi(ranges[i])
+                                                : PaperTable2::toi(ranges[i]);
+    }
+  }
+  write_file(dir, "table2.json", t2.dump(2) + "\n");
+  write_file(dir, "table2_detail.json", detail.dump(2) + "\n");
+  write_file(dir, "table2.txt", table2_text(seed));
+
+  std::ostringstream ts;
+  ts << "t_s,range_m,n";
+  for (const char* p : {"apoi", "toi"})
+    for (const char* s : {"mean", "rms"})
+      for (const char* c : {"x", "z", "y"}) ts << "," << p << "_" << s << "_" << c << "_m";
+  for (const char* s : {"mean", "rms"})
+    ts << ",biaserr_" << s << "_range_m,biaserr_" << s << "_course_deg,biaserr_" << s
+       << "_glide_deg";
+  ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg\n";
+  for (const auto& [utime, b] : by_time_) {
+    ts << num((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << num(b.range_true_m, 2) << ","
+       << b.apoi.n;
+    for (const auto* m : {&b.apoi, &b.toi}) {
+      for (int k = 0; k < 3; ++k) ts << "," << num(m->mean(k));
+      for (int k = 0; k < 3; ++k) ts << "," << num(m->rms(k));
+    }
+    const double scale[3] = {1, kRadToDeg, kRadToDeg};
+    for (int k = 0; k < 3; ++k) ts << "," << num(b.bias_err.mean(k) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << num(b.bias_err.rms(k) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << num(std::sqrt(b.bias_var.mean(k)) * scale[k], 9);
+    ts << "\n";
+  }
+  write_file(dir, "stats_time.csv", ts.str());
+
+  std::ostringstream rs;
+  rs << "range_lo_m,range_hi_m,n";
+  for (const char* p : {"apoi", "toi"})
+    for (const char* s : {"mean", "rms"})
+      for (const char* c : {"x", "z", "y"}) rs << "," << p << "_" << s << "_" << c << "_m";
+  rs << "\n";
+  for (const auto& [bin, m] : by_range_) {
+    rs << num(bin * sc_.logger.range_bin_m, 0) << "," << num((bin + 1) * sc_.logger.range_bin_m, 0)
+       << "," << m.first.n;
+    for (const auto* mm : {&m.first, &m.second}) {
+      for (int k = 0; k < 3; ++k) rs << "," << num(mm->mean(k));
+      for (int k = 0; k < 3; ++k) rs << "," << num(mm->rms(k));
+    }
+    rs << "\n";
+  }
+  write_file(dir, "stats_range.csv", rs.str());
+}
+
+}  // namespace rnav

@@ -1,0 +1,174 @@
+#include "conductor.hpp"
+
+#include "channels.hpp"
+
+#include <rnav/sim_window_t.hpp>
+
+#include <cmath>
+
+namespace rnav {
+
+Conductor::Conductor(Bus& bus, const Scenario& sc, const ConductorOptions& o, double duration_s)
+    : bus_(bus), sc_(sc), o_(o) {
+  if (o.n_realizations < 1) throw ConfigError("--realizations must be >= 1");
+  if (o.nodes.empty()) throw ConfigError("the clock needs the list of nodes (--nodes)");
+  if (!(o.speed > 0)) throw ConfigError("--speed must be > 0");
+  const std::int64_t step = to_us(sc.trajectory.step_s);
+  window_us_ = to_us(sc.runner.window_s);
+  // The realization spans the trajectory plus the flush time, on the truth grid.
+  const std::int64_t raw_end = to_us(duration_s + sc.runner.flush_s);
+  end_us_ = (raw_end + step - 1) / step * step;
+  n_windows_ = static_cast<int>((end_us_ + window_us_ - 1) / window_us_);
+  bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_ack(a); });
+}
+
+void Conductor::send(std::int8_t command, const std::string& reason) {
+  sim_window_t w;
+  w.command = command;
+  w.seed = o_.seed;
+  w.n_realizations = o_.n_realizations;
+  w.realization = r_;
+  w.attempt = a_;
+  w.window = w_;
+  w.last_window = w_ == n_windows_ - 1;
+  const std::int64_t b = static_cast<std::int64_t>(w_) * window_us_;
+  w.utime_begin = sc_.utime(b);
+  w.utime_end = sc_.utime(std::min(b + window_us_, end_us_));
+  w.reason = reason;
+  bus_.publish(ch::kWindow, w);
+}
+
+void Conductor::grant() {
+  acked_.clear();
+  window_open_ = true;
+  window_wall_s_ = now_s_;
+  if (w_ == 0) realization_wall_s_ = now_s_;
+  send(sim_window_t::START);
+}
+
+void Conductor::next_window() {
+  window_open_ = false;
+  if (w_ + 1 < n_windows_) {
+    ++w_;
+  } else {
+    if (on_progress) on_progress(r_ + 1, o_.n_realizations, static_cast<int>(retries_.size()));
+    if (r_ + 1 >= o_.n_realizations) {
+      state_ = State::kFinishing;
+      acked_.clear();
+      finish_sent_s_ = last_finish_s_ = now_s_;
+      send(sim_window_t::FINISH);
+      return;
+    }
+    ++r_;
+    a_ = 0;
+    w_ = 0;
+  }
+  if (!o_.realtime) grant();  // realtime: poll() grants when the wall clock gets there
+}
+
+void Conductor::retry(const std::string& reason) {
+  retries_.push_back({r_, a_, reason});
+  window_open_ = false;
+  if (a_ + 1 >= sc_.runner.max_attempts) {
+    std::string all;
+    for (const auto& e : retries_)
+      if (e.realization == r_) all += "\n  attempt " + std::to_string(e.attempt) + ": " + e.reason;
+    abort("realization " + std::to_string(r_) + " failed " + std::to_string(a_ + 1) +
+              " times (runner.max_attempts):" + all,
+          3);
+    return;
+  }
+  ++a_;
+  w_ = 0;
+  grant();
+}
+
+void Conductor::abort(const std::string& reason, int code) {
+  failure_ = reason;
+  exit_code_ = code;
+  state_ = State::kDone;
+  for (int i = 0; i < 3; ++i) send(sim_window_t::ABORT, reason);
+}
+
+void Conductor::on_ack(const node_ack_t& a) {
+  if (state_ == State::kDone) return;
+  if (a.status == node_ack_t::HELLO) {
+    hello_.insert(a.node);
+    return;
+  }
+  if (state_ == State::kFinishing) {
+    if (a.status == node_ack_t::FINISHED) acked_.insert(a.node);
+    if (acked_.size() == o_.nodes.size()) state_ = State::kDone;
+    return;
+  }
+  if (state_ != State::kRunning || a.realization != r_ || a.attempt != a_) return;  // stale
+  if (a.status == node_ack_t::ERROR) {
+    abort("node " + a.node + " failed: " + a.detail, 4);
+    return;
+  }
+  if (a.status == node_ack_t::LOSS) {
+    if (window_open_ || a.window <= w_) retry(a.detail);
+    return;
+  }
+  if (a.status == node_ack_t::OK && window_open_ && a.window == w_) {
+    acked_.insert(a.node);
+    if (acked_.size() == o_.nodes.size()) next_window();
+  }
+}
+
+void Conductor::poll(double wall_now_s) {
+  now_s_ = wall_now_s;
+  if (start_wall_s_ < 0) start_wall_s_ = wall_now_s;
+  switch (state_) {
+    case State::kWaitHello: {
+      bool all = true;
+      std::string missing;
+      for (const auto& n : o_.nodes)
+        if (!hello_.count(n)) {
+          all = false;
+          missing += " " + n;
+        }
+      if (all) {
+        state_ = State::kRunning;
+        realization_wall_s_ = now_s_;
+        if (!o_.realtime) grant();
+      } else if (now_s_ - start_wall_s_ > o_.hello_timeout_s) {
+        abort("these nodes never reported ready within " + std::to_string(o_.hello_timeout_s) +
+                  " s:" + missing,
+              4);
+      }
+      break;
+    }
+    case State::kRunning:
+      if (window_open_ && now_s_ - window_wall_s_ > sc_.runner.ack_timeout_s) {
+        std::string missing;
+        for (const auto& n : o_.nodes)
+          if (!acked_.count(n)) missing += " " + n;
+        retry("no ack within " + std::to_string(sc_.runner.ack_timeout_s) + " s for realization " +
+              std::to_string(r_) + " attempt " + std::to_string(a_) + " window " +
+              std::to_string(w_) + " from:" + missing);
+      } else if (o_.realtime && !window_open_) {
+        // Window w starts when the wall clock reaches its sim start time.
+        const double due = realization_wall_s_ + (w_ * window_us_ * 1e-6) / o_.speed;
+        if (now_s_ >= due) grant();
+      }
+      break;
+    case State::kFinishing:
+      if (now_s_ - finish_sent_s_ > sc_.runner.ack_timeout_s) {
+        std::string missing;
+        for (const auto& n : o_.nodes)
+          if (!acked_.count(n)) missing += " " + n;
+        failure_ = "no FINISHED report from:" + missing;
+        exit_code_ = 4;
+        state_ = State::kDone;
+      } else if (now_s_ - last_finish_s_ > 0.5) {
+        last_finish_s_ = now_s_;
+        send(sim_window_t::FINISH);  // repeated: a lost FINISH must not hang the run
+      }
+      break;
+    case State::kDone:
+      break;
+  }
+}
+
+}  // namespace rnav

@@ -1,0 +1,74 @@
+// The lock-step clock: grants windows to every node, waits for their acks, repeats a
+// realization that lost a message (up to runner.max_attempts), finishes or aborts the run.
+// Transport-agnostic (Bus) and time-agnostic (poll(wall_now)): the same code drives the
+// multi-process run over LCM and the single-process ensemble.
+#pragma once
+
+#include "bus.hpp"
+#include "scenario.hpp"
+
+#include <rnav/node_ack_t.hpp>
+
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+struct ConductorOptions {
+  int n_realizations = 1;          ///< ensemble size, >= 1
+  std::int64_t seed = 1;           ///< ensemble seed
+  std::vector<std::string> nodes;  ///< names of the nodes that must ack every window
+  bool realtime = false;           ///< pace windows to the wall clock
+  double speed = 1.0;              ///< realtime: sim seconds per wall second, > 0
+  double hello_timeout_s = 30;     ///< [s wall] how long to wait for every node's HELLO
+};
+
+struct RetryEvent {
+  int realization = 0, attempt = 0;
+  std::string reason;
+};
+
+class Conductor {
+ public:
+  Conductor(Bus& bus, const Scenario& sc, const ConductorOptions& o, double duration_s);
+
+  /// Drive the protocol; call often with a monotonic wall time [s].
+  void poll(double wall_now_s);
+  bool done() const { return state_ == State::kDone; }
+  /// 0 success, 3 a realization failed max_attempts times, 4 a node error / missing node.
+  int exit_code() const { return exit_code_; }
+  const std::string& failure() const { return failure_; }
+  const std::vector<RetryEvent>& retries() const { return retries_; }
+  int windows_per_realization() const { return n_windows_; }
+
+  /// Called after each completed realization: (completed, total, retries so far).
+  std::function<void(int, int, int)> on_progress;
+
+ private:
+  enum class State { kWaitHello, kRunning, kFinishing, kDone };
+  void on_ack(const node_ack_t& a);
+  void grant();
+  void next_window();
+  void retry(const std::string& reason);
+  void abort(const std::string& reason, int code);
+  void send(std::int8_t command, const std::string& reason = "");
+
+  Bus& bus_;
+  Scenario sc_;
+  ConductorOptions o_;
+  std::int64_t window_us_, end_us_;
+  int n_windows_;
+  State state_ = State::kWaitHello;
+  std::set<std::string> hello_, acked_;
+  int r_ = 0, a_ = 0, w_ = 0;
+  double now_s_ = 0, start_wall_s_ = -1, window_wall_s_ = 0, realization_wall_s_ = 0,
+         finish_sent_s_ = -1, last_finish_s_ = -1;
+  bool window_open_ = false;
+  std::vector<RetryEvent> retries_;
+  std::string failure_;
+  int exit_code_ = 0;
+};
+
+}  // namespace rnav

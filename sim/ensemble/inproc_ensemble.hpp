@@ -1,0 +1,25 @@
+// The whole landing-approach ensemble in one process: the same nodes and clock as the
+// multi-process run, on an InprocBus. Used by the benchmark (multi- vs single-process) and by
+// the determinism test (its outputs must equal the multi-process run's byte for byte).
+#pragma once
+
+#include "conductor.hpp"
+#include "scenario.hpp"
+
+#include <string>
+
+namespace rnav {
+
+struct InprocResult {
+  int exit_code = 0;
+  std::string failure;
+  int retries = 0;
+};
+
+/// Run n realizations with `seed`; write the logger's files into out_dir (if not empty).
+/// `drops` inject deliberate message losses (tests).
+InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
+                                 const std::string& out_dir,
+                                 const std::vector<std::string>& drops = {});
+
+}  // namespace rnav

@@ -1,0 +1,94 @@
+// Landing-radar (PRL) error model: a list of effects, each adding to the systematic
+// (slowly varying) and/or fluctuation (white) part of the polar measurement error:
+//   zeta_meas = zeta_true + sum(systematic) + sum(fluctuation)              (method.md eq. 1)
+// Open for further effects: derive from PrlErrorEffect and add it in PrlErrorModel's constructor.
+#pragma once
+
+#include "frames.hpp"
+#include "random.hpp"
+#include "scenario.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// Error in the radar's polar basis.
+struct PolarError {
+  double range_m = 0, course_rad = 0, glide_rad = 0;
+  PolarError& operator+=(const PolarError& o) {
+    range_m += o.range_m;
+    course_rad += o.course_rad;
+    glide_rad += o.glide_rad;
+    return *this;
+  }
+};
+
+/// What an effect may depend on: the plot's time and the true geometry.
+struct PlotTruth {
+  double t_s = 0;             ///< [s] sim time of validity
+  Polar polar;                ///< true (D, Ek, Eg) of the aircraft from the radar
+  Eigen::Vector3d p_RA_R;     ///< [m] true position of aircraft A from radar R, frame R
+  Eigen::Vector3d v_A_R;      ///< [m/s] true velocity, frame R
+};
+
+class PrlErrorEffect {
+ public:
+  virtual ~PrlErrorEffect() = default;
+  virtual std::string name() const = 0;
+  /// Start a realization (draw initial states).
+  virtual void start(Rng&) {}
+  /// Add this effect's contribution for one plot (plots in increasing time).
+  virtual void apply(const PlotTruth& truth, Rng& rng, PolarError& systematic,
+                     PolarError& fluctuation) = 0;
+};
+
+/// Constant systematic error (Table 1: 6 m, 0.1 deg, 0.15 deg).
+class ConstantBias : public PrlErrorEffect {
+ public:
+  explicit ConstantBias(const PolarError& b) : b_(b) {}
+  std::string name() const override { return "constant_bias"; }
+  void apply(const PlotTruth&, Rng&, PolarError& sys, PolarError&) override { sys += b_; }
+
+ private:
+  PolarError b_;
+};
+
+/// Slowly varying systematic error: one Gauss-Markov process per coordinate.
+class GaussMarkovDrift : public PrlErrorEffect {
+ public:
+  GaussMarkovDrift(const PolarError& sigma, double tau_s);
+  std::string name() const override { return "gauss_markov_drift"; }
+  void start(Rng& rng) override;
+  void apply(const PlotTruth& truth, Rng& rng, PolarError& sys, PolarError&) override;
+
+ private:
+  GaussMarkov d_, e_, g_;
+  double last_t_s_ = 0;
+};
+
+/// White fluctuation error, 1 sigma per coordinate (Table 1 gives 2 sigma).
+class WhiteFluctuation : public PrlErrorEffect {
+ public:
+  explicit WhiteFluctuation(const PolarError& sigma) : s_(sigma) {}
+  std::string name() const override { return "white_fluctuation"; }
+  void apply(const PlotTruth&, Rng& rng, PolarError&, PolarError& fl) override;
+
+ private:
+  PolarError s_;
+};
+
+class PrlErrorModel {
+ public:
+  explicit PrlErrorModel(const PrlOptions& o);
+  void start(Rng& rng);
+  /// Errors of one plot: systematic part and total (systematic + fluctuation).
+  void apply(const PlotTruth& truth, Rng& rng, PolarError& systematic, PolarError& total);
+  const std::vector<std::unique_ptr<PrlErrorEffect>>& effects() const { return effects_; }
+
+ private:
+  std::vector<std::unique_ptr<PrlErrorEffect>> effects_;
+};
+
+}  // namespace rnav

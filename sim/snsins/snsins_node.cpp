@@ -1,0 +1,62 @@
+#include "snsins_node.hpp"
+
+#include <rnav/aircraft_truth_batch_t.hpp>
+#include <rnav/nav_batch_t.hpp>
+
+namespace rnav {
+
+SnsinsNode::SnsinsNode(Bus& bus, const Scenario& sc)
+    : LockstepNode(bus, "snsins", sc.runner.stall_timeout_s),
+      sc_(sc),
+      frame_L_(sc.landing_frame()),
+      model_(sc.snsins) {
+  add_input<aircraft_truth_batch_t>(ch::kTruth);
+}
+
+void SnsinsNode::reset(const sim_window_t& w) {
+  rng_.emplace(static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization),
+               Stream::kSnsins);
+  model_.start(*rng_);
+  pending_.clear();
+}
+
+bool SnsinsNode::in_dropout(double t_s) const {
+  for (const auto& d : sc_.snsins.dropouts)
+    if (t_s >= d.first && t_s < d.second) return true;
+  return false;
+}
+
+int SnsinsNode::process(const sim_window_t& w) {
+  const auto& truth = input<aircraft_truth_batch_t>(ch::kTruth);
+  const std::int64_t period = to_us(sc_.snsins.link_period_s), phase = to_us(sc_.snsins.link_phase_s);
+  const std::int64_t latency = to_us(sc_.snsins.latency_s);
+  for (const auto& s : truth.states) {
+    const std::int64_t t = s.utime - sc_.runner.epoch_utime;
+    if (t < phase || (t - phase) % period != 0) continue;
+    model_.step(t * 1e-6, *rng_);  // the error process runs through drop-outs too
+    if (in_dropout(t * 1e-6)) continue;
+    const Eigen::Vector3d p_L = Eigen::Vector3d(s.p_TA_L[0], s.p_TA_L[1], s.p_TA_L[2]) + model_.dp_L();
+    const Eigen::Vector3d v_L = Eigen::Vector3d(s.v_A_L[0], s.v_A_L[1], s.v_A_L[2]) + model_.dv_L();
+    const Geodetic g = frame_L_.to_geodetic(p_L);
+    const Eigen::Vector3d v_N = frame_L_.to_ned(g, v_L);
+    nav_solution_t n;
+    n.utime = s.utime;
+    n.link_utime = s.utime + latency;
+    n.lat_deg = g.lat_deg;
+    n.lon_deg = g.lon_deg;
+    n.h_m = g.h_m;
+    for (int i = 0; i < 3; ++i) n.v_N[i] = v_N[i];
+    n.sigma_pos_m = model_.sigma_pos_m();
+    pending_.push_back(n);
+  }
+  nav_batch_t batch;
+  while (!pending_.empty() && pending_.front().link_utime < w.utime_end) {
+    batch.solutions.push_back(pending_.front());
+    pending_.pop_front();
+  }
+  batch.n = static_cast<int>(batch.solutions.size());
+  publish_batch(ch::kNav, batch);
+  return batch.n;
+}
+
+}  // namespace rnav

@@ -1,0 +1,34 @@
+// Node "snsins": turns TRUTH_AIRCRAFT into the navigation solution the ground receives
+// (NAV_SOLUTION): WGS84 position and NED velocity with SnsinsErrorModel errors, sampled at the
+// link times t = link_phase_s + k link_period_s (validity), delivered at t + latency_s.
+// A window's batch holds the solutions whose arrival time lies in the window.
+#pragma once
+
+#include "lockstep_node.hpp"
+#include "snsins_error_model.hpp"
+
+#include <rnav/nav_solution_t.hpp>
+
+#include <deque>
+#include <optional>
+
+namespace rnav {
+
+class SnsinsNode : public LockstepNode {
+ public:
+  SnsinsNode(Bus& bus, const Scenario& sc);
+
+ protected:
+  void reset(const sim_window_t& w) override;
+  int process(const sim_window_t& w) override;
+
+ private:
+  bool in_dropout(double t_s) const;
+  Scenario sc_;
+  LocalLevelFrame frame_L_;
+  SnsinsErrorModel model_;
+  std::optional<Rng> rng_;
+  std::deque<nav_solution_t> pending_;  // generated, not yet arrived
+};
+
+}  // namespace rnav

@@ -1,0 +1,24 @@
+// Node "trajectory": publishes the aircraft's true state (TRUTH_AIRCRAFT) on the truth grid
+// t = i * trajectory.step_s, in L and on WGS84.
+#pragma once
+
+#include "approach_trajectory.hpp"
+#include "lockstep_node.hpp"
+
+namespace rnav {
+
+class TrajectoryNode : public LockstepNode {
+ public:
+  TrajectoryNode(Bus& bus, const Scenario& sc);
+
+ protected:
+  void reset(const sim_window_t&) override {}
+  int process(const sim_window_t& w) override;
+
+ private:
+  Scenario sc_;
+  ApproachTrajectory traj_;
+  LocalLevelFrame frame_L_;
+};
+
+}  // namespace rnav
