@@ -93,6 +93,11 @@ void LockstepNode::on_grant(const sim_window_t& w) {
               (std::get<0>(it->first) == cur_r_ && std::get<1>(it->first) < cur_a_))
                  ? in->store.erase(it)
                  : std::next(it);
+    // A repeated attempt exists because something was lost; what the failed attempt lost is
+    // already reported, so the first sequence number of each input is taken as it comes.
+    // Loss within the new attempt is still caught by the window checks.
+    if (w.attempt > 0)
+      for (auto& in : inputs_) in->resync = true;
     grant_ = w;
     reset(w);
   } else if (w.realization != cur_r_ || w.attempt != cur_a_) {
@@ -118,6 +123,8 @@ void LockstepNode::on_batch(InputStream& in, const batch_header_t& h,
   const std::string where = in.channel + " (realization " + std::to_string(h.realization) +
                             ", attempt " + std::to_string(h.attempt) + ", window " +
                             std::to_string(h.window) + ", seq " + std::to_string(h.seq) + ")";
+  if (in.resync && h.seq >= in.next_seq) in.next_seq = h.seq;
+  in.resync = false;
   if (h.seq != in.next_seq) {
     const std::int64_t expected = in.next_seq;
     in.next_seq = std::max(in.next_seq, h.seq + 1);

@@ -79,6 +79,7 @@ class LockstepNode {
   struct InputStream {
     std::string channel;
     std::int64_t next_seq = 0;
+    bool resync = false;  // a repeated attempt: messages lost in the failed one are already reported
     std::map<WindowKey, std::shared_ptr<const void>> store;
   };
 

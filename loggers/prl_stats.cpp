@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -130,6 +131,7 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
 
 void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   if (n_real_ == 0) throw std::runtime_error("no complete realization to write");
+  std::filesystem::create_directories(dir);
   const auto& ranges = sc_.logger.table_ranges_m;
   // table2.json: the interface users and checks script against.
   nlohmann::ordered_json t2;
