@@ -114,8 +114,11 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
       std::snprintf(b, sizeof b, "%8.0f m  %6s ", r, rows[row]);
       o << b;
       for (int k = 0; k < 3; ++k) {
-        std::snprintf(b, sizeof b, "%8.2f +- %-8.2f ", m.mean(k),
-                      kZ95 * m.sd(k) / std::sqrt(std::max<long>(m.n, 1)));
+        if (m.n >= 2)
+          std::snprintf(b, sizeof b, "%8.2f +- %-8.2f ", m.mean(k),
+                        kZ95 * m.sd(k) / std::sqrt(static_cast<double>(m.n)));
+        else  // one realization: no spread to estimate a band from
+          std::snprintf(b, sizeof b, "%8.2f +- %-8s ", m.mean(k), "n/a");
         o << b;
       }
       if (PaperTable2::has(r)) {

@@ -1,0 +1,206 @@
+// Integration tests: the real processes over real LCM (scripts/run puts them in a private
+// network namespace, so no packet leaves the machine), the single-process ensemble, and the
+// failure paths: a lost message, a killed process, bad input.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kRoot = RNAV_SOURCE_DIR;
+const std::string kBuild = RNAV_BINARY_DIR;
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Result sh(const std::string& cmd) {
+  Result r;
+  const std::string full = "RNAV_BUILD='" + kBuild + "' " + cmd + " 2>&1";
+  FILE* p = popen(full.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), p)) r.output += buf.data();
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// A fresh directory per test (ctest may run tests in parallel).
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(kBuild) / "test_scratch" / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+const std::string kRun = kRoot + "/scripts/run paper --no-plots --net netns ";
+// Small, fast settings for failure-path tests: wall timeouts short, few realizations.
+const std::string kFast = " --set runner.stall_timeout_s=0.5 --set runner.ack_timeout_s=2 ";
+
+}  // namespace
+
+TEST_CASE("multi-process run over LCM writes table2.json with the documented shape", "[integration]") {
+  const fs::path d = scratch("mp");
+  const auto r = sh(kRun + "--realizations 8 --seed 11 --out " + (d / "out").string());
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  const auto j = nlohmann::json::parse(slurp(d / "out" / "table2.json"));
+  CHECK(j["realizations"] == 8);
+  CHECK(j["seed"] == 11);
+  for (const char* row : {"APOI", "TOI"})
+    for (const char* range : {"25000", "4000"}) {
+      REQUIRE(j[row][range].size() == 3);
+      for (const auto& v : j[row][range]) CHECK(std::isfinite(v.get<double>()));
+    }
+  // Every process logged its options at start-up and finished cleanly.
+  for (const char* n : {"trajectory", "snsins", "prl", "prl_bias", "logger"}) {
+    const std::string log = slurp(d / "out" / "logs" / (std::string(n) + ".log"));
+    CHECK(log.find("\"prl\"") != std::string::npos);
+    CHECK(log.find("finished") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(d / "out.failed"));
+}
+
+TEST_CASE("same seed: byte-identical statistics across processes, batching and transport",
+          "[integration][determinism]") {
+  const fs::path d = scratch("det");
+  const std::string common = "--realizations 12 --seed 5 ";
+  const auto a = sh(kRun + common + "--out " + (d / "a").string());
+  const auto b = sh(kRun + common + "--set runner.window_s=37 --out " + (d / "b").string());
+  const auto c = sh(kRun + common + "--inproc --set runner.window_s=0.25 --out " + (d / "c").string());
+  const auto other = sh(kRun + "--realizations 12 --seed 6 --inproc --out " + (d / "s6").string());
+  INFO(a.output << b.output << c.output);
+  REQUIRE(a.status == 0);
+  REQUIRE(b.status == 0);
+  REQUIRE(c.status == 0);
+  REQUIRE(other.status == 0);
+  for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv"}) {
+    INFO(f);
+    const std::string ref = slurp(d / "a" / f);
+    REQUIRE(ref.size() > 100);
+    CHECK(slurp(d / "b" / f) == ref);  // another lock-step window (batch) size
+    CHECK(slurp(d / "c" / f) == ref);  // one process, no LCM, one truth step per window
+  }
+  // ... and a different seed does change them (the comparison above can fail).
+  CHECK(slurp(d / "s6" / "stats_time.csv") != slurp(d / "a" / "stats_time.csv"));
+}
+
+TEST_CASE("a lost message is detected, the realization repeated, the result unchanged",
+          "[integration][loss]") {
+  const fs::path d = scratch("loss");
+  const std::string common = "--realizations 4 --seed 9 " + kFast;
+  const auto clean = sh(kRun + common + "--out " + (d / "clean").string());
+  // prl does not publish its PRL_APOI batch of realization 2, window 3, first attempt.
+  const auto lossy = sh(kRun + common + "--drop prl:PRL_APOI:2:3:0 --out " + (d / "lossy").string());
+  INFO(clean.output << lossy.output);
+  REQUIRE(clean.status == 0);
+  REQUIRE(lossy.status == 0);
+  const auto ev = nlohmann::json::parse(slurp(d / "lossy" / "run_events.json"));
+  REQUIRE(ev["retries"].size() == 1);
+  CHECK(ev["retries"][0]["realization"] == 2);
+  CHECK(ev["retries"][0]["reason"].get<std::string>().find("PRL_APOI") != std::string::npos);
+  const auto ev_clean = nlohmann::json::parse(slurp(d / "clean" / "run_events.json"));
+  CHECK(ev_clean["retries"].empty());
+  CHECK(slurp(d / "lossy" / "stats_time.csv") == slurp(d / "clean" / "stats_time.csv"));
+  CHECK(slurp(d / "lossy" / "table2.json") == slurp(d / "clean" / "table2.json"));
+}
+
+TEST_CASE("a message lost on every attempt fails the run naming it; no result is written",
+          "[integration][loss]") {
+  const fs::path d = scratch("loss_all");
+  const auto r = sh(kRun + "--realizations 3 --seed 9 " + kFast +
+                    "--drop snsins:NAV_SOLUTION:1:0 --out " + (d / "out").string());
+  INFO(r.output);
+  CHECK(r.status != 0);
+  CHECK(r.output.find("NAV_SOLUTION") != std::string::npos);
+  CHECK(r.output.find("realization 1 failed 3 times") != std::string::npos);
+  CHECK_FALSE(fs::exists(d / "out"));
+  CHECK_FALSE(fs::exists(d / "out.failed" / "table2.json"));
+  CHECK(fs::exists(d / "out.failed" / "logs" / "clock.log"));
+}
+
+TEST_CASE("a process killed mid-run fails the run naming it", "[integration][kill]") {
+  const fs::path d = scratch("kill");
+  const fs::path out = d / "out";
+  // Long enough to be mid-run when killed (a few seconds of lock-step).
+  std::thread runner;
+  Result r;
+  runner = std::thread([&] { r = sh(kRun + "--realizations 3000 --seed 2 --out " + out.string()); });
+  // Find the run's own prl process from its pids file (other tests may run their own prl).
+  pid_t prl = 0;
+  for (int i = 0; i < 200 && prl == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    for (const auto& e : fs::directory_iterator(d)) {
+      const auto pids = e.path() / "logs" / "pids";
+      if (e.path().filename().string().rfind("out.partial.", 0) != 0 || !fs::exists(pids)) continue;
+      std::ifstream f(pids);
+      std::string name;
+      int pid;
+      while (f >> name >> pid)
+        if (name == "prl") prl = pid;
+    }
+  }
+  REQUIRE(prl > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let it get going
+  ::kill(prl, SIGKILL);
+  runner.join();
+  INFO(r.output);
+  CHECK(r.status != 0);
+  CHECK(r.output.find("process 'prl'") != std::string::npos);
+  CHECK(r.output.find("killed by signal 9") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(fs::exists(d / "out.failed" / "table2.json"));
+}
+
+TEST_CASE("bad scenario input is an error naming the key", "[integration][input]") {
+  const fs::path d = scratch("bad");
+  const std::string out = " --out " + (d / "out").string();
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"--set prl.bias_rang_m=6", "prl.bias_rang_m"},
+      {"--set prl.noise2s_range_m=NaN", "prl.noise2s_range_m"},
+      {"--set prl.noise2s_range_m=-3", "prl.noise2s_range_m"},
+      {"--set snsins.latency_s=true", "snsins.latency_s"},
+      {"--set prl.period_s=0.3", "prl.period_s"},
+      {"--set trajectory.bank_deg=2", "trajectory"},
+      {"--realizations zero", "--realizations"},
+  };
+  for (const auto& c : cases) {
+    const auto r = sh(kRun + "--realizations 2 " + c.args + out);
+    INFO(c.args << "\n" << r.output);
+    CHECK(r.status == 2);
+    CHECK(r.output.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(d / "out"));
+  }
+  // A malformed scenario file names the file.
+  std::ofstream(d / "broken.json") << "{\"prl\": {\"period_s\": 1,,}}";
+  const auto r = sh(kRoot + "/scripts/run " + (d / "broken.json").string() + " --no-plots" + out);
+  INFO(r.output);
+  CHECK(r.status == 2);
+  CHECK(r.output.find("broken.json") != std::string::npos);
+}
