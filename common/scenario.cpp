@@ -20,6 +20,14 @@ struct Reader {
     x = static_cast<std::int64_t>(s.number(k, static_cast<double>(x), lo, hi));
   }
   void flag(const char* k, bool& x) { x = s.boolean(k, x); }
+  void choice(const char* k, std::string& x, const std::vector<std::string>& allowed) {
+    x = s.string(k, x);
+    for (const auto& a : allowed)
+      if (a == x) return;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list);
+  }
   void list(const char* k, std::vector<double>& x, double lo, double hi) {
     x = s.numbers(k, x, lo, hi);
   }
@@ -34,6 +42,7 @@ struct Writer {
   void integer(const char* k, long& x, long, long) { j[k] = x; }
   void i64(const char* k, std::int64_t& x, double, double) { j[k] = x; }
   void flag(const char* k, bool& x) { j[k] = x; }
+  void choice(const char* k, std::string& x, const std::vector<std::string>&) { j[k] = x; }
   void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
   void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
     j[k] = nlohmann::json::array();
@@ -109,6 +118,7 @@ template <class V> void visit(PrlBiasOptions& o, V& v) {
 template <class V> void visit(LoggerOptions& o, V& v) {
   v.list("table_ranges_m", o.table_ranges_m, 0, 1e6);
   v.num("table_halfwidth_m", o.table_halfwidth_m, 1, 1e5);
+  v.choice("table_range_origin", o.table_range_origin, {"radar", "threshold"});
   v.num("range_bin_m", o.range_bin_m, 10, 1e5);
 }
 template <class V> void visit(RunnerOptions& o, V& v) {

@@ -42,9 +42,9 @@ struct TrajectoryOptions {
   double start_x_m = 30860;   ///< [m] paper
   double start_y_m = 400;     ///< [m] paper; also the level-leg height in L
   double start_z_m = 9860;    ///< [m] paper
-  double speed_mps = 75;      ///< [m/s] horizontal ground speed (our choice: a military approach speed), (10, 300]
+  double speed_mps = 75;      ///< [m/s] horizontal ground speed (our choice: a military approach speed), [10, 300]
   double intercept_x_m = 27000;  ///< [m] where the first leg would cross the centreline (our choice)
-  double bank_deg = 25;       ///< [deg] bank angle of the turn onto final (our choice), (0, 60]
+  double bank_deg = 25;       ///< [deg] bank angle of the turn onto final (our choice), [1, 60]
   double glide_deg = 2.0 + 40.0 / 60.0;  ///< [deg] descent angle 2 deg 40' (paper), (0, 10]
   double aim_x_m = -300;      ///< [m] where the glide path meets y = 0 (our choice: touchdown zone)
   double end_x_m = 0;         ///< [m] the run ends when the aircraft reaches this x on final
@@ -100,7 +100,11 @@ struct PrlBiasOptions {
 
 /// Ensemble statistics.
 struct LoggerOptions {
-  std::vector<double> table_ranges_m{25000, 4000};  ///< [m] Table 2 slant ranges from the radar
+  std::vector<double> table_ranges_m{25000, 4000};  ///< [m] Table 2 ranges (see table_range_origin)
+  /// What a Table 2 "range" is measured from: "radar" (true slant range from the radar antenna)
+  /// or "threshold" (true distance from the runway threshold). The paper does not say; its
+  /// APOI values fit "threshold" (see README, "The paper scenario and our choices").
+  std::string table_range_origin = "radar";
   double table_halfwidth_m = 250;  ///< [m] plots within +- this of a table range form its bin
   double range_bin_m = 1000;       ///< [m] width of the range bins of stats_range.csv
 };

@@ -64,6 +64,7 @@ int PrlLoggerNode::process(const sim_window_t& w) {
     pe.apoi = {ea.x(), ea.z(), ea.y()};
     pe.toi = {et.x(), et.z(), et.y()};
     pe.range_true_m = (T_L_R_.inverse() * p_true).norm();
+    pe.range_table_m = sc_.logger.table_range_origin == "radar" ? pe.range_true_m : p_true.norm();
     pe.bias_err = {b.eta[0] - e.sys_range_m, b.eta[1] - e.sys_course_rad, b.eta[2] - e.sys_glide_rad};
     pe.bias_var = {b.var[0], b.var[1], b.var[2]};
     pe.mode = b.mode;

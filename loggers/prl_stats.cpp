@@ -62,23 +62,14 @@ PrlStats::PrlStats(const Scenario& sc)
 
 void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
   const auto& ranges = sc_.logger.table_ranges_m;
+  // Validate first, then add: a rejected realization leaves no partial contribution.
   std::vector<Moments<3>> a(ranges.size()), t(ranges.size());
-  for (const auto& p : plots) {
-    auto& tb = by_time_[p.utime];
-    tb.range_true_m = p.range_true_m;
-    tb.apoi.add(p.apoi);
-    tb.toi.add(p.toi);
-    tb.bias_err.add(p.bias_err);
-    tb.bias_var.add(p.bias_var);
-    auto& rb = by_range_[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
-    rb.first.add(p.apoi);
-    rb.second.add(p.toi);
+  for (const auto& p : plots)
     for (std::size_t i = 0; i < ranges.size(); ++i)
-      if (std::abs(p.range_true_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
+      if (std::abs(p.range_table_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
         a[i].add(p.apoi);
         t[i].add(p.toi);
       }
-  }
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     if (a[i].n == 0)
       throw std::runtime_error("realization has no plot within " +
@@ -87,6 +78,20 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
     if (table_plots_[i] >= 0 && table_plots_[i] != a[i].n)
       throw std::runtime_error("table range " + range_key(ranges[i]) +
                                " m: realizations differ in the number of plots in the bin");
+  }
+  for (const auto& p : plots) {
+    auto& tb = by_time_[p.utime];
+    tb.range_true_m = p.range_true_m;
+    tb.range_table_m = p.range_table_m;
+    tb.apoi.add(p.apoi);
+    tb.toi.add(p.toi);
+    tb.bias_err.add(p.bias_err);
+    tb.bias_var.add(p.bias_var);
+    auto& rb = by_range_[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
+    rb.first.add(p.apoi);
+    rb.second.add(p.toi);
+  }
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
     table_plots_[i] = a[i].n;
     std::array<double, 3> ma, mt;
     for (int k = 0; k < 3; ++k) {
@@ -103,7 +108,8 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
   std::ostringstream o;
   o << "Table 2: systematic error (ensemble mean over " << n_real_ << " realizations, seed "
     << seed << "), metres, landing frame\n";
-  o << "range from radar   row    X (+-95%)            Z (+-95%)            Y (+-95%)           "
+  o << "range (from " << sc_.logger.table_range_origin << ")\n";
+  o << "range            row    X (+-95%)            Z (+-95%)            Y (+-95%)           "
        "| paper X   Z      Y\n";
   const char* rows[2] = {"APOI", "TOI"};
   for (std::size_t i = 0; i < sc_.logger.table_ranges_m.size(); ++i) {
@@ -144,8 +150,12 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   detail["realizations"] = n_real_;
   detail["seed"] = seed;
   detail["unit"] = "m, landing frame L (X along the runway axis, Z lateral, Y up)";
-  detail["range_definition"] = "true slant range from the radar; per realization the mean over "
-                               "plots within +-halfwidth_m, then the ensemble mean";
+  detail["range_origin"] = sc_.logger.table_range_origin;
+  detail["range_definition"] = std::string("true distance from the ") +
+                               (sc_.logger.table_range_origin == "radar" ? "radar antenna (slant range)"
+                                                                          : "runway threshold") +
+                               "; per realization the mean over plots within +-halfwidth_m, then "
+                               "the ensemble mean";
   detail["halfwidth_m"] = sc_.logger.table_halfwidth_m;
   for (const char* row : {"APOI", "TOI"}) {
     t2[row] = nlohmann::ordered_json::object();
@@ -176,7 +186,7 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   write_file(dir, "table2.txt", table2_text(seed));
 
   std::ostringstream ts;
-  ts << "t_s,range_m,n";
+  ts << "t_s,range_m,range_table_m,n";
   for (const char* p : {"apoi", "toi"})
     for (const char* s : {"mean", "rms"})
       for (const char* c : {"x", "z", "y"}) ts << "," << p << "_" << s << "_" << c << "_m";
@@ -186,7 +196,7 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg\n";
   for (const auto& [utime, b] : by_time_) {
     ts << num((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << num(b.range_true_m, 2) << ","
-       << b.apoi.n;
+       << num(b.range_table_m, 2) << "," << b.apoi.n;
     for (const auto* m : {&b.apoi, &b.toi}) {
       for (int k = 0; k < 3; ++k) ts << "," << num(m->mean(k));
       for (int k = 0; k < 3; ++k) ts << "," << num(m->rms(k));

@@ -25,6 +25,7 @@ namespace rnav {
 struct PlotErrors {
   std::int64_t utime = 0;
   double range_true_m = 0;          ///< [m] true slant range from the radar
+  double range_table_m = 0;         ///< [m] true range in the sense of logger.table_range_origin
   std::array<double, 3> apoi{};     ///< [m] raw plot error in L: X, Z, Y
   std::array<double, 3> toi{};      ///< [m] compensated plot error in L: X, Z, Y
   std::array<double, 3> bias_err{}; ///< eta_hat - radar systematic error [m, rad, rad]
@@ -74,7 +75,7 @@ class PrlStats {
   std::string table2_text(std::int64_t seed) const;
 
   struct TimeBin {
-    double range_true_m = 0;
+    double range_true_m = 0, range_table_m = 0;
     Moments<3> apoi, toi, bias_err, bias_var;
   };
   const std::map<std::int64_t, TimeBin>& by_time() const { return by_time_; }

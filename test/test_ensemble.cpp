@@ -64,7 +64,8 @@ std::array<double, 3> predicted_apoi(const Scenario& sc, double range_m) {
     const Eigen::Vector3d p_L = traj.at(t).p_TA_L;
     const Geodetic g = L.to_geodetic(p_L);
     const Polar q = polar_from_cartesian(R.from_geodetic(g));
-    if (std::abs(q.range_m - range_m) > sc.logger.table_halfwidth_m) continue;
+    const double r = sc.logger.table_range_origin == "radar" ? q.range_m : p_L.norm();
+    if (std::abs(r - range_m) > sc.logger.table_halfwidth_m) continue;
     const Polar qb{q.range_m + sc.prl.bias_range_m, q.course_rad + sc.prl.bias_course_deg * kDegToRad,
                    q.glide_rad + sc.prl.bias_glide_deg * kDegToRad};
     const Eigen::Vector3d e = L.from_geodetic(R.to_geodetic(cartesian_from_polar(qb))) - p_L;
@@ -80,7 +81,7 @@ std::array<double, 3> predicted_apoi(const Scenario& sc, double range_m) {
 
 }  // namespace
 
-TEST_CASE("ensemble: APOI systematic error equals the bias propagated through the geometry; "
+TEST_CASE("ensemble: APOI systematic error equals the bias propagated through the geometry, "
           "TOI at 4 km is zero within its band", "[ensemble]") {
   const Scenario sc = Scenario::load(kPaper);
   const int N = 200;

@@ -128,7 +128,7 @@ TEST_CASE("a lost message is detected, the realization repeated, the result unch
   CHECK(slurp(d / "lossy" / "table2.json") == slurp(d / "clean" / "table2.json"));
 }
 
-TEST_CASE("a message lost on every attempt fails the run naming it; no result is written",
+TEST_CASE("a message lost on every attempt fails the run naming it, no result is written",
           "[integration][loss]") {
   const fs::path d = scratch("loss_all");
   const auto r = sh(kRun + "--realizations 3 --seed 9 " + kFast +

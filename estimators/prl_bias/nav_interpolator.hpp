@@ -44,7 +44,9 @@ class NavBuffer {
   /// Decide for a plot at utime t, knowing all arrivals before now_utime:
   ///  - kInterpolate: solutions a (utime <= t) and b (utime >= t) arrived by t + wait_us,
   ///    b.utime - a.utime <= max_gap_us;
-  ///  - kDropout: no such pair, and now_utime > t + wait_us (the answer can no longer change);
+  ///  - kDropout: the first solution at or after t arrived by t + wait_us but has no usable
+  ///    partner (none before t, or the gap exceeds max_gap_us); or none arrived by t + wait_us
+  ///    and now_utime > t + wait_us (the answer can no longer change);
   ///  - kWait: otherwise.
   /// The decision depends only on the solutions' time stamps, never on when this is called.
   Result decide(std::int64_t t, std::int64_t wait_us, std::int64_t max_gap_us,

@@ -1,0 +1,189 @@
+// Unit tests of common/config.hpp and common/scenario.hpp: strict scenario validation with
+// errors naming the key, overrides, and JSON file loading.
+#include "config.hpp"
+#include "scenario.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+using Catch::Contains;
+using nlohmann::json;
+using rnav::ConfigError;
+using rnav::Scenario;
+
+namespace {
+
+// The message of the ConfigError thrown by f (empty if none / another exception type).
+template <class F> std::string config_error(F&& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  } catch (...) {
+    return "<other exception>";
+  }
+  return "<no exception>";
+}
+std::string from_json_error(const json& j) { return config_error([&] { Scenario::from_json(j); }); }
+
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "rnav_test_config_XXXXXX").string();
+    path = mkdtemp(tmpl.data());
+  }
+  ~TempDir() { std::filesystem::remove_all(path); }
+  std::string write(const std::string& name, const std::string& text) const {
+    const auto f = path / name;
+    std::ofstream(f) << text;
+    return f.string();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("empty scenario gives the documented defaults", "[config]") {
+  const Scenario sc = Scenario::from_json(json::object());
+  CHECK(sc.name == "paper");
+  CHECK(sc.trajectory.start_x_m == 30860);
+  CHECK(sc.prl.bias_range_m == 6);
+  CHECK(sc.prl_bias.switch_time_s == 400);
+  // azimuth reference default: landing heading + 180, in [0, 360)
+  CHECK(sc.radar.azimuth_reference_deg == Approx(295.9 - 180).epsilon(1e-12));
+  CHECK(rnav::to_us(0.25) == 250000);
+  CHECK(rnav::to_us(1e-6 * 0.6) == 1);
+}
+
+TEST_CASE("the paper scenario file loads and equals the defaults it restates", "[config]") {
+  const Scenario sc = Scenario::load(std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.json");
+  const Scenario d = Scenario::from_json(json::object());
+  CHECK(sc.trajectory.start_z_m == d.trajectory.start_z_m);
+  CHECK(sc.trajectory.glide_deg == Approx(d.trajectory.glide_deg).epsilon(1e-15));
+  CHECK(sc.snsins.corr_sigma_m == d.snsins.corr_sigma_m);
+  CHECK(sc.prl.noise2s_glide_deg == d.prl.noise2s_glide_deg);
+}
+
+TEST_CASE("unknown keys throw ConfigError naming the full key path", "[config]") {
+  CHECK_THAT(from_json_error(json::parse(R"({"prl": {"bias_rang_m": 1}})")),
+             Contains("prl.bias_rang_m"));
+  CHECK_THAT(from_json_error(json::parse(R"({"trajectroy": {}})")), Contains("trajectroy"));
+  CHECK_THAT(from_json_error(json::parse(R"({"snsins": {"corr_sigma_m": 2, "latncy_s": 0.1}})")),
+             Contains("snsins.latncy_s"));
+}
+
+TEST_CASE("bad values throw ConfigError naming the key", "[config]") {
+  SECTION("string \"NaN\"") {
+    const std::string m = from_json_error(json::parse(R"({"prl": {"bias_range_m": "NaN"}})"));
+    CHECK_THAT(m, Contains("prl.bias_range_m"));
+    CHECK_THAT(m, Contains("number"));
+  }
+  SECTION("a real NaN / infinity in the document") {
+    json j;
+    j["prl"]["bias_course_deg"] = std::nan("");
+    CHECK_THAT(from_json_error(j), Contains("prl.bias_course_deg"));
+    json k;
+    k["snsins"]["latency_s"] = std::numeric_limits<double>::infinity();
+    CHECK_THAT(from_json_error(k), Contains("snsins.latency_s"));
+  }
+  SECTION("out of range") {
+    const std::string m = from_json_error(json::parse(R"({"prl": {"noise2s_range_m": -1}})"));
+    CHECK_THAT(m, Contains("prl.noise2s_range_m"));
+    CHECK_THAT(m, Contains("out of range"));
+    CHECK_THAT(from_json_error(json::parse(R"({"trajectory": {"speed_mps": 301}})")),
+               Contains("trajectory.speed_mps"));
+    // the bounds themselves are accepted
+    CHECK_NOTHROW(Scenario::from_json(json::parse(R"({"trajectory": {"speed_mps": 300}})")));
+  }
+  SECTION("wrong type") {
+    CHECK_THAT(from_json_error(json::parse(R"({"trajectory": {"speed_mps": "fast"}})")),
+               Contains("trajectory.speed_mps"));
+    CHECK_THAT(from_json_error(json::parse(R"({"prl_bias": {"add_nav_variance": 1}})")),
+               Contains("prl_bias.add_nav_variance"));
+    CHECK_THAT(from_json_error(json::parse(R"({"runner": {"max_attempts": 2.5}})")),
+               Contains("runner.max_attempts"));
+    CHECK_THAT(from_json_error(json::parse(R"({"name": 5})")), Contains("name"));
+    CHECK_THAT(from_json_error(json::parse(R"({"prl": 5})")), Contains("prl"));
+    CHECK_THAT(from_json_error(json::parse(R"({"logger": {"table_ranges_m": [25000, "x"]}})")),
+               Contains("logger.table_ranges_m"));
+  }
+  SECTION("period not a multiple of the truth step") {
+    const std::string m = from_json_error(json::parse(R"({"prl": {"period_s": 0.3}})"));
+    CHECK_THAT(m, Contains("prl.period_s"));
+    CHECK_THAT(m, Contains("trajectory.step_s"));
+    CHECK_THAT(from_json_error(json::parse(R"({"snsins": {"link_phase_s": 0.1}})")),
+               Contains("snsins.link_phase_s"));
+    CHECK_NOTHROW(Scenario::from_json(json::parse(R"({"prl": {"period_s": 0.5}})")));
+    CHECK_NOTHROW(
+        Scenario::from_json(json::parse(R"({"prl": {"period_s": 0.3}, "trajectory": {"step_s": 0.05}})")));
+  }
+  SECTION("bad intervals") {
+    CHECK_THAT(from_json_error(json::parse(R"({"snsins": {"dropouts": [[10, 5]]}})")),
+               Contains("snsins.dropouts"));
+    CHECK_THAT(from_json_error(json::parse(R"({"snsins": {"dropouts": [[1, 2, 3]]}})")),
+               Contains("snsins.dropouts"));
+    const Scenario sc = Scenario::from_json(json::parse(R"({"snsins": {"dropouts": [[100, 120.5]]}})"));
+    REQUIRE(sc.snsins.dropouts.size() == 1);
+    CHECK(sc.snsins.dropouts[0].first == 100);
+    CHECK(sc.snsins.dropouts[0].second == 120.5);
+  }
+  SECTION("inconsistent combinations") {
+    CHECK_THAT(from_json_error(json::parse(R"({"runner": {"flush_s": 1}})")),
+               Contains("runner.flush_s"));
+    CHECK_THAT(from_json_error(json::parse(R"({"trajectory": {"end_x_m": 30000}})")),
+               Contains("trajectory.end_x_m"));
+    CHECK_THAT(from_json_error(json::parse(R"({"logger": {"table_ranges_m": []}})")),
+               Contains("logger.table_ranges_m"));
+  }
+}
+
+TEST_CASE("apply_override sets nested keys with JSON or string values", "[config]") {
+  json doc = json::parse(R"({"prl": {"bias_range_m": 6}})");
+  rnav::apply_override(doc, "prl.bias_range_m=7.5");
+  rnav::apply_override(doc, "prl_bias.switch_time_s=300");
+  rnav::apply_override(doc, "name=my run");
+  rnav::apply_override(doc, "logger.table_ranges_m=[20000,5000]");
+  rnav::apply_override(doc, "prl_bias.add_nav_variance=false");
+  rnav::apply_override(doc, "a.b.c=1");
+  CHECK(doc["prl"]["bias_range_m"].is_number());
+  CHECK(doc["prl"]["bias_range_m"].get<double>() == 7.5);
+  CHECK(doc["prl_bias"]["switch_time_s"].get<double>() == 300);
+  CHECK(doc["name"].get<std::string>() == "my run");
+  CHECK(doc["a"]["b"]["c"].get<int>() == 1);
+  doc.erase("a");
+  const Scenario sc = Scenario::from_json(doc);
+  CHECK(sc.prl.bias_range_m == 7.5);
+  CHECK(sc.prl_bias.switch_time_s == 300);
+  CHECK(sc.name == "my run");
+  CHECK(sc.logger.table_ranges_m == std::vector<double>{20000, 5000});
+  CHECK_FALSE(sc.prl_bias.add_nav_variance);
+
+  json bad = json::parse(R"({"prl": 5})");
+  CHECK_THROWS_AS(rnav::apply_override(bad, "prl.bias_range_m=1"), ConfigError);
+  CHECK_THROWS_AS(rnav::apply_override(bad, "no_equals_sign"), ConfigError);
+  CHECK_THROWS_AS(rnav::apply_override(bad, "=5"), ConfigError);
+  CHECK_THROWS_AS(rnav::apply_override(bad, "a..b=5"), ConfigError);
+}
+
+TEST_CASE("load_json_file and Scenario::load name the file", "[config]") {
+  TempDir dir;
+  const std::string broken = dir.write("broken.json", "{\"prl\": {\"bias_range_m\": 6,,}\n");
+  const std::string m = config_error([&] { rnav::load_json_file(broken); });
+  CHECK_THAT(m, Contains(broken));
+  CHECK_THAT(config_error([&] { rnav::load_json_file((dir.path / "missing.json").string()); }),
+             Contains("missing.json"));
+  // comments are allowed (the shipped scenarios use them)
+  const std::string ok = dir.write("ok.json", "// comment\n{\"prl\": {\"bias_range_m\": 3} /* c */}\n");
+  CHECK(rnav::load_json_file(ok)["prl"]["bias_range_m"].get<double>() == 3);
+  // Scenario::load applies overrides, and its errors name both file and key
+  const Scenario sc = Scenario::load(ok, {"prl.bias_course_deg=0.2"});
+  CHECK(sc.prl.bias_range_m == 3);
+  CHECK(sc.prl.bias_course_deg == 0.2);
+  const std::string m2 = config_error([&] { Scenario::load(ok, {"prl.bias_rang_m=1"}); });
+  CHECK_THAT(m2, Contains(ok));
+  CHECK_THAT(m2, Contains("prl.bias_rang_m"));
+}
