@@ -141,6 +141,18 @@ template <class O> void write_section(nlohmann::json& root, const char* name, O&
   visit(o, w);
 }
 
+// Every section of a scenario, in file order.
+template <class F> void for_each_section(Scenario& sc, F&& f) {
+  f("runway", sc.runway);
+  f("radar", sc.radar);
+  f("trajectory", sc.trajectory);
+  f("prl", sc.prl);
+  f("snsins", sc.snsins);
+  f("prl_bias", sc.prl_bias);
+  f("logger", sc.logger);
+  f("runner", sc.runner);
+}
+
 // t must be an integer multiple of step (both in us).
 void require_multiple(double t_s, double step_s, const std::string& key) {
   const auto t = to_us(t_s), step = to_us(step_s);
@@ -156,14 +168,7 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;
   Section root(doc, "");
   sc.name = root.string("name", sc.name);
-  read_section(root, "runway", sc.runway);
-  read_section(root, "radar", sc.radar);
-  read_section(root, "trajectory", sc.trajectory);
-  read_section(root, "prl", sc.prl);
-  read_section(root, "snsins", sc.snsins);
-  read_section(root, "prl_bias", sc.prl_bias);
-  read_section(root, "logger", sc.logger);
-  read_section(root, "runner", sc.runner);
+  for_each_section(sc, [&](const char* name, auto& o) { read_section(root, name, o); });
   root.finish();
 
   if (sc.radar.azimuth_reference_deg < 0)
@@ -212,14 +217,7 @@ void Scenario::print(std::ostream& os) const {
   Scenario c = *this;
   nlohmann::json j;
   j["name"] = c.name;
-  write_section(j, "runway", c.runway);
-  write_section(j, "radar", c.radar);
-  write_section(j, "trajectory", c.trajectory);
-  write_section(j, "prl", c.prl);
-  write_section(j, "snsins", c.snsins);
-  write_section(j, "prl_bias", c.prl_bias);
-  write_section(j, "logger", c.logger);
-  write_section(j, "runner", c.runner);
+  for_each_section(c, [&](const char* name, auto& o) { write_section(j, name, o); });
   os << j.dump(2) << "\n";
 }
 
