@@ -1,5 +1,7 @@
 #include "scenario.hpp"
 
+#include "options_io.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -7,48 +9,8 @@ namespace rnav {
 
 std::int64_t to_us(double t_s) { return std::llround(t_s * 1e6); }
 
-namespace {
+namespace options_io {  // the visit() overloads must be found by read_section's ADL
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// One description of every key, used both to parse (Reader) and to print (Writer).
-struct Reader {
-  Section& s;
-  void num(const char* k, double& x, double lo, double hi) { x = s.number(k, x, lo, hi); }
-  void integer(const char* k, long& x, long lo, long hi) { x = s.integer(k, x, lo, hi); }
-  void i64(const char* k, std::int64_t& x, double lo, double hi) {
-    x = static_cast<std::int64_t>(s.number(k, static_cast<double>(x), lo, hi));
-  }
-  void flag(const char* k, bool& x) { x = s.boolean(k, x); }
-  void choice(const char* k, std::string& x, const std::vector<std::string>& allowed) {
-    x = s.string(k, x);
-    for (const auto& a : allowed)
-      if (a == x) return;
-    std::string list;
-    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list);
-  }
-  void list(const char* k, std::vector<double>& x, double lo, double hi) {
-    x = s.numbers(k, x, lo, hi);
-  }
-  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double lo, double hi) {
-    if (s.has(k)) x = s.intervals(k, lo, hi); else (void)s.intervals(k, lo, hi);
-  }
-};
-
-struct Writer {
-  nlohmann::json& j;
-  void num(const char* k, double& x, double, double) { j[k] = x; }
-  void integer(const char* k, long& x, long, long) { j[k] = x; }
-  void i64(const char* k, std::int64_t& x, double, double) { j[k] = x; }
-  void flag(const char* k, bool& x) { j[k] = x; }
-  void choice(const char* k, std::string& x, const std::vector<std::string>&) { j[k] = x; }
-  void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
-  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
-    j[k] = nlohmann::json::array();
-    for (auto& p : x) j[k].push_back({p.first, p.second});
-  }
-};
 
 template <class V> void visit(RunwayOptions& o, V& v) {
   v.num("threshold_lat_deg", o.threshold.lat_deg, -89, 89);
@@ -121,25 +83,6 @@ template <class V> void visit(LoggerOptions& o, V& v) {
   v.choice("table_range_origin", o.table_range_origin, {"radar", "threshold"});
   v.num("range_bin_m", o.range_bin_m, 10, 1e5);
 }
-template <class V> void visit(RunnerOptions& o, V& v) {
-  v.num("window_s", o.window_s, 0.01, 1e5);
-  v.num("flush_s", o.flush_s, 0, 1e4);
-  v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
-  v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);
-  v.integer("max_attempts", o.max_attempts, 1, 100);
-  v.i64("epoch_utime", o.epoch_utime, 0, 4e15);
-}
-
-template <class O> void read_section(Section& root, const char* name, O& o) {
-  Section s = root.section(name);
-  Reader r{s};
-  visit(o, r);
-  s.finish();
-}
-template <class O> void write_section(nlohmann::json& root, const char* name, O& o) {
-  Writer w{root[name]};
-  visit(o, w);
-}
 
 // Every section of a scenario, in file order.
 template <class F> void for_each_section(Scenario& sc, F&& f) {
@@ -153,16 +96,8 @@ template <class F> void for_each_section(Scenario& sc, F&& f) {
   f("runner", sc.runner);
 }
 
-// t must be an integer multiple of step (both in us).
-void require_multiple(double t_s, double step_s, const std::string& key) {
-  const auto t = to_us(t_s), step = to_us(step_s);
-  if (step <= 0 || t % step != 0)
-    throw ConfigError("scenario key '" + key + "' = " + std::to_string(t_s) +
-                      " s must be a multiple of trajectory.step_s = " + std::to_string(step_s) +
-                      " s (radar and nav samples lie on the truth grid)");
-}
-
-}  // namespace
+}  // namespace options_io
+using namespace options_io;
 
 Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;

@@ -8,15 +8,16 @@
 
 namespace rnav {
 
-Conductor::Conductor(Bus& bus, const Scenario& sc, const ConductorOptions& o, double duration_s)
-    : bus_(bus), sc_(sc), o_(o) {
+Conductor::Conductor(Bus& bus, const RunnerOptions& runner, double step_s,
+                     const ConductorOptions& o, double duration_s)
+    : bus_(bus), runner_(runner), o_(o) {
   if (o.n_realizations < 1) throw ConfigError("--realizations must be >= 1");
   if (o.nodes.empty()) throw ConfigError("the clock needs the list of nodes (--nodes)");
   if (!(o.speed > 0)) throw ConfigError("--speed must be > 0");
-  const std::int64_t step = to_us(sc.trajectory.step_s);
-  window_us_ = to_us(sc.runner.window_s);
+  const std::int64_t step = to_us(step_s);
+  window_us_ = to_us(runner.window_s);
   // The realization spans the trajectory plus the flush time, on the truth grid.
-  const std::int64_t raw_end = to_us(duration_s + sc.runner.flush_s);
+  const std::int64_t raw_end = to_us(duration_s + runner.flush_s);
   end_us_ = (raw_end + step - 1) / step * step;
   n_windows_ = static_cast<int>((end_us_ + window_us_ - 1) / window_us_);
   bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_ack(a); });
@@ -32,8 +33,8 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
   w.window = w_;
   w.last_window = w_ == n_windows_ - 1;
   const std::int64_t b = static_cast<std::int64_t>(w_) * window_us_;
-  w.utime_begin = sc_.utime(b);
-  w.utime_end = sc_.utime(std::min(b + window_us_, end_us_));
+  w.utime_begin = (runner_.epoch_utime + b);
+  w.utime_end = (runner_.epoch_utime + std::min(b + window_us_, end_us_));
   w.reason = reason;
   bus_.publish(ch::kWindow, w);
 }
@@ -69,7 +70,7 @@ void Conductor::next_window() {
 void Conductor::retry(const std::string& reason) {
   retries_.push_back({r_, a_, reason});
   window_open_ = false;
-  if (a_ + 1 >= sc_.runner.max_attempts) {
+  if (a_ + 1 >= runner_.max_attempts) {
     std::string all;
     for (const auto& e : retries_)
       if (e.realization == r_) all += "\n  attempt " + std::to_string(e.attempt) + ": " + e.reason;
@@ -140,11 +141,11 @@ void Conductor::poll(double wall_now_s) {
       break;
     }
     case State::kRunning:
-      if (window_open_ && now_s_ - window_wall_s_ > sc_.runner.ack_timeout_s) {
+      if (window_open_ && now_s_ - window_wall_s_ > runner_.ack_timeout_s) {
         std::string missing;
         for (const auto& n : o_.nodes)
           if (!acked_.count(n)) missing += " " + n;
-        retry("no ack within " + std::to_string(sc_.runner.ack_timeout_s) + " s for realization " +
+        retry("no ack within " + std::to_string(runner_.ack_timeout_s) + " s for realization " +
               std::to_string(r_) + " attempt " + std::to_string(a_) + " window " +
               std::to_string(w_) + " from:" + missing);
       } else if (o_.realtime && !window_open_) {
@@ -154,7 +155,7 @@ void Conductor::poll(double wall_now_s) {
       }
       break;
     case State::kFinishing:
-      if (now_s_ - finish_sent_s_ > sc_.runner.ack_timeout_s) {
+      if (now_s_ - finish_sent_s_ > runner_.ack_timeout_s) {
         std::string missing;
         for (const auto& n : o_.nodes)
           if (!acked_.count(n)) missing += " " + n;

@@ -32,7 +32,11 @@ struct RetryEvent {
 
 class Conductor {
  public:
-  Conductor(Bus& bus, const Scenario& sc, const ConductorOptions& o, double duration_s);
+  /// @param runner      lock-step options (window, timeouts, attempts, epoch)
+  /// @param step_s      [s] truth grid step; the realization end is rounded up to it
+  /// @param duration_s  [s] sim time of the scenario's last truth sample
+  Conductor(Bus& bus, const RunnerOptions& runner, double step_s, const ConductorOptions& o,
+            double duration_s);
 
   /// Drive the protocol; call often with a monotonic wall time [s].
   void poll(double wall_now_s);
@@ -56,7 +60,7 @@ class Conductor {
   void send(std::int8_t command, const std::string& reason = "");
 
   Bus& bus_;
-  Scenario sc_;
+  RunnerOptions runner_;
   ConductorOptions o_;
   std::int64_t window_us_, end_us_;
   int n_windows_;

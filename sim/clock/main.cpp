@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     for (std::string n; std::getline(ss, n, ',');)
       if (!n.empty()) o.nodes.push_back(n);
     rnav::LcmBus bus(url);
-    rnav::Conductor c(bus, sc, o, traj.duration_s());
+    rnav::Conductor c(bus, sc.runner, sc.trajectory.step_s, o, traj.duration_s());
     rnav::ProgressBar bar(o.realtime ? "realtime" : "ensemble");
     const double t0 = rnav::wall_seconds();
     c.on_progress = [&](int done, int total, int retries) { bar.update(done, total, retries, rnav::wall_seconds()); };

@@ -28,7 +28,7 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
     for (const auto& d : drops) node->add_drop(DropSpec::parse(d));
   }
   const ApproachTrajectory traj(sc.trajectory);
-  Conductor c(bus, sc, o, traj.duration_s());
+  Conductor c(bus, sc.runner, sc.trajectory.step_s, o, traj.duration_s());
   // Wall time stands still in one process: no timeouts; a lost batch shows as a stall.
   for (auto& node : nodes) node->poll(0.0);
   bus.run_until_idle();

@@ -1,0 +1,92 @@
+// Reading and printing option structs from one description of their keys.
+//
+// Each options struct has a `visit(Options&, V&)` listing its keys with unit-bearing names and
+// ranges; Reader parses a scenario Section through it (strictly: unknown keys, wrong types,
+// NaN, out-of-range values are ConfigErrors naming the key) and Writer dumps it for the
+// start-up print. One list, so parsing and printing cannot disagree.
+#pragma once
+
+#include "config.hpp"
+#include "scenario.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rnav::options_io {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One description of every key, used both to parse (Reader) and to print (Writer).
+struct Reader {
+  Section& s;
+  void num(const char* k, double& x, double lo, double hi) { x = s.number(k, x, lo, hi); }
+  void integer(const char* k, long& x, long lo, long hi) { x = s.integer(k, x, lo, hi); }
+  void i64(const char* k, std::int64_t& x, double lo, double hi) {
+    x = static_cast<std::int64_t>(s.number(k, static_cast<double>(x), lo, hi));
+  }
+  void flag(const char* k, bool& x) { x = s.boolean(k, x); }
+  void choice(const char* k, std::string& x, const std::vector<std::string>& allowed) {
+    x = s.string(k, x);
+    for (const auto& a : allowed)
+      if (a == x) return;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list);
+  }
+  void list(const char* k, std::vector<double>& x, double lo, double hi) {
+    x = s.numbers(k, x, lo, hi);
+  }
+  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double lo, double hi) {
+    if (s.has(k)) x = s.intervals(k, lo, hi); else (void)s.intervals(k, lo, hi);
+  }
+};
+
+struct Writer {
+  nlohmann::json& j;
+  void num(const char* k, double& x, double, double) { j[k] = x; }
+  void integer(const char* k, long& x, long, long) { j[k] = x; }
+  void i64(const char* k, std::int64_t& x, double, double) { j[k] = x; }
+  void flag(const char* k, bool& x) { j[k] = x; }
+  void choice(const char* k, std::string& x, const std::vector<std::string>&) { j[k] = x; }
+  void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
+  void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
+    j[k] = nlohmann::json::array();
+    for (auto& p : x) j[k].push_back({p.first, p.second});
+  }
+};
+
+template <class V> void visit(RunnerOptions& o, V& v) {
+  v.num("window_s", o.window_s, 0.01, 1e5);
+  v.num("flush_s", o.flush_s, 0, 1e4);
+  v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
+  v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);
+  v.integer("max_attempts", o.max_attempts, 1, 100);
+  v.i64("epoch_utime", o.epoch_utime, 0, 4e15);
+}
+
+template <class O> void read_section(Section& root, const char* name, O& o) {
+  Section s = root.section(name);
+  Reader r{s};
+  visit(o, r);
+  s.finish();
+}
+template <class O> void write_section(nlohmann::json& root, const char* name, O& o) {
+  Writer w{root[name]};
+  visit(o, w);
+}
+
+// t must be an integer multiple of step (both in us).
+inline void require_multiple(double t_s, double step_s, const std::string& key,
+                             const std::string& step_key = "trajectory.step_s") {
+  const auto t = to_us(t_s), step = to_us(step_s);
+  if (step <= 0 || t % step != 0)
+    throw ConfigError("scenario key '" + key + "' = " + std::to_string(t_s) +
+                      " s must be a multiple of " + step_key + " = " + std::to_string(step_s) +
+                      " s (all samples lie on the truth grid)");
+}
+
+
+}  // namespace rnav::options_io
