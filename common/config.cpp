@@ -122,6 +122,23 @@ std::vector<double> Section::numbers(const std::string& key, const std::vector<d
   return out;
 }
 
+std::vector<std::array<double, 4>> Section::rows4(const std::string& key) {
+  std::vector<std::array<double, 4>> out;
+  const auto* v = find(key);
+  if (!v) return out;
+  if (!v->is_array())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a list of 4-number rows, got " +
+                      v->dump());
+  for (const auto& r : *v) {
+    if (!r.is_array() || r.size() != 4)
+      throw ConfigError("scenario key '" + key_path(key) + "': expected 4 numbers, got " + r.dump());
+    std::array<double, 4> row;
+    for (int i = 0; i < 4; ++i) row[i] = as_number(key, r[i], -1e9, 1e9);
+    out.push_back(row);
+  }
+  return out;
+}
+
 Section Section::section(const std::string& key) {
   const auto* v = find(key);
   return Section(v ? *v : nlohmann::json::object(), key_path(key));
@@ -142,6 +159,16 @@ nlohmann::json load_json_file(const std::string& file) {
   } catch (const nlohmann::json::parse_error& e) {
     throw ConfigError("scenario file '" + file + "': " + e.what());
   }
+}
+
+std::string scenario_kind(const std::string& file) {
+  const nlohmann::json doc = load_json_file(file);
+  if (!doc.is_object()) throw ConfigError("scenario file '" + file + "': expected a JSON object");
+  const auto it = doc.find("kind");
+  if (it == doc.end()) return "prl";
+  if (!it->is_string() || (*it != "prl" && *it != "uav"))
+    throw ConfigError("scenario file '" + file + "': key 'kind' must be \"prl\" or \"uav\"");
+  return it->get<std::string>();
 }
 
 void apply_override(nlohmann::json& doc, const std::string& assignment) {

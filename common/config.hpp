@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -40,6 +41,8 @@ class Section {
   /// A list of finite numbers in [lo, hi]; `def` when absent.
   std::vector<double> numbers(const std::string& key, const std::vector<double>& def, double lo,
                               double hi);
+  /// A list of rows of 4 finite numbers each.
+  std::vector<std::array<double, 4>> rows4(const std::string& key);
   /// A nested section; an absent key gives an empty section.
   Section section(const std::string& key);
   bool has(const std::string& key) const;
@@ -58,6 +61,9 @@ class Section {
   std::string path_;
   std::set<std::string> used_;
 };
+
+/// The scenario kind of a file: its top-level "kind" ("prl" when absent).
+std::string scenario_kind(const std::string& file);
 
 /// Load a JSON file; errors name the file and the parse position.
 nlohmann::json load_json_file(const std::string& file);

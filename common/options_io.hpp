@@ -9,6 +9,7 @@
 #include "config.hpp"
 #include "scenario.hpp"
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -42,6 +43,11 @@ struct Reader {
   void intervals(const char* k, std::vector<std::pair<double, double>>& x, double lo, double hi) {
     if (s.has(k)) x = s.intervals(k, lo, hi); else (void)s.intervals(k, lo, hi);
   }
+  /// A list of 4-number rows (e.g. manoeuvres); every number finite.
+  void quads(const char* k, std::vector<std::array<double, 4>>& x) {
+    if (!s.has(k)) { (void)s.numbers(k, {}, 0, 0); return; }
+    x = s.rows4(k);
+  }
 };
 
 struct Writer {
@@ -55,6 +61,10 @@ struct Writer {
   void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
     j[k] = nlohmann::json::array();
     for (auto& p : x) j[k].push_back({p.first, p.second});
+  }
+  void quads(const char* k, std::vector<std::array<double, 4>>& x) {
+    j[k] = nlohmann::json::array();
+    for (auto& p : x) j[k].push_back(p);
   }
 };
 

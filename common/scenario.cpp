@@ -103,6 +103,8 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;
   Section root(doc, "");
   sc.name = root.string("name", sc.name);
+  const std::string kind = root.string("kind", "prl");
+  if (kind != "prl") throw ConfigError("scenario key 'kind': expected \"prl\", got \"" + kind + "\"");
   for_each_section(sc, [&](const char* name, auto& o) { read_section(root, name, o); });
   root.finish();
 

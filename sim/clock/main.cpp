@@ -2,11 +2,13 @@
 // Usage: rnav_clock --scenario FILE [--set k=v]... --realizations N --seed S
 //                   --nodes a,b,c [--realtime [--speed X]] [--events FILE] [--lcm-url URL]
 //        rnav_clock --scenario FILE [--set k=v]... --check   (validate, print, exit)
+//        rnav_clock --print-kind FILE                        (prl or uav)
 #include "approach_trajectory.hpp"
 #include "conductor.hpp"
 #include "lcm_bus.hpp"
 #include "node_main.hpp"
 #include "progress.hpp"
+#include "uav_scenario.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -67,23 +69,46 @@ int main(int argc, char** argv) {
       else if (a == "--events") events = value();
       else if (a == "--lcm-url") url = value();
       else if (a == "--check") check = true;
+      else if (a == "--print-kind") {
+        std::cout << rnav::scenario_kind(value()) << "\n";
+        return 0;
+      }
       else throw rnav::ConfigError("clock: unknown option " + a);
     }
     if (scenario_file.empty()) throw rnav::ConfigError("clock: --scenario FILE is required");
-    const rnav::Scenario sc = rnav::Scenario::load(scenario_file, overrides);
-    const rnav::ApproachTrajectory traj(sc.trajectory);
-    if (check) {
-      sc.print(std::cout);
-      std::cout << "duration_s=" << traj.duration_s() << " turn_radius_m=" << traj.turn_radius_m()
-                << " final_from_s=" << traj.final_time_s() << " descent_x_m=" << traj.descent_x_m()
-                << "\n";
-      return 0;
+    // What the clock needs of a scenario: lock-step options, truth step, duration.
+    rnav::RunnerOptions runner;
+    double step_s = 0, duration_s = 0;
+    if (rnav::scenario_kind(scenario_file) == "uav") {
+      const auto sc = rnav::UavScenario::load(scenario_file, overrides);
+      runner = sc.runner;
+      step_s = sc.sensor.period_s;
+      duration_s = sc.duration_s;
+      if (check) {
+        sc.print(std::cout);
+        std::cout << "step_s=" << step_s << " duration_s=" << duration_s << " orbit_period_s=" << sc.orbit_period_s()
+                  << " eval_time_s=" << sc.eval_time_s() << "\n";
+        return 0;
+      }
+    } else {
+      const auto sc = rnav::Scenario::load(scenario_file, overrides);
+      const rnav::ApproachTrajectory traj(sc.trajectory);
+      runner = sc.runner;
+      step_s = sc.trajectory.step_s;
+      duration_s = traj.duration_s();
+      if (check) {
+        sc.print(std::cout);
+        std::cout << "step_s=" << step_s << " duration_s=" << traj.duration_s() << " turn_radius_m=" << traj.turn_radius_m()
+                  << " final_from_s=" << traj.final_time_s() << " descent_x_m=" << traj.descent_x_m()
+                  << "\n";
+        return 0;
+      }
     }
     std::stringstream ss(nodes);
     for (std::string n; std::getline(ss, n, ',');)
       if (!n.empty()) o.nodes.push_back(n);
     rnav::LcmBus bus(url);
-    rnav::Conductor c(bus, sc.runner, sc.trajectory.step_s, o, traj.duration_s());
+    rnav::Conductor c(bus, runner, step_s, o, duration_s);
     rnav::ProgressBar bar(o.realtime ? "realtime" : "ensemble");
     const double t0 = rnav::wall_seconds();
     c.on_progress = [&](int done, int total, int retries) { bar.update(done, total, retries, rnav::wall_seconds()); };

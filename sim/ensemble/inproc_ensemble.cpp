@@ -6,10 +6,47 @@
 #include "prl_node.hpp"
 #include "snsins_node.hpp"
 #include "trajectory_node.hpp"
+#include "target_node.hpp"
+#include "uav_logger_node.hpp"
+#include "uav_node.hpp"
+#include "uav_tma_node.hpp"
 
 #include <memory>
 
 namespace rnav {
+
+namespace {
+
+// Drive nodes and clock on one InprocBus until the clock is done.
+InprocResult drive(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
+                   const RunnerOptions& runner, double step_s, double duration_s, int n,
+                   std::int64_t seed, const std::vector<std::string>& drops) {
+  ConductorOptions o;
+  o.n_realizations = n;
+  o.seed = seed;
+  for (const auto& node : nodes) {
+    o.nodes.push_back(node->name());
+    for (const auto& d : drops) node->add_drop(DropSpec::parse(d));
+  }
+  Conductor c(bus, runner, step_s, o, duration_s);
+  // Wall time stands still in one process: no timeouts; a lost batch shows as a stall, which
+  // the loop below then times out deliberately (fault-injection tests).
+  double now = 0;
+  for (int guard = 0; !c.done() && guard < 1000; ++guard) {
+    for (auto& node : nodes) node->poll(now);
+    bus.run_until_idle();
+    c.poll(now);
+    bus.run_until_idle();
+    if (!c.done() && guard > 0) now += 1e6;  // nothing moved without time: let timeouts fire
+  }
+  InprocResult r;
+  r.exit_code = c.done() ? c.exit_code() : 5;
+  r.failure = c.done() ? c.failure() : "in-process ensemble did not finish";
+  r.retries = static_cast<int>(c.retries().size());
+  return r;
+}
+
+}  // namespace
 
 InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir, const std::vector<std::string>& drops) {
@@ -20,41 +57,19 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));
-  ConductorOptions o;
-  o.n_realizations = n;
-  o.seed = seed;
-  for (const auto& node : nodes) {
-    o.nodes.push_back(node->name());
-    for (const auto& d : drops) node->add_drop(DropSpec::parse(d));
-  }
   const ApproachTrajectory traj(sc.trajectory);
-  Conductor c(bus, sc.runner, sc.trajectory.step_s, o, traj.duration_s());
-  // Wall time stands still in one process: no timeouts; a lost batch shows as a stall.
-  for (auto& node : nodes) node->poll(0.0);
-  bus.run_until_idle();
-  c.poll(0.0);  // all HELLOs are in: grant the first window
-  bus.run_until_idle();
-  c.poll(0.0);
-  bus.run_until_idle();
-  InprocResult r;
-  if (!c.done()) {
-    // Something is waiting for a message that will never come (dropped): time out now.
-    for (auto& node : nodes) node->poll(1e9);
-    bus.run_until_idle();
-    c.poll(1e9);
-    bus.run_until_idle();
-    int guard = 0;
-    while (!c.done() && guard++ < 1000) {
-      for (auto& node : nodes) node->poll(1e9 + guard);
-      bus.run_until_idle();
-      c.poll(1e9 + guard);
-      bus.run_until_idle();
-    }
-  }
-  r.exit_code = c.done() ? c.exit_code() : 5;
-  r.failure = c.done() ? c.failure() : "in-process ensemble did not finish";
-  r.retries = static_cast<int>(c.retries().size());
-  return r;
+  return drive(bus, nodes, sc.runner, sc.trajectory.step_s, traj.duration_s(), n, seed, drops);
+}
+
+InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
+                                 const std::string& out_dir, const std::vector<std::string>& drops) {
+  InprocBus bus;
+  std::vector<std::unique_ptr<LockstepNode>> nodes;
+  nodes.push_back(std::make_unique<TargetNode>(bus, sc));
+  nodes.push_back(std::make_unique<UavNode>(bus, sc));
+  nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
+  nodes.push_back(std::make_unique<UavLoggerNode>(bus, sc, out_dir));
+  return drive(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops);
 }
 
 }  // namespace rnav

@@ -5,6 +5,7 @@
 
 #include "conductor.hpp"
 #include "scenario.hpp"
+#include "uav_scenario.hpp"
 
 #include <string>
 
@@ -19,6 +20,10 @@ struct InprocResult {
 /// Run n realizations with `seed`; write the logger's files into out_dir (if not empty).
 /// `drops` inject deliberate message losses (tests).
 InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
+                                 const std::string& out_dir,
+                                 const std::vector<std::string>& drops = {});
+/// The same for the azimuth-only (UAV) scenario.
+InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir,
                                  const std::vector<std::string>& drops = {});
 

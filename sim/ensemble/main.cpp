@@ -26,9 +26,10 @@ int main(int argc, char** argv) {
       else throw rnav::ConfigError("inproc: unknown option " + a);
     }
     if (file.empty()) throw rnav::ConfigError("inproc: --scenario FILE is required");
-    const auto sc = rnav::Scenario::load(file, overrides);
     const double t0 = rnav::wall_seconds();
-    const auto r = rnav::run_inproc_ensemble(sc, n, seed, out, drops);
+    const auto r = rnav::scenario_kind(file) == "uav"
+                       ? rnav::run_inproc_ensemble(rnav::UavScenario::load(file, overrides), n, seed, out, drops)
+                       : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops);
     if (r.exit_code != 0) {
       std::cerr << "inproc: run failed: " << r.failure << "\n";
       return r.exit_code;

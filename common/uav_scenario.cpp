@@ -1,0 +1,130 @@
+#include "uav_scenario.hpp"
+
+#include "options_io.hpp"
+
+#include <cmath>
+
+namespace rnav {
+
+namespace options_io {
+
+template <class V> void visit(TargetOptions& o, V& v) {
+  v.num("start_north_m", o.start_north_m, -1e5, 1e5);
+  v.num("start_east_m", o.start_east_m, -1e5, 1e5);
+  v.num("speed_mps", o.speed_mps, 0, 30);
+  v.num("heading_deg", o.heading_deg, -360, 360);
+  v.quads("manoeuvres", o.manoeuvres);
+}
+template <class V> void visit(ObserverOptions& o, V& v) {
+  v.choice("path", o.path, {"circle", "straight"});
+  v.num("radius_m", o.radius_m, 20, 20000);
+  v.num("speed_mps", o.speed_mps, 1, 200);
+  v.num("altitude_m", o.altitude_m, 0, 5000);
+  v.choice("direction", o.direction, {"ccw", "cw"});
+  v.num("centre_offset_north_m", o.centre_offset_north_m, -1e5, 1e5);
+  v.num("centre_offset_east_m", o.centre_offset_east_m, -1e5, 1e5);
+  v.num("start_angle_deg", o.start_angle_deg, -360, 360);
+  v.num("straight_heading_deg", o.straight_heading_deg, -360, 360);
+}
+template <class V> void visit(ObserverNavOptions& o, V& v) {
+  v.num("white_sigma_m", o.white_sigma_m, 0, 100);
+  v.num("corr_sigma_m", o.corr_sigma_m, 0, 100);
+  v.num("corr_tau_s", o.corr_tau_s, 0.01, kInf);
+  v.num("vel_sigma_mps", o.vel_sigma_mps, 0, 10);
+}
+template <class V> void visit(SensorOptions& o, V& v) {
+  v.num("sigma_deg", o.sigma_deg, 1e-4, 10);
+  v.num("period_s", o.period_s, 0.01, 10);
+  v.num("fov_centre_deg", o.fov_centre_deg, -180, 180);
+  v.num("fov_half_deg", o.fov_half_deg, 0, 180);
+  v.num("max_range_m", o.max_range_m, 1, 1e6);
+}
+template <class V> void visit(TmaOptions& o, V& v) {
+  v.num("q_m2ps3", o.q_m2ps3, 0, 100);
+  v.num("range_prior_m", o.range_prior_m, 1, 1e6);
+  v.num("range_sigma_m", o.range_sigma_m, 1, 1e6);
+  v.num("vel_sigma_mps", o.vel_sigma_mps, 1e-3, 100);
+  v.integer("bank_size", o.bank_size, 2, 64);
+  v.num("bank_min_m", o.bank_min_m, 1, 1e6);
+  v.num("bank_max_m", o.bank_max_m, 1, 1e6);
+  v.flag("add_nav_noise", o.add_nav_noise);
+}
+template <class V> void visit(UavLoggerOptions& o, V& v) {
+  v.num("eval_time_s", o.eval_time_s, -1, 1e6);
+  v.num("diverge_pos_m", o.diverge_pos_m, 0.01, 1e6);
+}
+
+template <class F> void for_each_section(UavScenario& sc, F&& f) {
+  f("target", sc.target);
+  f("uav", sc.uav);
+  f("uav_nav", sc.uav_nav);
+  f("sensor", sc.sensor);
+  f("tma", sc.tma);
+  f("logger", sc.logger);
+  f("runner", sc.runner);
+}
+
+}  // namespace options_io
+using namespace options_io;
+
+UavScenario UavScenario::from_json(const nlohmann::json& doc) {
+  UavScenario sc;
+  sc.runner.window_s = 20;  // keeps every batch of estimates well under LCM's 64 KB datagram
+  Section root(doc, "");
+  sc.name = root.string("name", sc.name);
+  const std::string kind = root.string("kind", "uav");
+  if (kind != "uav") throw ConfigError("scenario key 'kind': expected \"uav\", got \"" + kind + "\"");
+  {
+    Section o = root.section("origin");
+    sc.origin.lat_deg = o.number("lat_deg", sc.origin.lat_deg, -89, 89);
+    sc.origin.lon_deg = o.number("lon_deg", sc.origin.lon_deg, -180, 180);
+    sc.origin.h_m = o.number("h_m", sc.origin.h_m, -500, 9000);
+    o.finish();
+  }
+  sc.duration_s = root.number("duration_s", sc.duration_s, -1, 1e6);
+  for_each_section(sc, [&](const char* name, auto& o) { read_section(root, name, o); });
+  root.finish();
+
+  if (sc.duration_s != -1 && sc.duration_s <= 0)
+    throw ConfigError("scenario key 'duration_s' must be > 0 (or -1: two orbits)");
+  require_multiple(sc.runner.window_s, sc.sensor.period_s, "runner.window_s", "sensor.period_s");
+  if (sc.tma.bank_min_m >= sc.tma.bank_max_m)
+    throw ConfigError("scenario key 'tma.bank_min_m' must be below tma.bank_max_m");
+  for (const auto& m : sc.target.manoeuvres)
+    if (m[0] < 0 || m[1] <= 0)
+      throw ConfigError("scenario key 'target.manoeuvres': each needs t_s >= 0 and duration_s > 0");
+  if (sc.logger.eval_time_s > sc.duration_s && sc.duration_s > 0)
+    throw ConfigError("scenario key 'logger.eval_time_s' lies after duration_s");
+  if (sc.runner.flush_s < sc.sensor.period_s)
+    throw ConfigError("scenario key 'runner.flush_s' must be at least sensor.period_s");
+  if (sc.duration_s < 0) sc.duration_s = 2 * sc.orbit_period_s();
+  if (sc.logger.eval_time_s < 0) sc.logger.eval_time_s = std::min(2 * sc.orbit_period_s(), sc.duration_s);
+  return sc;
+}
+
+UavScenario UavScenario::load(const std::string& file, const std::vector<std::string>& overrides) {
+  nlohmann::json doc = load_json_file(file);
+  for (const auto& o : overrides) apply_override(doc, o);
+  try {
+    return from_json(doc);
+  } catch (const ConfigError& e) {
+    throw ConfigError(file + ": " + e.what());
+  }
+}
+
+double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / uav.speed_mps; }
+
+double UavScenario::eval_time_s() const { return logger.eval_time_s; }
+
+void UavScenario::print(std::ostream& os) const {
+  UavScenario c = *this;
+  nlohmann::json j;
+  j["name"] = c.name;
+  j["kind"] = "uav";
+  j["origin"] = {{"lat_deg", c.origin.lat_deg}, {"lon_deg", c.origin.lon_deg}, {"h_m", c.origin.h_m}};
+  j["duration_s"] = c.duration_s;
+  for_each_section(c, [&](const char* name, auto& o) { write_section(j, name, o); });
+  os << j.dump(2) << "\n";
+}
+
+}  // namespace rnav

@@ -1,0 +1,103 @@
+// The azimuth-only scenario (method.md section 2): a UAV circling a surface object measures
+// bearings to it and estimates its position and velocity. Every option with unit, default and
+// range; strict parsing as in scenario.hpp. Frame F: local level at the origin, x north,
+// z east, y up; bearings atan2(east, north), clockwise from north.
+#pragma once
+
+#include "config.hpp"
+#include "frames.hpp"
+#include "scenario.hpp"
+
+#include <array>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// The surface object. Constant velocity unless manoeuvres are scripted.
+struct TargetOptions {
+  double start_north_m = 0;   ///< [m] first position from the origin
+  double start_east_m = 0;    ///< [m]
+  double speed_mps = 1.0;     ///< [m/s] initial speed, [0, 30]
+  double heading_deg = 45;    ///< [deg] initial course, clockwise from north
+  /// Manoeuvres, each [t_s, duration_s, turn_rate_dps, accel_mps2]: from t_s for duration_s the
+  /// course changes at turn_rate_dps (deg/s, clockwise positive) and the speed at accel_mps2.
+  std::vector<std::array<double, 4>> manoeuvres;
+};
+
+/// The UAV's path.
+struct ObserverOptions {
+  std::string path = "circle";   ///< "circle" (orbit) or "straight" (a pass by the object)
+  double radius_m = 300;         ///< [m] orbit radius; straight: distance of closest approach, [20, 20000]
+  double speed_mps = 20;         ///< [m/s] ground speed, [1, 200]
+  double altitude_m = 150;       ///< [m] height above the origin's ellipsoidal height, [0, 5000]
+  std::string direction = "ccw"; ///< orbit direction seen from above: "ccw" or "cw"
+  double centre_offset_north_m = 0;  ///< [m] orbit centre (straight: point of closest approach) from the object's first position
+  double centre_offset_east_m = 0;   ///< [m]
+  double start_angle_deg = 180;  ///< [deg] circle: bearing from the centre to the UAV's start
+  double straight_heading_deg = 90;  ///< [deg] straight: the UAV's course
+};
+
+/// The UAV's SNS/INS position error (horizontal, per axis) as used for the bearing's origin.
+struct ObserverNavOptions {
+  double white_sigma_m = 0.3;   ///< [m] white part, 1 sigma per axis
+  double corr_sigma_m = 0.0;    ///< [m] time-correlated (Gauss-Markov) part, 1 sigma per axis
+  double corr_tau_s = 60;       ///< [s] its correlation time
+  double vel_sigma_mps = 0.05;  ///< [m/s] velocity error per axis, white
+};
+
+/// The passive sensor (TV/IR): bearings only.
+struct SensorOptions {
+  double sigma_deg = 0.5;       ///< [deg] bearing noise, 1 sigma, (0, 10]
+  double period_s = 0.2;        ///< [s] frame period (5 Hz); also the truth step
+  double fov_centre_deg = 0;    ///< [deg] centre of the field of regard relative to the UAV's course
+  double fov_half_deg = 180;    ///< [deg] half-width of the field of regard (180: all round)
+  double max_range_m = 10000;   ///< [m] no detection beyond this range
+};
+
+/// The azimuth-only estimators.
+struct TmaOptions {
+  /// [m^2/s^3] white-acceleration spectral density of the CV model. 0 (default) matches the
+  /// default constant-velocity object; raise it for manoeuvring objects.
+  double q_m2ps3 = 0;
+  double range_prior_m = 600;   ///< [m] range prior at the first bearing (not the truth)
+  double range_sigma_m = 400;   ///< [m] its 1 sigma
+  double vel_sigma_mps = 2.0;   ///< [m/s] prior 1 sigma of each velocity component (mean 0)
+  long bank_size = 8;           ///< RP-EKF: number of range-parameterised filters, [2, 64]
+  double bank_min_m = 50;       ///< [m] RP-EKF: smallest range
+  double bank_max_m = 3000;     ///< [m] RP-EKF: largest range
+  bool add_nav_noise = true;    ///< bearing variance + (nav sigma / range)^2
+};
+
+struct UavLoggerOptions {
+  double eval_time_s = -1;      ///< [s] when summary.json's figures are taken; -1: after two orbits
+  double diverge_pos_m = 50;    ///< [m] a run whose position error at eval_time exceeds this diverged
+};
+
+struct UavScenario {
+  std::string name = "uav";
+  Geodetic origin{63.4389, 10.3950, 0.0};  ///< frame F's origin (default: Trondheim harbour, sea level)
+  double duration_s = -1;       ///< [s] sim time; -1: two orbit periods (2 * 2 pi R / V)
+  TargetOptions target;
+  ObserverOptions uav;
+  ObserverNavOptions uav_nav;
+  SensorOptions sensor;
+  TmaOptions tma;
+  UavLoggerOptions logger;
+  RunnerOptions runner;
+
+  static UavScenario load(const std::string& file, const std::vector<std::string>& overrides = {});
+  static UavScenario from_json(const nlohmann::json& doc);
+  void print(std::ostream& os) const;
+
+  /// Frame F (x north, z east, y up) at the origin.
+  LocalLevelFrame frame() const { return LocalLevelFrame(origin, 0.0); }
+  /// [s] one orbit: 2 pi R / V.
+  double orbit_period_s() const;
+  /// [s] the summary's evaluation time.
+  double eval_time_s() const;
+  std::int64_t utime(std::int64_t t_us) const { return runner.epoch_utime + t_us; }
+};
+
+}  // namespace rnav

@@ -1,0 +1,95 @@
+#include "uav_logger_node.hpp"
+
+#include "tma_models.hpp"
+
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/observer_batch_t.hpp>
+#include <rnav/target_truth_batch_t.hpp>
+#include <rnav/tma_batch_t.hpp>
+
+namespace rnav {
+
+UavLoggerNode::UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir)
+    : LockstepNode(bus, "uav_logger", sc.runner.stall_timeout_s),
+      sc_(sc),
+      out_dir_(std::move(out_dir)),
+      stats_(sc) {
+  add_input<target_truth_batch_t>("TRUTH_TARGET");
+  add_input<observer_batch_t>("TRUTH_UAV");
+  add_input<bearing_batch_t>("UAV_BEARING");
+  add_input<tma_batch_t>("UAV_TMA");
+}
+
+void UavLoggerNode::reset(const sim_window_t& w) {
+  seed_ = w.seed;
+  cur_ = TmaRealization{};
+}
+
+int UavLoggerNode::process(const sim_window_t&) {
+  // Everything of one frame arrives in the same window (all are produced per frame).
+  std::map<std::int64_t, tma::Vec4> truth;
+  for (const auto& s : input<target_truth_batch_t>("TRUTH_TARGET").states)
+    truth[s.utime] = tma::Vec4(s.p_OT_F[0], s.p_OT_F[1], s.v_T_F[0], s.v_T_F[1]);
+  std::map<std::int64_t, Eigen::Vector2d> uav;
+  for (const auto& o : input<observer_batch_t>("TRUTH_UAV").states)
+    uav[o.utime] = Eigen::Vector2d(o.p_OU_F[0], o.p_OU_F[2]);
+  const double sb = sc_.sensor.sigma_deg * kDegToRad;
+  const double sn = std::hypot(sc_.uav_nav.white_sigma_m, sc_.uav_nav.corr_sigma_m);
+  for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) {
+    const auto t = truth.find(b.utime);
+    const auto u = uav.find(b.utime);
+    if (t == truth.end() || u == uav.end())
+      throw std::runtime_error("UAV_BEARING at utime " + std::to_string(b.utime) + " has no truth");
+    // Fisher information of this bearing at the truth, with the noise the estimators assume.
+    const double D = tma::range(t->second, u->second);
+    const double R = sc_.tma.add_nav_noise ? tma::bearing_variance(sb, sn, D) : sb * sb;
+    if (cur_.first_utime < 0) {
+      cur_.first_utime = b.utime;
+      cur_.J0 = tma::prior_information(tma::bearing(t->second, u->second), sc_.tma.range_prior_m,
+                                       sc_.tma.range_sigma_m, R, sc_.tma.vel_sigma_mps);
+    }
+    const tma::Row4 H = tma::bearing_jacobian(t->second, u->second);
+    auto it = cur_.info.find(b.utime);
+    const tma::Mat4 I = H.transpose() * H / R;
+    if (it == cur_.info.end()) cur_.info.emplace(b.utime, I);
+    else it->second += I;
+  }
+  int n = 0;
+  for (const auto& m : input<tma_batch_t>("UAV_TMA").estimates) {
+    const auto t = truth.find(m.utime);
+    if (t == truth.end())
+      throw std::runtime_error("UAV_TMA estimate at utime " + std::to_string(m.utime) + " has no truth");
+    tma::Vec4 x;
+    tma::Mat4 P;
+    for (int i = 0; i < 4; ++i) {
+      x[i] = m.x[i];
+      for (int j = 0; j < 4; ++j) P(i, j) = m.P[i][j];
+    }
+    const tma::Vec4 e = x - t->second;
+    TmaSample s;
+    s.utime = m.utime;
+    s.estimator = m.estimator;
+    s.pos_err2 = e.head<2>().squaredNorm();
+    s.vel_err2 = e.tail<2>().squaredNorm();
+    s.nees = e.dot(P.ldlt().solve(e));
+    s.updated = m.updated;
+    s.nis = m.nis;
+    cur_.samples.push_back(s);
+    ++n;
+  }
+  return n;
+}
+
+void UavLoggerNode::commit() {
+  stats_.add_realization(cur_);
+  cur_ = TmaRealization{};
+}
+
+void UavLoggerNode::finish(const sim_window_t& w) {
+  if (stats_.realizations() != w.n_realizations)
+    throw std::runtime_error("uav_logger holds " + std::to_string(stats_.realizations()) +
+                             " complete realizations, the clock ran " + std::to_string(w.n_realizations));
+  if (!out_dir_.empty()) stats_.write(out_dir_, seed_);
+}
+
+}  // namespace rnav

@@ -1,0 +1,33 @@
+// Node "uav_logger": joins TRUTH_TARGET, TRUTH_UAV, UAV_BEARING and UAV_TMA per frame, keeps a
+// realization until the clock moves past it, adds it to UavStats; writes results on FINISH.
+// An estimate without truth at its time, or an ensemble short of realizations, is an error.
+#pragma once
+
+#include "lockstep_node.hpp"
+#include "uav_stats.hpp"
+
+#include <Eigen/Dense>
+
+#include <map>
+
+namespace rnav {
+
+class UavLoggerNode : public LockstepNode {
+ public:
+  UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir);
+
+ protected:
+  void reset(const sim_window_t& w) override;
+  int process(const sim_window_t& w) override;
+  void commit() override;
+  void finish(const sim_window_t& w) override;
+
+ private:
+  UavScenario sc_;
+  std::string out_dir_;
+  UavStats stats_;
+  std::int64_t seed_ = 0;
+  TmaRealization cur_;
+};
+
+}  // namespace rnav

@@ -1,0 +1,74 @@
+// Ensemble statistics of the azimuth-only estimators: per frame time and estimator, RMSE of
+// position and velocity, mean NEES (4 dof) and mean NIS (1 dof) with their 95 % chi-square
+// bands for the number of runs, and the posterior Cramer-Rao bound (TmaPcrb) for the same
+// truth, detections and noise; at the evaluation time (two orbits) the summary per estimator
+// and the share of diverged runs. Realizations are added in order (deterministic sums).
+#pragma once
+
+#include "tma_pcrb.hpp"
+#include "uav_scenario.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// One estimate's errors against the truth.
+struct TmaSample {
+  std::int64_t utime = 0;
+  std::string estimator;
+  double pos_err2 = 0;   ///< [m^2] squared horizontal position error
+  double vel_err2 = 0;   ///< [m^2/s^2] squared velocity error
+  double nees = 0;       ///< e^T P^-1 e, 4 dof
+  bool updated = false;
+  double nis = 0;        ///< 1 dof when updated
+};
+
+/// One realization's data: samples, and per detection frame the Fisher information of the
+/// bearing at the truth (for the PCRB), the first one as the prior.
+struct TmaRealization {
+  std::vector<TmaSample> samples;
+  std::map<std::int64_t, tma::Mat4> info;  ///< utime -> H^T R^-1 H at the truth
+  std::int64_t first_utime = -1;           ///< first detection (the estimators' initialisation)
+  tma::Mat4 J0 = tma::Mat4::Zero();        ///< prior information at the first detection
+};
+
+/// 95 % band of the mean of n chi-square(dof) variables divided by... : [lo, hi] such that
+/// n * mean ~ chi2(n dof) (Wilson-Hilferty approximation).
+std::pair<double, double> chi2_mean_band(long n, int dof, double z = 1.959963984540054);
+
+class UavStats {
+ public:
+  explicit UavStats(const UavScenario& sc);
+  void add_realization(const TmaRealization& r);
+  long realizations() const { return n_; }
+  /// Write uav_stats_time.csv and summary.json into dir (atomically renamed).
+  void write(const std::string& dir, std::int64_t seed) const;
+  /// The PCRB position RMSE [m] per frame time (utime -> value), computed from the ensemble.
+  std::map<std::int64_t, double> pcrb_pos() const;
+  std::map<std::int64_t, double> pcrb_vel() const;
+
+  struct Acc {
+    long n = 0, n_upd = 0;
+    double pos2 = 0, vel2 = 0, nees = 0, nis = 0;
+  };
+  struct FinalAcc {
+    long n = 0, diverged = 0;
+    double pos2 = 0, vel2 = 0, nees = 0;
+  };
+  const std::map<std::string, FinalAcc>& at_eval() const { return final_; }
+
+ private:
+  void pcrb(std::map<std::int64_t, double>* pos, std::map<std::int64_t, double>* vel) const;
+  UavScenario sc_;
+  long n_ = 0;
+  std::map<std::string, std::map<std::int64_t, Acc>> by_time_;
+  std::map<std::string, FinalAcc> final_;
+  std::map<std::int64_t, tma::Mat4> info_sum_;
+  tma::Mat4 J0_sum_ = tma::Mat4::Zero();
+  std::int64_t first_utime_ = -1;
+  std::vector<std::int64_t> frames_;  // all frame times seen
+};
+
+}  // namespace rnav

@@ -1,0 +1,11 @@
+// Process "target": LCM wiring only; the model is TargetMotion.
+#include "node_main.hpp"
+#include "target_node.hpp"
+#include "uav_scenario.hpp"
+
+int main(int argc, char** argv) {
+  return rnav::run_node_main<rnav::UavScenario>(
+      argc, argv, "target", [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
+        return std::make_unique<rnav::TargetNode>(bus, sc);
+      });
+}

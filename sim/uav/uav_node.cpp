@@ -1,0 +1,97 @@
+#include "uav_node.hpp"
+
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/observer_batch_t.hpp>
+#include <rnav/target_truth_batch_t.hpp>
+
+#include <cmath>
+
+namespace rnav {
+
+namespace {
+Eigen::Vector2d target_first_position(const UavScenario& sc) {
+  return {sc.target.start_north_m + sc.uav.centre_offset_north_m,
+          sc.target.start_east_m + sc.uav.centre_offset_east_m};
+}
+}  // namespace
+
+UavNode::UavNode(Bus& bus, const UavScenario& sc)
+    : LockstepNode(bus, "uav", sc.runner.stall_timeout_s),
+      sc_(sc),
+      frame_(sc.frame()),
+      path_(sc.uav, target_first_position(sc), sc.duration_s),
+      corr_{GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s),
+            GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)} {
+  add_input<target_truth_batch_t>("TRUTH_TARGET");
+}
+
+void UavNode::reset(const sim_window_t& w) {
+  rng_.emplace(static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization),
+               Stream::kUav);
+  for (auto& c : corr_) c.start(*rng_);
+  last_t_s_ = 0;
+  frame_id_ = 0;
+}
+
+int UavNode::process(const sim_window_t&) {
+  const auto& truth = input<target_truth_batch_t>("TRUTH_TARGET");
+  observer_batch_t true_uav, nav;
+  bearing_batch_t bearings;
+  const double sigma_b = sc_.sensor.sigma_deg * kDegToRad;
+  const double white = sc_.uav_nav.white_sigma_m;
+  const double sigma_nav = std::sqrt(white * white + sc_.uav_nav.corr_sigma_m * sc_.uav_nav.corr_sigma_m);
+  for (const auto& ts : truth.states) {
+    const double t = (ts.utime - sc_.runner.epoch_utime) * 1e-6;
+    const ObserverKinematics k = path_.at(t);
+    auto fill = [&](observer_state_t& o, const Eigen::Vector2d& p, const Eigen::Vector2d& v, double sig) {
+      o.utime = ts.utime;
+      o.p_OU_F[0] = p.x();
+      o.p_OU_F[1] = sc_.uav.altitude_m;
+      o.p_OU_F[2] = p.y();
+      o.v_U_F[0] = v.x();
+      o.v_U_F[1] = 0;
+      o.v_U_F[2] = v.y();
+      const Geodetic g = frame_.to_geodetic(Eigen::Vector3d(p.x(), sc_.uav.altitude_m, p.y()));
+      o.lat_deg = g.lat_deg;
+      o.lon_deg = g.lon_deg;
+      o.h_m = g.h_m;
+      o.sigma_pos_m = sig;
+    };
+    observer_state_t tru, sol;
+    fill(tru, k.p_OU_F, k.v_U_F, 0.0);
+    true_uav.states.push_back(tru);
+    // Navigation error: Gauss-Markov + white per horizontal axis (draw order fixed).
+    const double dt = t - last_t_s_;
+    last_t_s_ = t;
+    Eigen::Vector2d dp, dv;
+    for (int i = 0; i < 2; ++i) {
+      dp[i] = corr_[i].step(dt, *rng_) + white * rng_->normal();
+      dv[i] = sc_.uav_nav.vel_sigma_mps * rng_->normal();
+    }
+    fill(sol, k.p_OU_F + dp, k.v_U_F + dv, sigma_nav);
+    nav.states.push_back(sol);
+    // Sensor: the true bearing from the true UAV position, within the field of regard.
+    const Eigen::Vector2d d(ts.p_OT_F[0] - k.p_OU_F.x(), ts.p_OT_F[1] - k.p_OU_F.y());
+    const double truth_b = std::atan2(d.y(), d.x());
+    const double rel = wrap_pi(truth_b - k.course_rad - sc_.sensor.fov_centre_deg * kDegToRad);
+    const double noise = sigma_b * rng_->normal();  // drawn every frame: gaps do not shift the stream
+    const std::int64_t fid = frame_id_++;
+    if (std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m) {
+      bearing_t b;
+      b.utime = ts.utime;
+      b.frame_id = fid;
+      b.bearing_rad = wrap_pi(truth_b + noise);
+      b.sigma_rad = sigma_b;
+      bearings.bearings.push_back(b);
+    }
+  }
+  true_uav.n = static_cast<int>(true_uav.states.size());
+  nav.n = static_cast<int>(nav.states.size());
+  bearings.n = static_cast<int>(bearings.bearings.size());
+  publish_batch("TRUTH_UAV", true_uav);
+  publish_batch("UAV_NAV", nav);
+  publish_batch("UAV_BEARING", bearings);
+  return bearings.n;
+}
+
+}  // namespace rnav
