@@ -220,3 +220,46 @@ TEST_CASE("real-time mode is paced by the wall clock and gives the lock-step sta
   CHECK(wall >= 2.4);  // not faster than the requested pace
   CHECK(slurp(d / "rt" / "stats_time.csv") == slurp(d / "ls" / "stats_time.csv"));
 }
+
+TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has the documented shape",
+          "[integration][uav]") {
+  const fs::path d = scratch("uav");
+  const std::string uav = kRoot + "/scripts/run uav --no-plots --net netns --realizations 10 --seed 3 ";
+  const auto mp = sh(uav + "--out " + (d / "mp").string());
+  const auto ip = sh(uav + "--inproc --out " + (d / "ip").string());
+  INFO(mp.output << ip.output);
+  REQUIRE(mp.status == 0);
+  REQUIRE(ip.status == 0);
+  CHECK(slurp(d / "mp" / "uav_stats_time.csv") == slurp(d / "ip" / "uav_stats_time.csv"));
+  const auto j = nlohmann::json::parse(slurp(d / "mp" / "summary.json"));
+  CHECK(j["pcrb_pos_m"].get<double>() > 0);
+  for (const char* e : {"ekf", "rpekf"}) {
+    const auto& s = j["estimators"][e];
+    CHECK(s["rmse_pos_m"].get<double>() > 0);
+    CHECK(s["nees_band"].size() == 2);
+    CHECK(s["nees_band"][0].get<double>() < 4.0);
+    CHECK(s["nees_band"][1].get<double>() > 4.0);
+    CHECK(s.contains("diverged"));
+  }
+  for (const char* n : {"target", "uav", "uav_tma", "uav_logger"})
+    CHECK(slurp(d / "mp" / "logs" / (std::string(n) + ".log")).find("finished") != std::string::npos);
+}
+
+TEST_CASE("UAV scenario: bad input is an error naming the key", "[integration][uav][input]") {
+  const fs::path d = scratch("uav_bad");
+  const std::string uav = kRoot + "/scripts/run uav --no-plots --realizations 2 --out " + (d / "o").string();
+  struct Case {
+    std::string args, expect;
+  };
+  for (const Case& c : {Case{"--set uav.path=circel", "uav.path"},
+                        Case{"--set sensor.sigma_deg=0", "sensor.sigma_deg"},
+                        Case{"--set uav.radius_mm=300", "uav.radius_mm"},
+                        Case{"--set target.manoeuvres=[[1,2,3]]", "target.manoeuvres"},
+                        Case{"--set sensor.period_s=NaN", "sensor.period_s"}}) {
+    const auto r = sh(uav + " " + c.args);
+    INFO(c.args << "\n" << r.output);
+    CHECK(r.status == 2);
+    CHECK(r.output.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(d / "o"));
+  }
+}
