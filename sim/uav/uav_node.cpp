@@ -9,7 +9,8 @@
 namespace rnav {
 
 namespace {
-Eigen::Vector2d target_first_position(const UavScenario& sc) {
+// The orbit centre (straight: the point passed by): the object's first position + offset.
+Eigen::Vector2d orbit_centre(const UavScenario& sc) {
   return {sc.target.start_north_m + sc.uav.centre_offset_north_m,
           sc.target.start_east_m + sc.uav.centre_offset_east_m};
 }
@@ -19,9 +20,10 @@ UavNode::UavNode(Bus& bus, const UavScenario& sc)
     : LockstepNode(bus, "uav", sc.runner.stall_timeout_s),
       sc_(sc),
       frame_(sc.frame()),
-      path_(sc.uav, target_first_position(sc), sc.duration_s),
+      path_(sc.uav, orbit_centre(sc), sc.duration_s),
       corr_{GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s),
-            GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)} {
+            GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)},
+      bearing_error_(sc.sensor) {
   add_input<target_truth_batch_t>("TRUTH_TARGET");
 }
 
@@ -29,6 +31,7 @@ void UavNode::reset(const sim_window_t& w) {
   rng_.emplace(static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization),
                Stream::kUav);
   for (auto& c : corr_) c.start(*rng_);
+  bearing_error_.start(*rng_);
   last_t_s_ = 0;
   frame_id_ = 0;
 }
@@ -37,7 +40,7 @@ int UavNode::process(const sim_window_t&) {
   const auto& truth = input<target_truth_batch_t>("TRUTH_TARGET");
   observer_batch_t true_uav, nav;
   bearing_batch_t bearings;
-  const double sigma_b = sc_.sensor.sigma_deg * kDegToRad;
+  const double sigma_b = sc_.sensor.sigma_deg * kDegToRad;  // the sensor's stated accuracy
   const double white = sc_.uav_nav.white_sigma_m;
   const double sigma_nav = std::sqrt(white * white + sc_.uav_nav.corr_sigma_m * sc_.uav_nav.corr_sigma_m);
   for (const auto& ts : truth.states) {
@@ -74,7 +77,14 @@ int UavNode::process(const sim_window_t&) {
     const Eigen::Vector2d d(ts.p_OT_F[0] - k.p_OU_F.x(), ts.p_OT_F[1] - k.p_OU_F.y());
     const double truth_b = std::atan2(d.y(), d.x());
     const double rel = wrap_pi(truth_b - k.course_rad - sc_.sensor.fov_centre_deg * kDegToRad);
-    const double noise = sigma_b * rng_->normal();  // drawn every frame: gaps do not shift the stream
+    BearingTruth bt;
+    bt.t_s = t;
+    bt.bearing_rad = truth_b;
+    bt.range_m = d.norm();
+    // d(bearing)/dt = (d x v_rel) / |d|^2 with v_rel = v_T - v_U (2-D cross product, north-east)
+    const Eigen::Vector2d vrel(ts.v_T_F[0] - k.v_U_F.x(), ts.v_T_F[1] - k.v_U_F.y());
+    bt.bearing_rate_radps = (d.x() * vrel.y() - d.y() * vrel.x()) / d.squaredNorm();
+    const double noise = bearing_error_.error(bt, *rng_);  // every frame: gaps do not shift the stream
     const std::int64_t fid = frame_id_++;
     if (std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m) {
       bearing_t b;

@@ -2,11 +2,11 @@
 // state (TRUTH_UAV), its navigation solution (UAV_NAV: truth + white + Gauss-Markov position
 // error per axis) and the passive sensor's bearings (UAV_BEARING: true bearing from the true
 // UAV position + white noise; none when the object is outside the field of regard or range).
-// The sensor's error model is open: bearing = truth + sum of effects (noise here; bias and
-// latency are later effects).
+// The sensor's error model is BearingErrorModel (a list of effects).
 #pragma once
 
 #include "lockstep_node.hpp"
+#include "bearing_error_model.hpp"
 #include "observer_path.hpp"
 #include "random.hpp"
 
@@ -29,6 +29,7 @@ class UavNode : public LockstepNode {
   ObserverPath path_;
   std::optional<Rng> rng_;
   std::array<GaussMarkov, 2> corr_;
+  BearingErrorModel bearing_error_;
   double last_t_s_ = 0;
   std::int64_t frame_id_ = 0;
 };
