@@ -38,6 +38,7 @@ template <class V> void visit(SensorOptions& o, V& v) {
   v.num("fov_centre_deg", o.fov_centre_deg, -180, 180);
   v.num("fov_half_deg", o.fov_half_deg, 0, 180);
   v.num("max_range_m", o.max_range_m, 1, 1e6);
+  v.num("min_range_m", o.min_range_m, 0, 1e6);
 }
 template <class V> void visit(TmaOptions& o, V& v) {
   v.num("q_m2ps3", o.q_m2ps3, 0, 100);

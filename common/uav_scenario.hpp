@@ -54,6 +54,7 @@ struct SensorOptions {
   double fov_centre_deg = 0;    ///< [deg] centre of the field of regard relative to the UAV's course
   double fov_half_deg = 180;    ///< [deg] half-width of the field of regard (180: all round)
   double max_range_m = 10000;   ///< [m] no detection beyond this range
+  double min_range_m = 1;       ///< [m] no detection closer than this horizontal range (nadir)
 };
 
 /// The azimuth-only estimators.

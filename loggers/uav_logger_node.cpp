@@ -44,9 +44,11 @@ int UavLoggerNode::process(const sim_window_t&) {
     const double D = tma::range(t->second, u->second);
     const double R = sc_.tma.add_nav_noise ? tma::bearing_variance(sb, sn, D) : sb * sb;
     if (cur_.first_utime < 0) {
+      // The estimators' prior, exactly as they build it: bearing variance at the prior range.
+      const double R0 = sc_.tma.add_nav_noise ? tma::bearing_variance(sb, sn, sc_.tma.range_prior_m) : sb * sb;
       cur_.first_utime = b.utime;
       cur_.J0 = tma::prior_information(tma::bearing(t->second, u->second), sc_.tma.range_prior_m,
-                                       sc_.tma.range_sigma_m, R, sc_.tma.vel_sigma_mps);
+                                       sc_.tma.range_sigma_m, R0, sc_.tma.vel_sigma_mps);
     }
     const tma::Row4 H = tma::bearing_jacobian(t->second, u->second);
     auto it = cur_.info.find(b.utime);

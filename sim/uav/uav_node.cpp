@@ -86,7 +86,8 @@ int UavNode::process(const sim_window_t&) {
     bt.bearing_rate_radps = (d.x() * vrel.y() - d.y() * vrel.x()) / d.squaredNorm();
     const double noise = bearing_error_.error(bt, *rng_);  // every frame: gaps do not shift the stream
     const std::int64_t fid = frame_id_++;
-    if (std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m) {
+    if (std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m &&
+        d.norm() >= sc_.sensor.min_range_m) {
       bearing_t b;
       b.utime = ts.utime;
       b.frame_id = fid;
