@@ -51,6 +51,30 @@ template <class V> void visit(PrlOptions& o, V& v) {
   v.num("drift_sigma_glide_deg", o.drift_sigma_glide_deg, 0, 10);
   v.num("drift_tau_s", o.drift_tau_s, 1, kInf);
 }
+template <class V> void visit(PrlEffectsOptions& o, V& v) {
+  v.num("range_gain", o.range_gain, -0.1, 0.1);
+  v.num("time_offset_s", o.time_offset_s, -10, 10);
+  v.num("elevation_refraction_rad", o.elevation_refraction_rad, -0.01, 0.01);
+  v.num("azimuth_elevation_coupling_rad", o.azimuth_elevation_coupling_rad, -1, 1);
+  v.num("site_offset_east_m", o.site_offset_east_m, -1000, 1000);
+  v.num("site_offset_north_m", o.site_offset_north_m, -1000, 1000);
+  v.num("site_offset_up_m", o.site_offset_up_m, -1000, 1000);
+  v.num("drift_range_mps", o.drift_range_mps, -10, 10);
+  v.num("drift_course_radps", o.drift_course_radps, -0.01, 0.01);
+  v.num("drift_glide_radps", o.drift_glide_radps, -0.01, 0.01);
+  v.num("step_time_s", o.step_time_s, -1, 1e6);
+  v.num("step_range_m", o.step_range_m, -1000, 1000);
+  v.num("step_course_rad", o.step_course_rad, -0.1, 0.1);
+  v.num("step_glide_rad", o.step_glide_rad, -0.1, 0.1);
+  v.num("noise_scale", o.noise_scale, 1e-3, 100);
+  v.num("outlier_prob", o.outlier_prob, 0, 0.5);
+  v.num("outlier_scale", o.outlier_scale, 1, 1000);
+  v.num("correlated_noise_tau_s", o.correlated_noise_tau_s, 0, 1e5);
+  v.num("periodic_period_s", o.periodic_period_s, 0, 1e5);
+  v.num("periodic_range_m", o.periodic_range_m, -1000, 1000);
+  v.num("periodic_course_rad", o.periodic_course_rad, -0.1, 0.1);
+  v.num("periodic_glide_rad", o.periodic_glide_rad, -0.1, 0.1);
+}
 template <class V> void visit(SnsinsOptions& o, V& v) {
   v.num("link_period_s", o.link_period_s, 0.01, 60);
   v.num("link_phase_s", o.link_phase_s, 0, 60);
@@ -90,6 +114,7 @@ template <class F> void for_each_section(Scenario& sc, F&& f) {
   f("radar", sc.radar);
   f("trajectory", sc.trajectory);
   f("prl", sc.prl);
+  f("prl_effects", sc.prl_effects);
   f("snsins", sc.snsins);
   f("prl_bias", sc.prl_bias);
   f("logger", sc.logger);

@@ -68,6 +68,33 @@ struct PrlOptions {
   double drift_tau_s = 600;         ///< [s] correlation time of the drift
 };
 
+/// Further radar error effects (the diagnosis catalogue), all off by default, so tests and users
+/// can make data with a known hidden effect. Names match `scripts/diagnose`'s catalogue.
+struct PrlEffectsOptions {
+  double range_gain = 0;              ///< range_gain: dD = g D [1], |g| <= 0.1
+  double time_offset_s = 0;           ///< time_offset: radar time stamp minus true time [s]: dzeta = -zeta_dot tau
+  double elevation_refraction_rad = 0;  ///< elevation_refraction: dEg = k cot(Eg) [rad]
+  double azimuth_elevation_coupling_rad = 0;  ///< azimuth_elevation_coupling: dEk = c tan(Eg) [rad]
+  double site_offset_east_m = 0;      ///< site_offset: surveyed site minus true site, east [m]
+  double site_offset_north_m = 0;     ///< idem, north [m]
+  double site_offset_up_m = 0;        ///< idem, up [m]
+  double drift_range_mps = 0;         ///< bias_drift: d(range bias)/dt [m/s]
+  double drift_course_radps = 0;      ///< bias_drift: course [rad/s]
+  double drift_glide_radps = 0;       ///< bias_drift: glide [rad/s]
+  double step_time_s = -1;            ///< bias_step: time of the step [s] (-1: none)
+  double step_range_m = 0;            ///< bias_step: range step [m]
+  double step_course_rad = 0;         ///< bias_step: course step [rad]
+  double step_glide_rad = 0;          ///< bias_step: glide step [rad]
+  double noise_scale = 1;             ///< noise_scale: fluctuation sigma multiplier, (0, 100]
+  double outlier_prob = 0;            ///< outliers: probability per plot, [0, 0.5]
+  double outlier_scale = 10;          ///< outliers: their sigma in units of the fluctuation sigma
+  double correlated_noise_tau_s = 0;  ///< correlated_noise: fluctuation as AR(1) with this correlation time [s] (0: white)
+  double periodic_period_s = 0;       ///< periodic: period [s] (0: none)
+  double periodic_range_m = 0;        ///< periodic: range amplitude [m]
+  double periodic_course_rad = 0;     ///< periodic: course amplitude [rad]
+  double periodic_glide_rad = 0;      ///< periodic: glide amplitude [rad]
+};
+
 /// SNS/INS navigation solution as received on the ground.
 struct SnsinsOptions {
   double link_period_s = 0.5;  ///< [s] data-link period, multiple of trajectory.step_s
@@ -125,6 +152,7 @@ struct Scenario {
   RadarSiteOptions radar;
   TrajectoryOptions trajectory;
   PrlOptions prl;
+  PrlEffectsOptions prl_effects;
   SnsinsOptions snsins;
   PrlBiasOptions prl_bias;
   LoggerOptions logger;

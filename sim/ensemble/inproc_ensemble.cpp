@@ -15,10 +15,8 @@
 
 namespace rnav {
 
-namespace {
-
 // Drive nodes and clock on one InprocBus until the clock is done.
-InprocResult drive(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
+InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
                    const RunnerOptions& runner, double step_s, double duration_s, int n,
                    std::int64_t seed, const std::vector<std::string>& drops) {
   ConductorOptions o;
@@ -46,8 +44,6 @@ InprocResult drive(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& n
   return r;
 }
 
-}  // namespace
-
 InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir, const std::vector<std::string>& drops) {
   InprocBus bus;
@@ -58,7 +54,7 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
   nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));
   const ApproachTrajectory traj(sc.trajectory);
-  return drive(bus, nodes, sc.runner, sc.trajectory.step_s, traj.duration_s(), n, seed, drops);
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, traj.duration_s(), n, seed, drops);
 }
 
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
@@ -69,7 +65,7 @@ InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed
   nodes.push_back(std::make_unique<UavNode>(bus, sc));
   nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
   nodes.push_back(std::make_unique<UavLoggerNode>(bus, sc, out_dir));
-  return drive(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops);
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops);
 }
 
 }  // namespace rnav

@@ -4,6 +4,9 @@
 #pragma once
 
 #include "conductor.hpp"
+#include "lockstep_node.hpp"
+
+#include <memory>
 #include "scenario.hpp"
 #include "uav_scenario.hpp"
 
@@ -16,6 +19,11 @@ struct InprocResult {
   std::string failure;
   int retries = 0;
 };
+
+/// Drive any set of nodes and the clock on one InprocBus until the clock is done.
+InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
+                              const RunnerOptions& runner, double step_s, double duration_s, int n,
+                              std::int64_t seed, const std::vector<std::string>& drops = {});
 
 /// Run n realizations with `seed`; write the logger's files into out_dir (if not empty).
 /// `drops` inject deliberate message losses (tests).

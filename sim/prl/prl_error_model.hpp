@@ -79,9 +79,51 @@ class WhiteFluctuation : public PrlErrorEffect {
   PolarError s_;
 };
 
+/// Fluctuation as an AR(1) (Gauss-Markov) sequence with correlation time tau (correlated_noise).
+class CorrelatedFluctuation : public PrlErrorEffect {
+ public:
+  CorrelatedFluctuation(const PolarError& sigma, double tau_s);
+  std::string name() const override { return "correlated_noise"; }
+  void start(Rng& rng) override;
+  void apply(const PlotTruth& truth, Rng& rng, PolarError&, PolarError& fl) override;
+
+ private:
+  GaussMarkov d_, e_, g_;
+  double last_t_s_ = 0;
+};
+
+/// Occasional gross errors (outliers): with probability p a plot gets scale * sigma more noise.
+class Outliers : public PrlErrorEffect {
+ public:
+  Outliers(double p, const PolarError& sigma) : p_(p), s_(sigma) {}
+  std::string name() const override { return "outliers"; }
+  void apply(const PlotTruth&, Rng& rng, PolarError&, PolarError& fl) override;
+
+ private:
+  double p_;
+  PolarError s_;
+};
+
+/// Deterministic systematic effects of the diagnosis catalogue (see PrlEffectsOptions):
+/// range_gain, time_offset, elevation_refraction, azimuth_elevation_coupling, site_offset,
+/// bias_drift, bias_step, periodic. Each term is written above its line in the .cpp.
+class GeometricEffects : public PrlErrorEffect {
+ public:
+  GeometricEffects(const PrlEffectsOptions& fx, double azimuth_reference_deg);
+  std::string name() const override { return "catalogue_systematic"; }
+  void apply(const PlotTruth& truth, Rng&, PolarError& sys, PolarError&) override;
+
+ private:
+  PrlEffectsOptions fx_;
+  Eigen::Vector3d site_offset_R_;  // surveyed minus true site, frame R
+};
+
 class PrlErrorModel {
  public:
-  explicit PrlErrorModel(const PrlOptions& o);
+  /// @param fx  further effects (default: none)
+  /// @param azimuth_reference_deg  the radar frame's x bearing (to rotate a site offset into R)
+  explicit PrlErrorModel(const PrlOptions& o, const PrlEffectsOptions& fx = {},
+                         double azimuth_reference_deg = 0);
   void start(Rng& rng);
   /// Errors of one plot: systematic part and total (systematic + fluctuation).
   void apply(const PlotTruth& truth, Rng& rng, PolarError& systematic, PolarError& total);

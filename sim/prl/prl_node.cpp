@@ -11,7 +11,7 @@ PrlNode::PrlNode(Bus& bus, const Scenario& sc)
       sc_(sc),
       frame_L_(sc.landing_frame()),
       frame_R_(sc.radar_frame()),
-      model_(sc.prl) {
+      model_(sc.prl, sc.prl_effects, sc.radar.azimuth_reference_deg) {
   add_input<aircraft_truth_batch_t>(ch::kTruth);
 }
 

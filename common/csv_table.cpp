@@ -1,0 +1,92 @@
+#include "csv_table.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace rnav {
+
+namespace {
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+}  // namespace
+
+CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>& columns) {
+  CsvTable t;
+  t.file_ = file;
+  std::ifstream in(file);
+  if (!in) throw ConfigError(file + ": cannot open");
+  std::string line;
+  if (!std::getline(in, line) || trim(line).empty())
+    throw ConfigError(file + ":1: missing header line (expected columns: " + [&] {
+      std::string s;
+      for (const auto& c : columns) s += (s.empty() ? "" : ",") + c;
+      return s;
+    }() + ")");
+  const auto header = split(line);
+  std::vector<int> idx;
+  for (const auto& c : columns) {
+    int found = -1;
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == c) found = static_cast<int>(i);
+    if (found < 0) throw ConfigError(file + ":1: header lacks column '" + c + "'");
+    idx.push_back(found);
+    t.cols_[c];
+  }
+  int lineno = 1;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (trim(line).empty()) {
+      // Only trailing blank lines are allowed.
+      std::string rest;
+      while (std::getline(in, rest))
+        if (!trim(rest).empty())
+          throw ConfigError(file + ":" + std::to_string(lineno) + ": empty line inside the data");
+      break;
+    }
+    const auto cells = split(line);
+    if (cells.size() != header.size())
+      throw ConfigError(file + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) +
+                        " fields, the header has " + std::to_string(header.size()));
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const std::string& cell = cells[static_cast<std::size_t>(idx[k])];
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
+        throw ConfigError(file + ":" + std::to_string(lineno) + ": column '" + columns[k] +
+                          "' (field " + std::to_string(idx[k] + 1) + "): '" + cell +
+                          "' is not a finite number");
+      t.cols_[columns[k]].push_back(v);
+    }
+    t.lines_.push_back(lineno);
+  }
+  return t;
+}
+
+const std::vector<double>& CsvTable::col(const std::string& name) const {
+  const auto it = cols_.find(name);
+  if (it == cols_.end()) throw std::logic_error("CsvTable: column " + name + " was not read");
+  return it->second;
+}
+
+void CsvTable::require_time_order(const std::string& name, bool allow_equal) const {
+  const auto& c = col(name);
+  for (std::size_t i = 1; i < c.size(); ++i)
+    if (c[i] < c[i - 1] || (!allow_equal && c[i] == c[i - 1]))
+      throw ConfigError(file_ + ":" + std::to_string(lines_[i]) + ": column '" + name +
+                        "' is not in time order (" + std::to_string(c[i]) + " after " +
+                        std::to_string(c[i - 1]) + ")");
+}
+
+}  // namespace rnav

@@ -1,0 +1,98 @@
+#include "prl_flight_data.hpp"
+
+#include "config.hpp"
+#include "csv_table.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace rnav {
+
+namespace {
+std::vector<GeoSample> read_geo(const std::string& file) {
+  const CsvTable t = CsvTable::read(file, {"t_s", "lat_deg", "lon_deg", "h_m"});
+  t.require_time_order("t_s", false);
+  std::vector<GeoSample> out;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const double lat = t.col("lat_deg")[i], lon = t.col("lon_deg")[i];
+    if (std::abs(lat) > 90 || std::abs(lon) > 360)
+      throw ConfigError(file + ":" + std::to_string(t.line(i)) + ": latitude/longitude out of range");
+    out.push_back({t.col("t_s")[i], {lat, lon, t.col("h_m")[i]}});
+  }
+  return out;
+}
+
+void write_geo(const std::string& file, const std::vector<GeoSample>& v) {
+  std::ofstream f(file);
+  f << "t_s,lat_deg,lon_deg,h_m\n";
+  char b[160];
+  for (const auto& s : v) {
+    std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
+    f << b;
+  }
+}
+}  // namespace
+
+PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
+  PrlFlightData d;
+  {
+    const std::string file = dir + "/site.json";
+    const nlohmann::json j = load_json_file(file);
+    try {
+      Section root(j, "");
+      Section r = root.section("radar"), w = root.section("runway");
+      d.radar_site = {r.required_number("lat_deg", -90, 90), r.required_number("lon_deg", -360, 360),
+                      r.required_number("h_m", -500, 9000)};
+      d.azimuth_reference_deg = r.required_number("azimuth_reference_deg", -360, 360);
+      d.threshold = {w.required_number("threshold_lat_deg", -90, 90),
+                     w.required_number("threshold_lon_deg", -360, 360),
+                     w.required_number("threshold_h_m", -500, 9000)};
+      d.heading_deg = w.required_number("heading_deg", -360, 360);
+      r.finish();
+      w.finish();
+      root.finish();
+    } catch (const ConfigError& e) {
+      throw ConfigError(file + ": " + e.what());
+    }
+  }
+  const CsvTable r = CsvTable::read(dir + "/radar.csv", {"t_s", "range_m", "azimuth_deg", "elevation_deg"});
+  r.require_time_order("t_s", false);
+  for (std::size_t i = 0; i < r.rows(); ++i) {
+    if (r.col("range_m")[i] <= 0)
+      throw ConfigError(dir + "/radar.csv:" + std::to_string(r.line(i)) + ": column 'range_m' must be > 0");
+    if (std::abs(r.col("elevation_deg")[i]) > 90)
+      throw ConfigError(dir + "/radar.csv:" + std::to_string(r.line(i)) +
+                        ": column 'elevation_deg' out of [-90, 90]");
+    d.t_s.push_back(r.col("t_s")[i]);
+    d.plots.push_back({r.col("range_m")[i], wrap_pi(r.col("azimuth_deg")[i] * kDegToRad),
+                       r.col("elevation_deg")[i] * kDegToRad});
+  }
+  d.nav = read_geo(dir + "/nav.csv");
+  if (std::filesystem::exists(dir + "/truth.csv")) d.truth = read_geo(dir + "/truth.csv");
+  if (d.plots.size() < 10) throw ConfigError(dir + "/radar.csv: fewer than 10 plots");
+  if (d.nav.size() < 2) throw ConfigError(dir + "/nav.csv: fewer than 2 solutions");
+  return d;
+}
+
+void PrlFlightData::write_folder(const std::string& dir) const {
+  std::filesystem::create_directories(dir);
+  nlohmann::ordered_json j;
+  j["radar"] = {{"lat_deg", radar_site.lat_deg}, {"lon_deg", radar_site.lon_deg},
+                {"h_m", radar_site.h_m}, {"azimuth_reference_deg", azimuth_reference_deg}};
+  j["runway"] = {{"threshold_lat_deg", threshold.lat_deg}, {"threshold_lon_deg", threshold.lon_deg},
+                 {"threshold_h_m", threshold.h_m}, {"heading_deg", heading_deg}};
+  std::ofstream(dir + "/site.json") << j.dump(2) << "\n";
+  std::ofstream f(dir + "/radar.csv");
+  f << "t_s,range_m,azimuth_deg,elevation_deg\n";
+  char b[160];
+  for (std::size_t i = 0; i < plots.size(); ++i) {
+    std::snprintf(b, sizeof b, "%.6f,%.4f,%.8f,%.8f\n", t_s[i], plots[i].range_m,
+                  plots[i].course_rad / kDegToRad, plots[i].glide_rad / kDegToRad);
+    f << b;
+  }
+  write_geo(dir + "/nav.csv", nav);
+  if (!truth.empty()) write_geo(dir + "/truth.csv", truth);
+}
+
+}  // namespace rnav

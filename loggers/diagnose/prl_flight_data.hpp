@@ -1,0 +1,40 @@
+// A landing-radar flight test in the CSV interchange format (README, "Measured data"):
+//   site.json   {"radar": {"lat_deg", "lon_deg", "h_m", "azimuth_reference_deg"},
+//                "runway": {"threshold_lat_deg", "threshold_lon_deg", "threshold_h_m", "heading_deg"}}
+//   radar.csv   t_s,range_m,azimuth_deg,elevation_deg   (slant range; azimuth in the radar's
+//               horizontal plane from the true bearing azimuth_reference_deg, clockwise
+//               positive; elevation above the radar's local horizontal)
+//   nav.csv     t_s,lat_deg,lon_deg,h_m                (WGS84, ellipsoidal height; any rate)
+//   truth.csv   optional, nav's columns
+// Header lines required, extra columns ignored, rows in time order; anything else is an error
+// naming file, line and column.
+#pragma once
+
+#include "frames.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+struct GeoSample {
+  double t_s = 0;
+  Geodetic g;
+};
+
+struct PrlFlightData {
+  Geodetic radar_site;
+  double azimuth_reference_deg = 0;
+  Geodetic threshold;
+  double heading_deg = 0;
+  std::vector<double> t_s;    ///< radar plot times [s]
+  std::vector<Polar> plots;   ///< radar plots (course = azimuth, glide = elevation) [m, rad, rad]
+  std::vector<GeoSample> nav;
+  std::vector<GeoSample> truth;  ///< empty when there is no truth.csv
+
+  static PrlFlightData read_folder(const std::string& dir);
+  void write_folder(const std::string& dir) const;
+  LocalLevelFrame radar_frame() const { return LocalLevelFrame(radar_site, azimuth_reference_deg); }
+};
+
+}  // namespace rnav
