@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
     if (argc < 3) throw rnav::ConfigError("usage: rnav_diagnose prl INPUT [--json FILE] [--split-time S] [--alpha A]");
     const std::string kind = argv[1], input = argv[2];
     if (kind != "prl") throw rnav::ConfigError("diagnose: '" + kind + "' is not supported yet (only prl)");
-    std::string json;
+    std::string json, residuals;
     rnav::DiagnoseOptions o;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       if (a == "--json") json = value();
       else if (a == "--split-time") o.split_time_s = std::stod(value());
       else if (a == "--alpha") o.alpha = std::stod(value());
+      else if (a == "--residuals") residuals = value();
       else if (a == "--confound-corr") o.confound_corr = std::stod(value());
       else if (a == "--nav-sigma") o.nav_sigma_m = std::stod(value());
       else if (a == "--nav-tau") o.nav_tau_s = std::stod(value());
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
     const auto data = rnav::PrlFlightData::read_folder(input);
     const auto rep = rnav::diagnose_prl(data, o);
     std::cout << rep.text();
+    if (!residuals.empty()) rep.write_residuals_csv(residuals);
     if (!json.empty()) {
       std::ofstream f(json + ".partial");
       f << rep.to_json().dump(2) << "\n";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <sstream>
@@ -681,6 +682,15 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
     }
   }
 
+  // ---- rows for plots ----
+  {
+    const Fit fn = fit(obs, usable(all), {}, nm);
+    const auto p0 = predict(fn, {}), p1 = predict(final_fit, fns_of(chosen));
+    for (std::size_t i = 0; i < obs.size(); ++i)
+      rep.rows.push_back({obs[i].t, obs[i].y, {p0[3 * i], p0[3 * i + 1], p0[3 * i + 2]},
+                          {p1[3 * i], p1[3 * i + 1], p1[3 * i + 2]}, obs[i].outlier});
+  }
+
   // ---- unexplained: residual structure left after the extended model ----
   {
     const auto fns = fns_of(chosen);
@@ -719,6 +729,20 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
     }
   }
   return rep;
+}
+
+void DiagnoseReport::write_residuals_csv(const std::string& file) const {
+  std::ofstream f(file);
+  if (!f) throw std::runtime_error("cannot write " + file);
+  f << "t_s,range_m,range_nominal_m,range_extended_m,course_rad,course_nominal_rad,course_extended_rad,"
+       "glide_rad,glide_nominal_rad,glide_extended_rad,outlier\n";
+  char b[512];
+  for (const auto& r : rows) {
+    std::snprintf(b, sizeof b, "%.3f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%d\n", r.t_s, r.y[0],
+                  r.nominal[0], r.extended[0], r.y[1], r.nominal[1], r.extended[1], r.y[2], r.nominal[2],
+                  r.extended[2], r.outlier ? 1 : 0);
+    f << b;
+  }
 }
 
 nlohmann::ordered_json DiagnoseReport::to_json() const {

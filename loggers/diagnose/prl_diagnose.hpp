@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -73,6 +74,15 @@ struct DiagnoseReport {
   std::map<std::string, std::map<std::string, double>> detection_limits;
   int plots_used = 0, plots_dropped = 0;
   double split_time_s = 0;
+  /// Per plot: time, residual (meas - nav) and the nominal and extended models' fits (full data).
+  struct Row {
+    double t_s;
+    std::array<double, 3> y, nominal, extended;
+    bool outlier;
+  };
+  std::vector<Row> rows;
+  /// Write rows as CSV (t_s, then per channel residual, nominal, extended; outlier flag).
+  void write_residuals_csv(const std::string& file) const;
   nlohmann::ordered_json to_json() const;
   std::string text() const;
 };
