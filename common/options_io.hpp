@@ -99,4 +99,17 @@ inline void require_multiple(double t_s, double step_s, const std::string& key,
 }
 
 
+/// Load a scenario file of type Sc (Sc::from_json) with "a.b=value" overrides applied first;
+/// errors name the file.
+template <class Sc>
+Sc load_scenario(const std::string& file, const std::vector<std::string>& overrides) {
+  nlohmann::json doc = load_json_file(file);
+  for (const auto& o : overrides) apply_override(doc, o);
+  try {
+    return Sc::from_json(doc);
+  } catch (const ConfigError& e) {
+    throw ConfigError(file + ": " + e.what());
+  }
+}
+
 }  // namespace rnav::options_io

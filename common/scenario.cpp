@@ -152,13 +152,7 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
 }
 
 Scenario Scenario::load(const std::string& file, const std::vector<std::string>& overrides) {
-  nlohmann::json doc = load_json_file(file);
-  for (const auto& o : overrides) apply_override(doc, o);
-  try {
-    return from_json(doc);
-  } catch (const ConfigError& e) {
-    throw ConfigError(file + ": " + e.what());
-  }
+  return load_scenario<Scenario>(file, overrides);
 }
 
 LocalLevelFrame Scenario::landing_frame() const {

@@ -104,13 +104,7 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
 }
 
 UavScenario UavScenario::load(const std::string& file, const std::vector<std::string>& overrides) {
-  nlohmann::json doc = load_json_file(file);
-  for (const auto& o : overrides) apply_override(doc, o);
-  try {
-    return from_json(doc);
-  } catch (const ConfigError& e) {
-    throw ConfigError(file + ": " + e.what());
-  }
+  return load_scenario<UavScenario>(file, overrides);
 }
 
 double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / uav.speed_mps; }

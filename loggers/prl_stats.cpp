@@ -1,5 +1,7 @@
 #include "prl_stats.hpp"
 
+#include "atomic_file.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
@@ -19,25 +21,6 @@ std::string range_key(double r) {
   char b[32];
   std::snprintf(b, sizeof b, "%.0f", r);
   return b;
-}
-
-std::string num(double x, int prec = 6) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", prec, x);
-  return b;
-}
-
-// Write `text` to dir/name atomically: a temporary file, then rename.
-void write_file(const std::string& dir, const std::string& name, const std::string& text) {
-  const std::string tmp = dir + "/." + name + ".partial", dst = dir + "/" + name;
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error("error writing " + tmp);
-  }
-  if (std::rename(tmp.c_str(), dst.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
 }
 
 }  // namespace
@@ -73,7 +56,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     if (a[i].n == 0)
       throw std::runtime_error("realization has no plot within " +
-                               num(sc_.logger.table_halfwidth_m, 0) + " m of table range " +
+                               fixed(sc_.logger.table_halfwidth_m, 0) + " m of table range " +
                                range_key(ranges[i]) + " m (logger.table_ranges_m)");
     if (table_plots_[i] >= 0 && table_plots_[i] != a[i].n)
       throw std::runtime_error("table range " + range_key(ranges[i]) +
@@ -181,9 +164,9 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
                                                 : PaperTable2::toi(ranges[i]);
     }
   }
-  write_file(dir, "table2.json", t2.dump(2) + "\n");
-  write_file(dir, "table2_detail.json", detail.dump(2) + "\n");
-  write_file(dir, "table2.txt", table2_text(seed));
+  write_file_atomic(dir, "table2.json", t2.dump(2) + "\n");
+  write_file_atomic(dir, "table2_detail.json", detail.dump(2) + "\n");
+  write_file_atomic(dir, "table2.txt", table2_text(seed));
 
   std::ostringstream ts;
   ts << "t_s,range_m,range_table_m,n";
@@ -195,19 +178,19 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
        << "_glide_deg";
   ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg\n";
   for (const auto& [utime, b] : by_time_) {
-    ts << num((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << num(b.range_true_m, 2) << ","
-       << num(b.range_table_m, 2) << "," << b.apoi.n;
+    ts << fixed((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(b.range_true_m, 2) << ","
+       << fixed(b.range_table_m, 2) << "," << b.apoi.n;
     for (const auto* m : {&b.apoi, &b.toi}) {
-      for (int k = 0; k < 3; ++k) ts << "," << num(m->mean(k));
-      for (int k = 0; k < 3; ++k) ts << "," << num(m->rms(k));
+      for (int k = 0; k < 3; ++k) ts << "," << fixed(m->mean(k));
+      for (int k = 0; k < 3; ++k) ts << "," << fixed(m->rms(k));
     }
     const double scale[3] = {1, kRadToDeg, kRadToDeg};
-    for (int k = 0; k < 3; ++k) ts << "," << num(b.bias_err.mean(k) * scale[k], 9);
-    for (int k = 0; k < 3; ++k) ts << "," << num(b.bias_err.rms(k) * scale[k], 9);
-    for (int k = 0; k < 3; ++k) ts << "," << num(std::sqrt(b.bias_var.mean(k)) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << fixed(b.bias_err.mean(k) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << fixed(b.bias_err.rms(k) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << fixed(std::sqrt(b.bias_var.mean(k)) * scale[k], 9);
     ts << "\n";
   }
-  write_file(dir, "stats_time.csv", ts.str());
+  write_file_atomic(dir, "stats_time.csv", ts.str());
 
   std::ostringstream rs;
   rs << "range_lo_m,range_hi_m,n";
@@ -216,15 +199,15 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
       for (const char* c : {"x", "z", "y"}) rs << "," << p << "_" << s << "_" << c << "_m";
   rs << "\n";
   for (const auto& [bin, m] : by_range_) {
-    rs << num(bin * sc_.logger.range_bin_m, 0) << "," << num((bin + 1) * sc_.logger.range_bin_m, 0)
+    rs << fixed(bin * sc_.logger.range_bin_m, 0) << "," << fixed((bin + 1) * sc_.logger.range_bin_m, 0)
        << "," << m.first.n;
     for (const auto* mm : {&m.first, &m.second}) {
-      for (int k = 0; k < 3; ++k) rs << "," << num(mm->mean(k));
-      for (int k = 0; k < 3; ++k) rs << "," << num(mm->rms(k));
+      for (int k = 0; k < 3; ++k) rs << "," << fixed(mm->mean(k));
+      for (int k = 0; k < 3; ++k) rs << "," << fixed(mm->rms(k));
     }
     rs << "\n";
   }
-  write_file(dir, "stats_range.csv", rs.str());
+  write_file_atomic(dir, "stats_range.csv", rs.str());
 }
 
 }  // namespace rnav

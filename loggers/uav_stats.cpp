@@ -1,5 +1,7 @@
 #include "uav_stats.hpp"
 
+#include "atomic_file.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -12,23 +14,6 @@
 
 namespace rnav {
 
-namespace {
-std::string num(double x, int prec = 6) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", prec, x);
-  return b;
-}
-void write_file(const std::string& dir, const std::string& name, const std::string& text) {
-  const std::string tmp = dir + "/." + name + ".partial", dst = dir + "/" + name;
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-    f << text;
-    if (!f.flush()) throw std::runtime_error("error writing " + tmp);
-  }
-  if (std::rename(tmp.c_str(), dst.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
-}
-}  // namespace
 
 std::pair<double, double> chi2_mean_band(long n, int dof, double z) {
   // chi2(nu) quantile ~ nu (1 - 2/(9 nu) + z sqrt(2/(9 nu)))^3; the mean of n draws of
@@ -130,19 +115,19 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
   ts << "\n";
   for (std::int64_t t : frames_) {
     if (!pp.count(t)) continue;
-    ts << num((t - sc_.runner.epoch_utime) * 1e-6, 3) << "," << num(pp.at(t)) << "," << num(pv.at(t))
-       << "," << num(nees_band.first) << "," << num(nees_band.second) << "," << num(nis_band.first)
-       << "," << num(nis_band.second);
+    ts << fixed((t - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(pp.at(t)) << "," << fixed(pv.at(t))
+       << "," << fixed(nees_band.first) << "," << fixed(nees_band.second) << "," << fixed(nis_band.first)
+       << "," << fixed(nis_band.second);
     for (const auto& [name, m] : by_time_) {
       const auto it = m.find(t);
       const Acc a = it == m.end() ? Acc{} : it->second;
-      ts << "," << a.n << "," << num(a.n ? std::sqrt(a.pos2 / a.n) : NAN) << ","
-         << num(a.n ? std::sqrt(a.vel2 / a.n) : NAN) << "," << num(a.n ? a.nees / a.n : NAN) << ","
-         << num(a.n_upd ? a.nis / a.n_upd : NAN);
+      ts << "," << a.n << "," << fixed(a.n ? std::sqrt(a.pos2 / a.n) : NAN) << ","
+         << fixed(a.n ? std::sqrt(a.vel2 / a.n) : NAN) << "," << fixed(a.n ? a.nees / a.n : NAN) << ","
+         << fixed(a.n_upd ? a.nis / a.n_upd : NAN);
     }
     ts << "\n";
   }
-  write_file(dir, "uav_stats_time.csv", ts.str());
+  write_file_atomic(dir, "uav_stats_time.csv", ts.str());
 
   // The PCRB at the evaluation time: the last frame at or before it.
   const std::int64_t eval = sc_.utime(to_us(sc_.eval_time_s()));
@@ -170,12 +155,12 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
     e["diverged"] = f.diverged;
     e["runs"] = f.n;
   }
-  write_file(dir, "summary.json", j.dump(2) + "\n");
+  write_file_atomic(dir, "summary.json", j.dump(2) + "\n");
   std::ostringstream t;
   t << "Azimuth-only estimation: " << n_ << " realizations, seed " << seed << ", figures at t = "
-    << num(sc_.eval_time_s(), 1) << " s"
+    << fixed(sc_.eval_time_s(), 1) << " s"
     << (std::abs(sc_.eval_time_s() - 2 * sc_.orbit_period_s()) < 1e-6 ? " (two orbits)" : "") << "\n";
-  t << "PCRB position RMSE " << num(pcrb_pos, 3) << " m, velocity RMSE " << num(pcrb_vel, 4)
+  t << "PCRB position RMSE " << fixed(pcrb_pos, 3) << " m, velocity RMSE " << fixed(pcrb_vel, 4)
     << " m/s\n";
   t << "estimator  RMSE pos [m]  /PCRB   RMSE vel [m/s]  NEES mean  95% band          diverged\n";
   for (const auto& [name, f] : final_) {
@@ -187,7 +172,7 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
                   f.diverged, f.n);
     t << b;
   }
-  write_file(dir, "summary.txt", t.str());
+  write_file_atomic(dir, "summary.txt", t.str());
 }
 
 }  // namespace rnav
