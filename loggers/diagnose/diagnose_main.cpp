@@ -1,7 +1,8 @@
-// rnav_diagnose prl INPUT [--json FILE] [--split-time S] [--alpha A]
+// rnav_diagnose prl|uav INPUT [--json FILE] [--split-time S] [--alpha A]
 // INPUT: a flight-test CSV folder (README, "Measured data"). Prints the report; writes JSON.
 #include "config.hpp"
 #include "prl_diagnose.hpp"
+#include "uav_diagnose.hpp"
 
 #include <fstream>
 #include <iostream>
@@ -10,9 +11,10 @@ int main(int argc, char** argv) {
   try {
     if (argc < 3) throw rnav::ConfigError("usage: rnav_diagnose prl INPUT [--json FILE] [--split-time S] [--alpha A]");
     const std::string kind = argv[1], input = argv[2];
-    if (kind != "prl") throw rnav::ConfigError("diagnose: '" + kind + "' is not supported yet (only prl)");
+    if (kind != "prl" && kind != "uav") throw rnav::ConfigError("diagnose: kind must be prl or uav, got '" + kind + "'");
     std::string json, residuals;
     rnav::DiagnoseOptions o;
+    rnav::UavDiagnoseOptions uo;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
       auto value = [&]() -> std::string {
@@ -21,15 +23,17 @@ int main(int argc, char** argv) {
       };
       if (a == "--json") json = value();
       else if (a == "--split-time") o.split_time_s = std::stod(value());
-      else if (a == "--alpha") o.alpha = std::stod(value());
+      else if (a == "--alpha") o.alpha = uo.alpha = std::stod(value());
+      else if (a == "--gate-deg") uo.gate_deg = std::stod(value());
+      else if (a == "--sigma-deg") uo.sigma_deg = std::stod(value());
       else if (a == "--residuals") residuals = value();
       else if (a == "--confound-corr") o.confound_corr = std::stod(value());
       else if (a == "--nav-sigma") o.nav_sigma_m = std::stod(value());
       else if (a == "--nav-tau") o.nav_tau_s = std::stod(value());
       else throw rnav::ConfigError("diagnose: unknown option " + a);
     }
-    const auto data = rnav::PrlFlightData::read_folder(input);
-    const auto rep = rnav::diagnose_prl(data, o);
+    const auto rep = kind == "prl" ? rnav::diagnose_prl(rnav::PrlFlightData::read_folder(input), o)
+                                   : rnav::diagnose_uav(rnav::AzimuthData::read_folder(input), uo);
     std::cout << rep.text();
     if (!residuals.empty()) rep.write_residuals_csv(residuals);
     if (!json.empty()) {

@@ -1,0 +1,73 @@
+#include "azimuth_data.hpp"
+
+#include "config.hpp"
+#include "csv_table.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace rnav {
+
+AzimuthData AzimuthData::read_folder(const std::string& dir) {
+  AzimuthData d;
+  {
+    const CsvTable t = CsvTable::read(dir + "/observer.csv", {"t_s", "lat_deg", "lon_deg", "h_m"});
+    t.require_time_order("t_s", false);
+    for (std::size_t i = 0; i < t.rows(); ++i)
+      d.observer.push_back({t.col("t_s")[i], {t.col("lat_deg")[i], t.col("lon_deg")[i], t.col("h_m")[i]}});
+  }
+  {
+    const CsvTable t = CsvTable::read(dir + "/bearings.csv", {"t_s", "bearing_deg"});
+    t.require_time_order("t_s", true);
+    for (std::size_t i = 0; i < t.rows(); ++i) {
+      const double ts = t.col("t_s")[i], b = t.col("bearing_deg")[i];
+      if (std::abs(b) > 720)
+        throw ConfigError(dir + "/bearings.csv:" + std::to_string(t.line(i)) +
+                          ": column 'bearing_deg' out of range");
+      if (d.frames.empty() || d.frames.back().t_s != ts) d.frames.push_back({ts, {}});
+      d.frames.back().bearings_rad.push_back(wrap_pi(b * kDegToRad));
+    }
+  }
+  if (std::filesystem::exists(dir + "/truth.csv")) {
+    const CsvTable t = CsvTable::read(dir + "/truth.csv", {"t_s", "lat_deg", "lon_deg"});
+    t.require_time_order("t_s", false);
+    for (std::size_t i = 0; i < t.rows(); ++i)
+      d.truth.push_back({t.col("t_s")[i], {t.col("lat_deg")[i], t.col("lon_deg")[i], 0.0}});
+  }
+  if (d.observer.size() < 2) throw ConfigError(dir + "/observer.csv: fewer than 2 rows");
+  if (d.frames.size() < 10) throw ConfigError(dir + "/bearings.csv: fewer than 10 frames");
+  return d;
+}
+
+void AzimuthData::write_folder(const std::string& dir) const {
+  std::filesystem::create_directories(dir);
+  char b[200];
+  {
+    std::ofstream f(dir + "/observer.csv");
+    f << "t_s,lat_deg,lon_deg,h_m\n";
+    for (const auto& s : observer) {
+      std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
+      f << b;
+    }
+  }
+  {
+    std::ofstream f(dir + "/bearings.csv");
+    f << "t_s,bearing_deg\n";
+    for (const auto& fr : frames)
+      for (double x : fr.bearings_rad) {
+        std::snprintf(b, sizeof b, "%.6f,%.6f\n", fr.t_s, x / kDegToRad);
+        f << b;
+      }
+  }
+  if (!truth.empty()) {
+    std::ofstream f(dir + "/truth.csv");
+    f << "t_s,lat_deg,lon_deg\n";
+    for (const auto& s : truth) {
+      std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f\n", s.t_s, s.g.lat_deg, s.g.lon_deg);
+      f << b;
+    }
+  }
+}
+
+}  // namespace rnav

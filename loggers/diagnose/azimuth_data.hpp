@@ -1,0 +1,32 @@
+// Azimuth-only observation data in the CSV interchange format (README, "Measured data"):
+//   observer.csv  t_s,lat_deg,lon_deg,h_m     (the observer's navigation solution)
+//   bearings.csv  t_s,bearing_deg             (true bearing from observer to object, clockwise
+//                                              from north; several rows with one t_s = several
+//                                              detections in one frame)
+//   truth.csv     optional: t_s,lat_deg,lon_deg of the object
+// Header required, extra columns ignored, rows in time order (bearings: non-decreasing).
+#pragma once
+
+#include "frames.hpp"
+#include "prl_flight_data.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+struct BearingFrame {
+  double t_s = 0;
+  std::vector<double> bearings_rad;  ///< all detections of the frame
+};
+
+struct AzimuthData {
+  std::vector<GeoSample> observer;
+  std::vector<BearingFrame> frames;
+  std::vector<GeoSample> truth;  ///< h_m unused; empty without truth.csv
+
+  static AzimuthData read_folder(const std::string& dir);
+  void write_folder(const std::string& dir) const;
+};
+
+}  // namespace rnav
