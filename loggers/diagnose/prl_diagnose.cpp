@@ -45,6 +45,33 @@ double gamma_q(double a, double x) {
 
 double chi2_sf(double x, double k) { return gamma_q(k / 2, x / 2); }
 
+double poisson_upper_tail(int k, double lambda) {
+  double tail = 0, term = std::exp(-lambda);
+  for (int i = 0; i < std::max(1000, 4 * k); ++i) {
+    if (i >= k) tail += term;
+    term *= lambda / (i + 1);
+  }
+  return tail;
+}
+
+double pearson(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    mx += x[i];
+    my += y[i];
+  }
+  mx /= n;
+  my /= n;
+  double sxy = 0, sxx = 0, syy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sxy += (x[i] - mx) * (y[i] - my);
+    sxx += (x[i] - mx) * (x[i] - mx);
+    syy += (y[i] - my) * (y[i] - my);
+  }
+  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0.0;
+}
+
 namespace {
 
 const char* kCh[3] = {"range", "course", "glide"};
@@ -590,12 +617,7 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
     // Under the Gaussian model P(|z| > z0) per channel; expected count lambda
     const double p1 = std::erfc(o.outlier_z / std::sqrt(2.0));
     const double lambda = 3 * obs.size() * p1;
-    // Poisson upper tail P(N >= n_out)
-    double tail = 0, term = std::exp(-lambda);
-    for (int i = 0; i < 1000; ++i) {
-      if (i >= n_out) tail += term;
-      term *= lambda / (i + 1);
-    }
+    const double tail = poisson_upper_tail(n_out, lambda);
     if (n_out > 0 && tail < o.alpha / m_family) {
       EffectResult e;
       e.name = "outliers";
@@ -706,21 +728,10 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
         }
       const double n = static_cast<double>(r.size());
       for (int v = 0; v < 6; ++v) {
-        double mx = 0, mr = 0;
-        for (std::size_t i = 0; i < r.size(); ++i) {
-          mx += x[i][v];
-          mr += r[i];
-        }
-        mx /= n;
-        mr /= n;
-        double sxy = 0, sxx = 0, syy = 0;
-        for (std::size_t i = 0; i < r.size(); ++i) {
-          sxy += (x[i][v] - mx) * (r[i] - mr);
-          sxx += (x[i][v] - mx) * (x[i][v] - mx);
-          syy += (r[i] - mr) * (r[i] - mr);
-        }
-        if (sxx <= 0 || syy <= 0) continue;
-        const double corr = sxy / std::sqrt(sxx * syy);
+        std::vector<double> xv;
+        for (const auto& row : x) xv.push_back(row[v]);
+        const double corr = pearson(xv, r);
+        if (corr == 0) continue;
         const double z = std::abs(corr) * std::sqrt(n * (1 - rho[c]) / (1 + rho[c]));
         if (std::erfc(z / std::sqrt(2.0)) * 18 < o.alpha)
           rep.unexplained.push_back(std::string(kCh[c]) + " residual correlates with " + vars[v] +

@@ -93,5 +93,9 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
 /// Q(k/2, x/2)).
 double gamma_q(double a, double x);
 double chi2_sf(double x, double k);
+/// Poisson upper tail P(N >= k) for mean lambda.
+double poisson_upper_tail(int k, double lambda);
+/// Pearson correlation of x and y (0 when either has no spread).
+double pearson(const std::vector<double>& x, const std::vector<double>& y);
 
 }  // namespace rnav

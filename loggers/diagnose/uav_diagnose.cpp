@@ -253,11 +253,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     int n_out = 0;
     for (const auto& x : obs) n_out += x.outlier;
     const double lambda = obs.size() * std::erfc(o.outlier_z / std::sqrt(2.0));
-    double tail = 0, term = std::exp(-lambda);
-    for (int i = 0; i < 2000; ++i) {
-      if (i >= n_out) tail += term;
-      term *= lambda / (i + 1);
-    }
+    const double tail = poisson_upper_tail(n_out, lambda);
     if (n_out > 0 && tail < o.alpha / m_family) {
       EffectResult e;
       e.name = "outliers";
@@ -318,7 +314,6 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   {
     const char* names[3] = {"range", "bearing rate", "time"};
     for (int v = 0; v < 3; ++v) {
-      double mx = 0, mr = 0;
       std::vector<double> xs, rs;
       for (auto i : use) {
         double pred = 0;
@@ -326,20 +321,8 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         xs.push_back(v == 0 ? obs[i].range : v == 1 ? obs[i].rate : obs[i].t);
         rs.push_back(obs[i].r - pred);
       }
-      for (std::size_t i = 0; i < xs.size(); ++i) {
-        mx += xs[i];
-        mr += rs[i];
-      }
-      mx /= xs.size();
-      mr /= xs.size();
-      double sxy = 0, sxx = 0, syy = 0;
-      for (std::size_t i = 0; i < xs.size(); ++i) {
-        sxy += (xs[i] - mx) * (rs[i] - mr);
-        sxx += (xs[i] - mx) * (xs[i] - mx);
-        syy += (rs[i] - mr) * (rs[i] - mr);
-      }
-      if (sxx <= 0 || syy <= 0) continue;
-      const double c = sxy / std::sqrt(sxx * syy);
+      const double c = pearson(xs, rs);
+      if (c == 0) continue;
       const double z = std::abs(c) * std::sqrt(xs.size() / f_ar);
       if (std::erfc(z / std::sqrt(2.0)) * 3 < o.alpha)
         rep.unexplained.push_back(std::string("bearing residual correlates with ") + names[v] + " (r = " +
