@@ -45,6 +45,18 @@ double gamma_q(double a, double x) {
 
 double chi2_sf(double x, double k) { return gamma_q(k / 2, x / 2); }
 
+double median_abs(std::vector<double> v) {
+  for (auto& x : v) x = std::abs(x);
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+std::string short_num(double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.4g", x);
+  return b;
+}
+
 double poisson_upper_tail(int k, double lambda) {
   double tail = 0, term = std::exp(-lambda);
   for (int i = 0; i < std::max(1000, 4 * k); ++i) {
@@ -257,18 +269,6 @@ double lag1(const std::vector<double>& r) {
     if (i) num += r[i] * r[i - 1];
   }
   return den > 0 ? num / den : 0;
-}
-
-double median_abs(std::vector<double> v) {
-  for (auto& x : v) x = std::abs(x);
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-std::string fmt(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.4g", x);
-  return b;
 }
 
 }  // namespace
@@ -543,7 +543,7 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
         e.estimate.push_back(final_fit.beta(col + i));
         e.stderr_.push_back(std::sqrt(final_fit.cov(col + i, col + i)));
       }
-      if (scanned) e.note = "at t = " + fmt(cd.variant_par[chosen[s].variant]) + " s";
+      if (scanned) e.note = "at t = " + short_num(cd.variant_par[chosen[s].variant]) + " s";
     }
     // Evidence: the final model against the final model without this effect.
     auto without = chosen;
@@ -607,8 +607,8 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
       e.p_value = std::min(e.p_value, std::min(1.0, p));
     }
     e.evidence_lr = lr_sum;
-    e.note = "ratio of the fitted noise sigma to the nominal (options: " + fmt(o.sigma_range_m) +
-             " m, " + fmt(o.sigma_course_deg) + " deg, " + fmt(o.sigma_glide_deg) + " deg)";
+    e.note = "ratio of the fitted noise sigma to the nominal (options: " + short_num(o.sigma_range_m) +
+             " m, " + short_num(o.sigma_course_deg) + " deg, " + short_num(o.sigma_glide_deg) + " deg)";
     if (any) rep.effects.push_back(e);
   }
   {
@@ -627,8 +627,8 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
       e.stderr_ = {std::sqrt(f * (1 - f) / obs.size())};
       e.p_value = tail;
       e.evidence_lr = -2 * std::log(std::max(tail, 1e-300));
-      e.note = std::to_string(n_out) + " plots beyond " + fmt(o.outlier_z) + " robust sigma (expected " +
-               fmt(lambda) + "); excluded from the fits";
+      e.note = std::to_string(n_out) + " plots beyond " + short_num(o.outlier_z) + " robust sigma (expected " +
+               short_num(lambda) + "); excluded from the fits";
       rep.effects.push_back(e);
     }
   }
@@ -642,8 +642,8 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
       // delta method: d tau / d rho = dt / (rho ln^2 rho)
       e.stderr_.push_back(dt_med / (r * std::log(r) * std::log(r)) * se_rho[c]);
     }
-    e.note = "AR(1) radar noise, lag-1 coefficients (" + fmt(rho[0]) + ", " + fmt(rho[1]) + ", " +
-             fmt(rho[2]) + ") from first differences; all fits use it";
+    e.note = "AR(1) radar noise, lag-1 coefficients (" + short_num(rho[0]) + ", " + short_num(rho[1]) + ", " +
+             short_num(rho[2]) + ") from first differences; all fits use it";
     e.p_value = 0;
     rep.effects.push_back(e);
   }
@@ -735,7 +735,7 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
         const double z = std::abs(corr) * std::sqrt(n * (1 - rho[c]) / (1 + rho[c]));
         if (std::erfc(z / std::sqrt(2.0)) * 18 < o.alpha)
           rep.unexplained.push_back(std::string(kCh[c]) + " residual correlates with " + vars[v] +
-                                    " (r = " + fmt(corr) + ") after the extended model");
+                                    " (r = " + short_num(corr) + ") after the extended model");
       }
     }
   }
@@ -776,7 +776,7 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
     j["effects"].push_back(x);
   }
   j["gain"] = nlohmann::ordered_json::object();
-  j["gain_window"] = "fit on t < " + fmt(split_time_s) + " s, scored on t >= " + fmt(split_time_s) + " s";
+  j["gain_window"] = "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s";
   for (const auto& [k, g] : gain)
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms},
                     {"nominal_loglik", g.nominal_loglik}, {"extended_loglik", g.extended_loglik}};
@@ -791,14 +791,14 @@ std::string DiagnoseReport::text() const {
   for (const auto& e : effects) {
     o << (e.nominal ? "  nominal  " : "  EFFECT   ") << e.name << ":";
     for (std::size_t i = 0; i < e.estimate.size(); ++i)
-      o << " " << (i < e.params.size() ? e.params[i] + "=" : "") << fmt(e.estimate[i]) << " +- "
-        << fmt(e.stderr_[i]);
-    if (!e.nominal) o << "  (2 log LR " << fmt(e.evidence_lr) << ", p " << fmt(e.p_value) << ")";
+      o << " " << (i < e.params.size() ? e.params[i] + "=" : "") << short_num(e.estimate[i]) << " +- "
+        << short_num(e.stderr_[i]);
+    if (!e.nominal) o << "  (2 log LR " << short_num(e.evidence_lr) << ", p " << short_num(e.p_value) << ")";
     if (!e.confounded_with.empty()) o << "  confounded with " << e.confounded_with.front();
     o << "\n";
   }
   for (const auto& [k, g] : gain)
-    o << "  gain " << k << ": RMS " << fmt(g.nominal_rms) << " -> " << fmt(g.extended_rms) << " (n "
+    o << "  gain " << k << ": RMS " << short_num(g.nominal_rms) << " -> " << short_num(g.extended_rms) << " (n "
       << g.n << ")\n";
   for (const auto& u : unexplained) o << "  unexplained: " << u << "\n";
   return o.str();

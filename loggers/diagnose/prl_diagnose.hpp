@@ -95,6 +95,10 @@ double gamma_q(double a, double x);
 double chi2_sf(double x, double k);
 /// Poisson upper tail P(N >= k) for mean lambda.
 double poisson_upper_tail(int k, double lambda);
+/// Median of |v| (for robust sigma: 1.4826 * median_abs).
+double median_abs(std::vector<double> v);
+/// A number in %.4g for reports.
+std::string short_num(double x);
 /// Pearson correlation of x and y (0 when either has no spread).
 double pearson(const std::vector<double>& x, const std::vector<double>& y);
 

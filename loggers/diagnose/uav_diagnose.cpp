@@ -53,12 +53,6 @@ Fit1 ols(const std::vector<Ob>& obs, const std::vector<std::size_t>& idx, const 
   return f;
 }
 
-std::string fmt(double x) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.4g", x);
-  return b;
-}
-
 }  // namespace
 
 DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o) {
@@ -122,11 +116,9 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   const double m_family = 4 + 3;
 
   // robust sigma, outliers, AR(1) from first differences (as in the radar diagnosis)
-  std::vector<double> a;
-  for (const auto& x : obs) a.push_back(std::abs(x.r - obs[obs.size() / 2].r * 0));
-  std::vector<double> med = a;
-  std::nth_element(med.begin(), med.begin() + med.size() / 2, med.end());
-  double sigma = 1.4826 * med[med.size() / 2];
+  std::vector<double> r0;
+  for (const auto& x : obs) r0.push_back(x.r);
+  const double sigma = 1.4826 * median_abs(r0);  // robust, about zero (the nominal mean)
   for (auto& x : obs) x.outlier = std::abs(x.r) > o.outlier_z * sigma;
   std::vector<std::size_t> use;
   for (std::size_t i = 0; i < obs.size(); ++i)
@@ -246,8 +238,8 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       e.stderr_ = {std::sqrt(q) / std::sqrt(2 * dof)};
       e.p_value = p;
       e.evidence_lr = dof * (q - 1 - std::log(q));
-      e.note = "fitted bearing sigma " + fmt(std::sqrt(s2) / kDegToRad) + " deg against the nominal " +
-               fmt(o.sigma_deg) + " deg";
+      e.note = "fitted bearing sigma " + short_num(std::sqrt(s2) / kDegToRad) + " deg against the nominal " +
+               short_num(o.sigma_deg) + " deg";
       rep.effects.push_back(e);
     }
     int n_out = 0;
@@ -262,7 +254,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       e.estimate = {f};
       e.stderr_ = {std::sqrt(f * (1 - f) / obs.size())};
       e.p_value = tail;
-      e.note = std::to_string(n_out) + " associated detections beyond " + fmt(o.outlier_z) + " robust sigma";
+      e.note = std::to_string(n_out) + " associated detections beyond " + short_num(o.outlier_z) + " robust sigma";
       rep.effects.push_back(e);
     }
     if (correlated) {
@@ -274,7 +266,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       e.estimate = {-dt / std::log(r)};
       e.stderr_ = {dt / (r * std::log(r) * std::log(r)) * 2 * std::sqrt(0.5 / obs.size())};
       e.p_value = 0;
-      e.note = "AR(1) lag-1 coefficient " + fmt(rho) + " from first differences";
+      e.note = "AR(1) lag-1 coefficient " + short_num(rho) + " from first differences";
       rep.effects.push_back(e);
     }
   }
@@ -326,7 +318,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       const double z = std::abs(c) * std::sqrt(xs.size() / f_ar);
       if (std::erfc(z / std::sqrt(2.0)) * 3 < o.alpha)
         rep.unexplained.push_back(std::string("bearing residual correlates with ") + names[v] + " (r = " +
-                                  fmt(c) + ") after the extended model");
+                                  short_num(c) + ") after the extended model");
     }
   }
   return rep;
