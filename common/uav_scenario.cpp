@@ -40,6 +40,17 @@ template <class V> void visit(SensorOptions& o, V& v) {
   v.num("max_range_m", o.max_range_m, 1, 1e6);
   v.num("min_range_m", o.min_range_m, 0, 1e6);
 }
+template <class V> void visit(SensorEffectsOptions& o, V& v) {
+  v.num("bearing_bias_rad", o.bearing_bias_rad, -0.2, 0.2);
+  v.num("time_offset_s", o.time_offset_s, -10, 10);
+  v.num("bias_drift_radps", o.bias_drift_radps, -0.01, 0.01);
+  v.num("noise_scale", o.noise_scale, 1e-3, 100);
+  v.num("correlated_noise_tau_s", o.correlated_noise_tau_s, 0, 1e5);
+  v.num("outlier_prob", o.outlier_prob, 0, 0.5);
+  v.num("outlier_scale", o.outlier_scale, 1, 1000);
+  v.num("periodic_period_s", o.periodic_period_s, 0, 1e5);
+  v.num("periodic_amplitude_rad", o.periodic_amplitude_rad, -0.2, 0.2);
+}
 template <class V> void visit(TmaOptions& o, V& v) {
   v.num("q_m2ps3", o.q_m2ps3, 0, 100);
   v.num("range_prior_m", o.range_prior_m, 1, 1e6);
@@ -60,6 +71,7 @@ template <class F> void for_each_section(UavScenario& sc, F&& f) {
   f("uav", sc.uav);
   f("uav_nav", sc.uav_nav);
   f("sensor", sc.sensor);
+  f("sensor_effects", sc.sensor_effects);
   f("tma", sc.tma);
   f("logger", sc.logger);
   f("runner", sc.runner);

@@ -57,6 +57,21 @@ struct SensorOptions {
   double min_range_m = 1;       ///< [m] no detection closer than this horizontal range (nadir)
 };
 
+/// Further bearing error effects (the azimuth-only diagnosis catalogue), all off by default, so
+/// tests and users can make data with a known hidden effect. Names match `scripts/diagnose uav`.
+/// (target_maneuver is made with target.manoeuvres.)
+struct SensorEffectsOptions {
+  double bearing_bias_rad = 0;       ///< bearing_bias: constant error added to every bearing [rad], |b| <= 0.2
+  double time_offset_s = 0;          ///< bearing_time_offset: sensor time stamp minus true time [s]: db = -beta_dot tau, |tau| <= 10
+  double bias_drift_radps = 0;       ///< bias_drift: bearing error growing at this rate from t = 0 [rad/s]
+  double noise_scale = 1;            ///< noise_scale: white-noise sigma multiplier, (0, 100]
+  double correlated_noise_tau_s = 0; ///< correlated_noise: the noise as a Gauss-Markov process with this correlation time [s] (0: white)
+  double outlier_prob = 0;           ///< outliers: probability per frame, [0, 0.5]
+  double outlier_scale = 10;         ///< outliers: their sigma in units of the noise sigma, [1, 1000]
+  double periodic_period_s = 0;      ///< periodic: period [s] (0: none)
+  double periodic_amplitude_rad = 0; ///< periodic: amplitude [rad] of a sine in time
+};
+
 /// The azimuth-only estimators.
 struct TmaOptions {
   /// [m^2/s^3] white-acceleration spectral density of the CV model. 0 (default) matches the
@@ -84,6 +99,7 @@ struct UavScenario {
   ObserverOptions uav;
   ObserverNavOptions uav_nav;
   SensorOptions sensor;
+  SensorEffectsOptions sensor_effects;
   TmaOptions tma;
   UavLoggerOptions logger;
   RunnerOptions runner;

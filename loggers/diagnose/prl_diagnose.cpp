@@ -53,7 +53,8 @@ double median_abs(std::vector<double> v) {
 
 std::string short_num(double x) {
   char b[64];
-  std::snprintf(b, sizeof b, "%.4g", x);
+  // Large values are times on an absolute scale (e.g. Unix seconds): keep them to 0.1.
+  std::snprintf(b, sizeof b, std::abs(x) >= 1e5 && std::abs(x) < 1e15 ? "%.1f" : "%.4g", x);
   return b;
 }
 
@@ -745,9 +746,19 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
 void DiagnoseReport::write_residuals_csv(const std::string& file) const {
   std::ofstream f(file);
   if (!f) throw std::runtime_error("cannot write " + file);
+  char b[512];
+  if (kind == "uav") {
+    f << "t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier\n";
+    for (const auto& r : rows) {
+      std::snprintf(b, sizeof b, "%.3f,%.9f,%.9f,%.9f,%.3f,%d\n", r.t_s, r.y[0], r.extended[0], r.y[1], r.y[2],
+                    r.outlier ? 1 : 0);
+      f << b;
+    }
+    if (!f) throw std::runtime_error("cannot write " + file);
+    return;
+  }
   f << "t_s,range_m,range_nominal_m,range_extended_m,course_rad,course_nominal_rad,course_extended_rad,"
        "glide_rad,glide_nominal_rad,glide_extended_rad,outlier\n";
-  char b[512];
   for (const auto& r : rows) {
     std::snprintf(b, sizeof b, "%.3f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%d\n", r.t_s, r.y[0],
                   r.nominal[0], r.extended[0], r.y[1], r.nominal[1], r.extended[1], r.y[2], r.nominal[2],
@@ -758,8 +769,10 @@ void DiagnoseReport::write_residuals_csv(const std::string& file) const {
 
 nlohmann::ordered_json DiagnoseReport::to_json() const {
   nlohmann::ordered_json j;
-  j["plots_used"] = plots_used;
-  j["plots_dropped"] = plots_dropped;
+  j["kind"] = kind;
+  j[kind == "uav" ? "frames_used" : "plots_used"] = plots_used;
+  j[kind == "uav" ? "frames_dropped" : "plots_dropped"] = plots_dropped;
+  if (!reference.empty()) j["reference"] = reference;
   j["noise_levels"] = "estimated from the data (robust MAD of the residuals); the options' nominal "
                       "sigmas are used only for the noise_scale test";
   j["effects"] = nlohmann::ordered_json::array();
@@ -787,7 +800,11 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
 
 std::string DiagnoseReport::text() const {
   std::ostringstream o;
-  o << "plots used " << plots_used << ", dropped (no nav around them) " << plots_dropped << "\n";
+  if (kind == "uav")
+    o << "frames used " << plots_used << ", dropped (no detection within the gate, or no observer nav) "
+      << plots_dropped << "\n  reference: " << reference << "\n";
+  else
+    o << "plots used " << plots_used << ", dropped (no nav around them) " << plots_dropped << "\n";
   for (const auto& e : effects) {
     o << (e.nominal ? "  nominal  " : "  EFFECT   ") << e.name << ":";
     for (std::size_t i = 0; i < e.estimate.size(); ++i)

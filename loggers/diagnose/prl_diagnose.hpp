@@ -66,6 +66,8 @@ struct ChannelGain {
 };
 
 struct DiagnoseReport {
+  std::string kind = "prl";  ///< "prl" (landing radar) or "uav" (azimuth-only)
+  std::string reference;     ///< uav: what the residuals are taken against (truth or fitted track)
   std::vector<EffectResult> effects;
   std::map<std::string, ChannelGain> gain;  ///< "range", "course", "glide", and "truth_position_m" if truth
   std::vector<std::string> unexplained;
@@ -75,13 +77,15 @@ struct DiagnoseReport {
   int plots_used = 0, plots_dropped = 0;
   double split_time_s = 0;
   /// Per plot: time, residual (meas - nav) and the nominal and extended models' fits (full data).
+  /// uav: y = (bearing residual [rad], bearing rate [rad/s], range [m]); fits in channel 0.
   struct Row {
     double t_s;
     std::array<double, 3> y, nominal, extended;
     bool outlier;
   };
   std::vector<Row> rows;
-  /// Write rows as CSV (t_s, then per channel residual, nominal, extended; outlier flag).
+  /// Write rows as CSV. prl: t_s, then per channel residual, nominal, extended; outlier flag.
+  /// uav: t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier.
   void write_residuals_csv(const std::string& file) const;
   nlohmann::ordered_json to_json() const;
   std::string text() const;
@@ -97,7 +101,7 @@ double chi2_sf(double x, double k);
 double poisson_upper_tail(int k, double lambda);
 /// Median of |v| (for robust sigma: 1.4826 * median_abs).
 double median_abs(std::vector<double> v);
-/// A number in %.4g for reports.
+/// A number in %.4g for reports (%.1f from 1e5 on: absolute times keep their tenths).
 std::string short_num(double x);
 /// Pearson correlation of x and y (0 when either has no spread).
 double pearson(const std::vector<double>& x, const std::vector<double>& y);

@@ -1,9 +1,39 @@
 #include "bearing_error_model.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace rnav {
 
-BearingErrorModel::BearingErrorModel(const SensorOptions& o) {
-  effects_.push_back(std::make_unique<WhiteBearingNoise>(o.sigma_deg * kDegToRad));
+double CorrelatedBearingNoise::error(const BearingTruth& truth, Rng& rng) {
+  const double dt = started_ ? truth.t_s - t_prev_s_ : 0.0;
+  if (dt < 0) throw std::logic_error("CorrelatedBearingNoise: frames out of time order");
+  started_ = true;
+  t_prev_s_ = truth.t_s;
+  return dt > 0 ? gm_.step(dt, rng) : gm_.value();
+}
+
+double SystematicBearingError::error(const BearingTruth& truth, Rng&) {
+  double e = o_.bearing_bias_rad - truth.bearing_rate_radps * o_.time_offset_s + o_.bias_drift_radps * truth.t_s;
+  if (o_.periodic_period_s > 0) e += o_.periodic_amplitude_rad * std::sin(2 * M_PI * truth.t_s / o_.periodic_period_s);
+  return e;
+}
+
+double BearingOutliers::error(const BearingTruth&, Rng& rng) {
+  const double u = rng.uniform(), z = rng.normal();
+  return u < p_ ? s_ * z : 0.0;
+}
+
+BearingErrorModel::BearingErrorModel(const SensorOptions& o, const SensorEffectsOptions& fx) {
+  const double sigma = o.sigma_deg * kDegToRad * fx.noise_scale;
+  if (fx.correlated_noise_tau_s > 0)
+    effects_.push_back(std::make_unique<CorrelatedBearingNoise>(sigma, fx.correlated_noise_tau_s));
+  else
+    effects_.push_back(std::make_unique<WhiteBearingNoise>(sigma));
+  if (fx.bearing_bias_rad != 0 || fx.time_offset_s != 0 || fx.bias_drift_radps != 0 ||
+      (fx.periodic_period_s > 0 && fx.periodic_amplitude_rad != 0))
+    effects_.push_back(std::make_unique<SystematicBearingError>(fx));
+  if (fx.outlier_prob > 0) effects_.push_back(std::make_unique<BearingOutliers>(fx.outlier_prob, fx.outlier_scale * sigma));
 }
 
 void BearingErrorModel::start(Rng& rng) {

@@ -1,7 +1,8 @@
 // The passive sensor's bearing error: a list of effects, each adding to the measured bearing
 //   bearing_meas = bearing_true + sum(effects)
-// Open for further effects (a bearing bias, a time-stamp latency, ...): derive from
-// BearingErrorEffect and add it in BearingErrorModel's constructor.
+// The diagnosis catalogue's effects (SensorEffectsOptions, all off by default) are added only
+// when enabled, so a nominal run draws exactly the random numbers it always drew. Further
+// effects: derive from BearingErrorEffect and add them in BearingErrorModel's constructor.
 #pragma once
 
 #include "random.hpp"
@@ -42,9 +43,52 @@ class WhiteBearingNoise : public BearingErrorEffect {
   double s_;
 };
 
+/// Gauss-Markov noise (correlated_noise): sigma, correlation time tau_s; advanced by the time
+/// since the previous frame.
+class CorrelatedBearingNoise : public BearingErrorEffect {
+ public:
+  CorrelatedBearingNoise(double sigma_rad, double tau_s) : gm_(sigma_rad, tau_s) {}
+  std::string name() const override { return "correlated_noise"; }
+  void start(Rng& rng) override {
+    gm_.start(rng);
+    started_ = false;
+  }
+  double error(const BearingTruth& truth, Rng& rng) override;
+
+ private:
+  GaussMarkov gm_;
+  double t_prev_s_ = 0;
+  bool started_ = false;
+};
+
+/// Deterministic errors: bearing_bias b, bearing_time_offset tau, bias_drift d, periodic (P, A):
+///   e = b - beta_dot tau + d t + A sin(2 pi t / P)
+/// (a stamp late by tau shows the bearing of t - tau: beta(t - tau) - beta(t) = -beta_dot tau).
+class SystematicBearingError : public BearingErrorEffect {
+ public:
+  explicit SystematicBearingError(const SensorEffectsOptions& o) : o_(o) {}
+  std::string name() const override { return "systematic"; }
+  double error(const BearingTruth& truth, Rng&) override;
+
+ private:
+  SensorEffectsOptions o_;
+};
+
+/// Outliers: with probability p per frame, an extra N(0, (scale sigma)^2) error. Draws two
+/// numbers every frame, so whether a frame is an outlier does not shift the stream.
+class BearingOutliers : public BearingErrorEffect {
+ public:
+  BearingOutliers(double prob, double sigma_rad) : p_(prob), s_(sigma_rad) {}
+  std::string name() const override { return "outliers"; }
+  double error(const BearingTruth&, Rng& rng) override;
+
+ private:
+  double p_, s_;
+};
+
 class BearingErrorModel {
  public:
-  explicit BearingErrorModel(const SensorOptions& o);
+  BearingErrorModel(const SensorOptions& o, const SensorEffectsOptions& fx = {});
   void start(Rng& rng);
   /// Total error [rad] of one frame.
   double error(const BearingTruth& truth, Rng& rng);

@@ -23,7 +23,7 @@ UavNode::UavNode(Bus& bus, const UavScenario& sc)
       path_(sc.uav, orbit_centre(sc), sc.duration_s),
       corr_{GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s),
             GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)},
-      bearing_error_(sc.sensor) {
+      bearing_error_(sc.sensor, sc.sensor_effects) {
   add_input<target_truth_batch_t>("TRUTH_TARGET");
 }
 

@@ -1,0 +1,211 @@
+#include "uav_track_fit.hpp"
+
+#include "config.hpp"
+#include "prl_diagnose.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace rnav {
+
+double CvTrack::bearing(const TrackObs& x) const {
+  const Eigen::Vector2d d = at(x.t_s) - x.o_F;
+  return std::atan2(d.y(), d.x());
+}
+
+Eigen::Vector4d CvTrack::jacobian(const TrackObs& x) const {
+  // beta = atan2(d_e, d_n): d beta/d p = (-d_e, d_n) / r^2; d p / d v = (t - t_ref).
+  const Eigen::Vector2d d = at(x.t_s) - x.o_F;
+  const double r2 = d.squaredNorm(), dt = x.t_s - t_ref_s;
+  const double gn = -d.y() / r2, ge = d.x() / r2;
+  return {gn, ge, dt * gn, dt * ge};
+}
+
+double CvTrack::bearing_rate(const TrackObs& x) const {
+  // beta_dot = (d_n dv_e - d_e dv_n) / r^2
+  const Eigen::Vector2d d = at(x.t_s) - x.o_F, dv = v_F - x.vo_F;
+  return (d.x() * dv.y() - d.y() * dv.x()) / d.squaredNorm();
+}
+
+std::vector<TrackObs> track_observations(const AzimuthData& data, const LocalLevelFrame& F) {
+  std::vector<Eigen::Vector2d> p;
+  for (const auto& s : data.observer) {
+    const Eigen::Vector3d q = F.from_geodetic(s.g);
+    p.emplace_back(q.x(), q.z());
+  }
+  auto interp = [&](double t, Eigen::Vector2d& out) {
+    const auto it = std::lower_bound(data.observer.begin(), data.observer.end(), t,
+                                     [](const GeoSample& s, double x) { return s.t_s < x; });
+    if (it == data.observer.begin() || it == data.observer.end()) return false;
+    const auto i = static_cast<std::size_t>(it - data.observer.begin());
+    const double t0 = data.observer[i - 1].t_s, t1 = data.observer[i].t_s;
+    if (t1 - t0 > 2.0) return false;
+    const double w = (t - t0) / (t1 - t0);
+    out = (1 - w) * p[i - 1] + w * p[i];
+    return true;
+  };
+  std::vector<TrackObs> obs;
+  const double h = 0.5;  // [s] half-span of the velocity's central difference
+  for (const auto& fr : data.frames) {
+    TrackObs x;
+    Eigen::Vector2d a, b;
+    if (fr.bearings_rad.empty() || !interp(fr.t_s, x.o_F) || !interp(fr.t_s - h, a) || !interp(fr.t_s + h, b)) continue;
+    x.t_s = fr.t_s;
+    x.vo_F = (b - a) / (2 * h);
+    x.bearings_rad = fr.bearings_rad;
+    obs.push_back(std::move(x));
+  }
+  return obs;
+}
+
+namespace {
+
+// Pseudo-linear estimate from one detection per listed frame: rows
+//   [sin b, -cos b, dt sin b, -dt cos b] theta = o_n sin b - o_e cos b.
+bool pseudo_linear(const std::vector<TrackObs>& obs, const std::vector<std::pair<std::size_t, double>>& rows,
+                   double t_ref, CvTrack& out) {
+  Eigen::MatrixXd A(rows.size(), 4);
+  Eigen::VectorXd y(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& x = obs[rows[i].first];
+    const double s = std::sin(rows[i].second), c = std::cos(rows[i].second), dt = x.t_s - t_ref;
+    A.row(static_cast<Eigen::Index>(i)) << s, -c, dt * s, -dt * c;
+    y(static_cast<Eigen::Index>(i)) = x.o_F.x() * s - x.o_F.y() * c;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  if (qr.rank() < 4) return false;
+  const Eigen::Vector4d th = qr.solve(y);
+  if (!th.allFinite()) return false;
+  out.t_ref_s = t_ref;
+  out.p0_F = th.head<2>();
+  out.v_F = th.tail<2>();
+  return true;
+}
+
+// Nearest detection within the gate, or -1.
+int nearest(const TrackObs& x, double predicted, double gate) {
+  int best = -1;
+  double bd = gate;
+  for (std::size_t j = 0; j < x.bearings_rad.size(); ++j) {
+    const double d = std::abs(wrap_pi(x.bearings_rad[j] - predicted));
+    if (d <= bd) {
+      bd = d;
+      best = static_cast<int>(j);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+TrackFit fit_cv_track(const std::vector<TrackObs>& obs, double t_begin, double t_end, const TrackFitOptions& o) {
+  if (!(o.gate_deg > 0 && o.gate_deg <= 90)) throw ConfigError("track fit: gate_deg must be in (0, 90]");
+  if (o.ransac_trials < 1) throw ConfigError("track fit: ransac_trials must be >= 1");
+  std::vector<std::size_t> win;
+  for (std::size_t i = 0; i < obs.size(); ++i)
+    if (obs[i].t_s >= t_begin && obs[i].t_s <= t_end) win.push_back(i);
+  if (win.size() < 10) throw ConfigError("track fit: fewer than 10 frames with detections in the fit window");
+  const double gate = o.gate_deg * kDegToRad;
+  const double t_ref = 0.5 * (obs[win.front()].t_s + obs[win.back()].t_s);
+
+  // ---- RANSAC initialisation ----
+  std::mt19937_64 rng(o.seed);
+  std::uniform_int_distribution<std::size_t> pick(0, win.size() - 1);
+  CvTrack best;
+  int best_inl = -1;
+  double best_ss = 0;
+  for (int trial = 0; trial < o.ransac_trials; ++trial) {
+    std::vector<std::pair<std::size_t, double>> rows;
+    for (int k = 0; k < 4; ++k) {
+      const auto& x = obs[win[pick(rng)]];
+      std::uniform_int_distribution<std::size_t> pd(0, x.bearings_rad.size() - 1);
+      rows.emplace_back(static_cast<std::size_t>(&x - obs.data()), x.bearings_rad[pd(rng)]);
+    }
+    CvTrack tr;
+    if (!pseudo_linear(obs, rows, t_ref, tr)) continue;
+    int inl = 0;
+    double ss = 0;
+    for (auto i : win) {
+      const double b = tr.bearing(obs[i]);
+      const int j = nearest(obs[i], b, gate);
+      if (j < 0) continue;
+      ++inl;
+      const double r = wrap_pi(obs[i].bearings_rad[static_cast<std::size_t>(j)] - b);
+      ss += r * r;
+    }
+    if (inl > best_inl || (inl == best_inl && ss < best_ss)) {
+      best_inl = inl;
+      best_ss = ss;
+      best = tr;
+    }
+  }
+  if (best_inl < 10)
+    throw ConfigError("track fit: no constant-velocity track explains the bearings (best initial track "
+                      "associates " + std::to_string(std::max(best_inl, 0)) + " frames)");
+
+  // ---- alternate association and Gauss-Newton ----
+  TrackFit f;
+  f.track = best;
+  std::vector<int> assoc(obs.size(), -1);
+  for (int round = 0; round < 20; ++round) {
+    std::vector<int> next(obs.size(), -1);
+    for (auto i : win) next[i] = nearest(obs[i], f.track.bearing(obs[i]), gate);
+    const bool same = next == assoc;
+    assoc = next;
+    std::vector<std::size_t> used;
+    for (auto i : win)
+      if (assoc[i] >= 0) used.push_back(i);
+    if (used.size() < 10) throw ConfigError("track fit: fewer than 10 frames associate with the track");
+    auto cost = [&](const CvTrack& tr) {
+      double c = 0;
+      for (auto i : used) {
+        const double r = wrap_pi(obs[i].bearings_rad[static_cast<std::size_t>(assoc[i])] - tr.bearing(obs[i]));
+        c += r * r;
+      }
+      return c;
+    };
+    Eigen::Matrix4d N;
+    Eigen::Vector4d d;
+    for (int it = 0; it < o.max_iterations; ++it) {
+      N.setZero();
+      Eigen::Vector4d g = Eigen::Vector4d::Zero();
+      for (auto i : used) {
+        const Eigen::Vector4d J = f.track.jacobian(obs[i]);
+        const double r = wrap_pi(obs[i].bearings_rad[static_cast<std::size_t>(assoc[i])] - f.track.bearing(obs[i]));
+        N += J * J.transpose();
+        g += J * r;
+      }
+      // Equilibrate: position and velocity columns differ by the time span.
+      for (int k = 0; k < 4; ++k) d(k) = N(k, k) > 0 ? 1.0 / std::sqrt(N(k, k)) : 1.0;
+      const Eigen::Matrix4d Ns = d.asDiagonal() * N * d.asDiagonal();
+      const Eigen::JacobiSVD<Eigen::Matrix4d> svd(Ns);
+      f.condition = svd.singularValues()(0) / std::max(svd.singularValues()(3), 1e-300);
+      if (f.condition > 1e12)
+        throw ConfigError("track fit: the object's constant-velocity track is not observable from this "
+                          "observer path (condition number " + short_num(f.condition) + ")");
+      const Eigen::Vector4d step = d.asDiagonal() * Ns.ldlt().solve(d.asDiagonal() * g);
+      const double c0 = cost(f.track);
+      double lam = 1;
+      CvTrack trial = f.track;
+      for (int h = 0; h < 30; ++h, lam *= 0.5) {
+        trial = f.track;
+        trial.p0_F += lam * step.head<2>();
+        trial.v_F += lam * step.tail<2>();
+        if (cost(trial) <= c0) break;
+      }
+      f.track = trial;
+      if (lam * step.head<2>().norm() < 1e-6 && lam * step.tail<2>().norm() < 1e-8) break;
+    }
+    const double ss = cost(f.track);
+    f.n_associated = static_cast<int>(used.size());
+    f.rms_rad = std::sqrt(ss / used.size());
+    const double s2 = ss / std::max<double>(1, used.size() - 4);
+    f.cov = s2 * d.asDiagonal() * (d.asDiagonal() * N * d.asDiagonal()).inverse() * d.asDiagonal();
+    if (same) break;
+  }
+  f.associated = assoc;
+  return f;
+}
+
+}  // namespace rnav
