@@ -290,5 +290,7 @@ TEST_CASE("uav diagnose without truth: each catalogue effect, alone and in pairs
       CHECK(std::abs(e->estimate[0] - truth) <= (name == "target_maneuver" ? 2 : 3) * e->stderr_[0]);
     }
     if (c.truth_gain) CHECK(r.gain.at("truth_position_m").extended_rms < r.gain.at("truth_position_m").nominal_rms);
+    // out of sample, the extended model (mean and noise effects) is the likelier one
+    CHECK(r.gain.at("bearing_rad").extended_loglik > r.gain.at("bearing_rad").nominal_loglik);
   }
 }

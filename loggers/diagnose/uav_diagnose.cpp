@@ -119,6 +119,44 @@ struct ExtTrack {
   }
 };
 
+// Residuals of the scored (out-of-sample) frames under the nominal and the extended model, and
+// the extended model's residuals in the estimation window.
+struct Scored {
+  std::vector<double> t, r0, r1, est_r1;
+};
+
+// AR(1) coefficient per frame from the lag-1 correlation r_d of the first differences:
+// for AR(1) noise r_d = (rho - 1) / 2, so rho = 1 + 2 r_d, clamped to [0, 0.99].
+double ar1_from_differences(const std::vector<double>& r) {
+  double num = 0, den = 0, prev = 0;
+  for (std::size_t i = 1; i < r.size(); ++i) {
+    const double d = r[i] - r[i - 1];
+    den += d * d;
+    if (i > 1) num += d * prev;
+    prev = d;
+  }
+  return den > 0 ? std::clamp(1 + 2 * num / den, 0.0, 0.99) : 0.0;
+}
+
+// Log-likelihood of residuals e at times t under zero-mean noise of marginal sigma s, white
+// (tau = 0) or Gauss-Markov with correlation time tau: e_k | e_{k-1} ~ N(phi e_{k-1},
+// s^2 (1 - phi^2)), phi = exp(-(t_k - t_{k-1}) / tau); with probability p_out a frame is instead
+// an outlier ~ N(0, s_out^2) (the mixture (1 - p) N(m, v) + p N(0, s_out^2)).
+double ar1_loglik(const std::vector<double>& t, const std::vector<double>& e, double s, double tau,
+                  double p_out = 0, double s_out = 1) {
+  double ll = 0;
+  auto pdf = [](double x, double m, double v) { return std::exp(-0.5 * (x - m) * (x - m) / v) / std::sqrt(2 * M_PI * v); };
+  for (std::size_t k = 0; k < e.size(); ++k) {
+    const double phi = (tau > 0 && k > 0) ? std::exp(-(t[k] - t[k - 1]) / tau) : 0.0;
+    const double m = k > 0 ? phi * e[k - 1] : 0.0, v = s * s * (1 - phi * phi);
+    if (p_out > 0)
+      ll += std::log((1 - p_out) * pdf(e[k], m, v) + p_out * pdf(e[k], 0, s_out * s_out) + 1e-300);
+    else
+      ll += -0.5 * ((e[k] - m) * (e[k] - m) / v + std::log(2 * M_PI * v));
+  }
+  return ll;
+}
+
 }  // namespace
 
 DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o) {
@@ -138,6 +176,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   // ---- the reference track and the residuals ----
   std::vector<Ob> obs;
   int beyond_gate = 0;  // frames with detections, none within the gate
+  std::vector<std::pair<double, double>> far;  // their (time, nearest residual [rad])
   std::vector<TrackObs> tobs;
   TrackFit full;
   if (with_truth) {
@@ -156,7 +195,10 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         if (std::abs(wrap_pi(b - bt)) < std::abs(best)) best = wrap_pi(b - bt);
       if (!(std::abs(best) <= gate)) {
         ++missed;
-        beyond_gate += !fr.bearings_rad.empty();
+        if (!fr.bearings_rad.empty()) {
+          ++beyond_gate;
+          far.emplace_back(fr.t_s, best);
+        }
         continue;
       }
       Ob x;
@@ -182,6 +224,11 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     for (std::size_t k = 0; k < tobs.size(); ++k) {
       if (full.associated[k] < 0) {
         ++beyond_gate;
+        const double bt = full.track.bearing(tobs[k]);
+        double best = std::numeric_limits<double>::infinity();
+        for (double b : tobs[k].bearings_rad)
+          if (std::abs(wrap_pi(b - bt)) < std::abs(best)) best = wrap_pi(b - bt);
+        far.emplace_back(tobs[k].t_s, best);
         continue;
       }
       Ob x;
@@ -466,41 +513,40 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   // ---- out-of-sample gain: fit on the first split_fraction of the span, score the rest ----
   const double split = t0 + o.split_fraction * span;
   rep.split_time_s = split;
+  // The fits use the estimation window's non-outliers; every frame after the split is scored.
   std::vector<std::size_t> est, scr;
-  for (auto i : use) (obs[i].t < split ? est : scr).push_back(i);
+  for (std::size_t i = 0; i < obs.size(); ++i)
+    if (obs[i].t >= split) scr.push_back(i);
+    else if (!obs[i].outlier) est.push_back(i);
   // Non-track effect columns of the chosen model (manoeuvres act on the track instead).
   std::vector<Col> fx_cols;
   std::vector<double> taus;
   for (const auto& c : chosen)
     if (c.name == "target_maneuver") taus.push_back(c.scan_value);
     else fx_cols.insert(fx_cols.end(), c.cols.begin(), c.cols.end());
-  auto gaussian_ll = [](double r, double s) { return -0.5 * (r * r / (s * s) + std::log(2 * M_PI * s * s)); };
+  Scored sc;
   if (with_truth) {
     const Fit1 fe = ols(obs, est, fx_cols);
     if (fe.ok && est.size() >= 10 && !scr.empty()) {
-      ChannelGain g;
-      const double s_nom = std::sqrt(ols(obs, est, {}).rss / est.size()), s_ext = std::sqrt(fe.rss / est.size());
-      double a2 = 0, b2 = 0;
+      auto pred = [&](std::size_t i) {
+        double p = 0;
+        for (std::size_t j = 0; j < fx_cols.size(); ++j) p += fe.beta(static_cast<Eigen::Index>(j)) * fx_cols[j](obs[i]);
+        return p;
+      };
+      for (auto i : est) sc.est_r1.push_back(obs[i].r - pred(i));
       for (auto i : scr) {
-        double pred = 0;
-        for (std::size_t j = 0; j < fx_cols.size(); ++j) pred += fe.beta(static_cast<Eigen::Index>(j)) * fx_cols[j](obs[i]);
-        const double r0 = obs[i].r, r1 = obs[i].r - pred;
-        a2 += r0 * r0;
-        b2 += r1 * r1;
-        g.nominal_loglik += gaussian_ll(r0, s_nom);
-        g.extended_loglik += gaussian_ll(r1, s_ext);
+        sc.t.push_back(obs[i].t);
+        sc.r0.push_back(obs[i].r);
+        sc.r1.push_back(obs[i].r - pred(i));
       }
-      g.n = static_cast<int>(scr.size());
-      g.nominal_rms = std::sqrt(a2 / scr.size());
-      g.extended_rms = std::sqrt(b2 / scr.size());
-      rep.gain["bearing_rad"] = g;
     }
   } else if (est.size() >= 30 && !scr.empty()) [&] {
     // Nominal: the CV track fitted to the estimation window. Extended: the CV track with the
     // chosen manoeuvres and effect columns, Gauss-Newton on the same frames.
     std::vector<Ob> e_obs;
     for (auto i : est) e_obs.push_back(obs[i]);
-    auto fit_ext = [&](bool extended, ExtTrack& tr, Eigen::VectorXd& beta, double& s_fit) -> bool {
+    auto fit_ext = [&](bool extended, ExtTrack& tr, Eigen::VectorXd& beta, std::vector<double>& res) -> bool {
+      double s_fit = 0;
       tr = ExtTrack{};
       tr.cv = full.track;
       if (extended) {
@@ -534,7 +580,9 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         for (Eigen::Index j = 0; j < np; ++j) dsc(j) = X.col(j).norm() > 0 ? 1.0 / X.col(j).norm() : 1.0;
         const Eigen::VectorXd step = dsc.asDiagonal() * (X * dsc.asDiagonal()).colPivHouseholderQr().solve(y);
         if (!step.allFinite()) return false;
-        s_fit = std::sqrt((y - X * step).squaredNorm() / static_cast<double>(e_obs.size()));
+        const Eigen::VectorXd e = y - X * step;
+        res.assign(e.data(), e.data() + e.size());
+        s_fit = std::sqrt(e.squaredNorm() / static_cast<double>(e_obs.size()));
         tr.cv.p0_F += step.segment<2>(0);
         tr.cv.v_F += step.segment<2>(2);
         for (std::size_t m = 0; m < tr.tau.size(); ++m) tr.dv[m] += step.segment<2>(static_cast<Eigen::Index>(4 + 2 * m));
@@ -545,13 +593,13 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     };
     ExtTrack tr0, tr1;
     Eigen::VectorXd b0, b1;
-    double s0 = 0, s1 = 0;
-    if (!fit_ext(false, tr0, b0, s0) || !fit_ext(true, tr1, b1, s1)) {
+    std::vector<double> res0;
+    if (!fit_ext(false, tr0, b0, res0) || !fit_ext(true, tr1, b1, sc.est_r1)) {
       rep.unexplained.push_back("the track fit on the estimation window diverged: no out-of-sample gain");
       return;
     }
-    ChannelGain g, gt;
-    double a2 = 0, c2 = 0, ta = 0, tb = 0;
+    ChannelGain gt;
+    double ta = 0, tb = 0;
     for (auto i : scr) {
       const TrackObs& to = tobs[obs[i].k];
       auto bearing = [&](const ExtTrack& tr, const Eigen::VectorXd& beta) {
@@ -560,12 +608,9 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         for (Eigen::Index j = 0; j < beta.size(); ++j) h += beta(j) * fx_cols[static_cast<std::size_t>(j)](obs[i]);
         return h;
       };
-      const double r0 = wrap_pi(obs[i].meas - bearing(tr0, b0)), r1 = wrap_pi(obs[i].meas - bearing(tr1, b1));
-      a2 += r0 * r0;
-      c2 += r1 * r1;
-      g.nominal_loglik += gaussian_ll(r0, s0);
-      g.extended_loglik += gaussian_ll(r1, s1);
-      ++g.n;
+      sc.t.push_back(obs[i].t);
+      sc.r0.push_back(wrap_pi(obs[i].meas - bearing(tr0, b0)));
+      sc.r1.push_back(wrap_pi(obs[i].meas - bearing(tr1, b1)));
       Eigen::Vector2d pt;
       if (data.truth.size() >= 2 && truth.at(to.t_s, pt)) {
         ta += (tr0.at(to.t_s) - pt).squaredNorm();
@@ -573,15 +618,66 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         ++gt.n;
       }
     }
-    g.nominal_rms = std::sqrt(a2 / g.n);
-    g.extended_rms = std::sqrt(c2 / g.n);
-    rep.gain["bearing_rad"] = g;
     if (gt.n > 0) {
       gt.nominal_rms = std::sqrt(ta / gt.n);
       gt.extended_rms = std::sqrt(tb / gt.n);
       rep.gain["truth_position_m"] = gt;
     }
   }();
+  // Frames beyond the gate are scored too (their nearest detection, the same under both models:
+  // a model difference is small against the gate), so the nominal model pays for them.
+  if (!sc.r0.empty())
+    for (const auto& [t, r] : far)
+      if (t >= split) {
+        const auto at = std::lower_bound(sc.t.begin(), sc.t.end(), t) - sc.t.begin();
+        sc.t.insert(sc.t.begin() + at, t);
+        sc.r0.insert(sc.r0.begin() + at, r);
+        sc.r1.insert(sc.r1.begin() + at, r);
+      }
+  if (!sc.r0.empty() && sc.est_r1.size() >= 10) {
+    // Bearing channel: residual RMS, and the out-of-sample log-likelihood of the nominal model
+    // (zero mean, white, the nominal sigma_deg) against the extended one (its mean effects, and
+    // its noise effects fitted in the estimation window: sigma if noise_scale was found, AR(1)
+    // with the correlation time of the estimation window's residuals if correlated_noise was).
+    auto found = [&](const char* n) {
+      return std::any_of(rep.effects.begin(), rep.effects.end(), [&](const EffectResult& e) { return e.name == n; });
+    };
+    const bool has_scale = found("noise_scale");
+    // outliers: a two-component mixture with the estimation window's outlier share and RMS
+    double p_out = 0, s_out = 0;
+    if (found("outliers")) {
+      int n_e = 0, n_o = 0;
+      double so = 0;
+      for (const auto& x : obs)
+        if (x.t < split) {
+          ++n_e;
+          if (x.outlier) ++n_o, so += x.r * x.r;
+        }
+      for (const auto& [t, r] : far)
+        if (t < split) ++n_e, ++n_o, so += r * r;
+      if (n_o > 0) p_out = static_cast<double>(n_o) / n_e, s_out = std::sqrt(so / n_o);
+    }
+    const double s_nom = o.sigma_deg * kDegToRad;
+    double ss = 0;
+    for (double r : sc.est_r1) ss += r * r;
+    const double s_ext = has_scale ? std::sqrt(ss / static_cast<double>(sc.est_r1.size())) : s_nom;
+    const double dt = span / std::max<double>(1, static_cast<double>(obs.size()) - 1);
+    const double tau_ext = correlated ? -dt / std::log(std::clamp(ar1_from_differences(sc.est_r1), 1e-6, 0.99)) : 0.0;
+    // RMS over the associated frames (those within the gate); the likelihood over all scored.
+    ChannelGain g;
+    double a2 = 0, b2 = 0;
+    for (std::size_t i = 0; i < sc.r0.size(); ++i)
+      if (std::abs(sc.r0[i]) <= gate) {
+        a2 += sc.r0[i] * sc.r0[i];
+        b2 += sc.r1[i] * sc.r1[i];
+        ++g.n;
+      }
+    g.nominal_rms = std::sqrt(a2 / std::max(1, g.n));
+    g.extended_rms = std::sqrt(b2 / std::max(1, g.n));
+    g.nominal_loglik = ar1_loglik(sc.t, sc.r0, s_nom, 0.0);
+    g.extended_loglik = ar1_loglik(sc.t, sc.r1, s_ext, tau_ext, p_out, s_out);
+    rep.gain["bearing_rad"] = g;
+  }
 
   // ---- rows for plots (channel 0 = bearing residual; 1 = bearing rate; 2 = range) ----
   auto fitted = [&](const Ob& x) {
