@@ -139,20 +139,24 @@ double ar1_from_differences(const std::vector<double>& r) {
 }
 
 // Log-likelihood of residuals e at times t under zero-mean noise of marginal sigma s, white
-// (tau = 0) or Gauss-Markov with correlation time tau: e_k | e_{k-1} ~ N(phi e_{k-1},
-// s^2 (1 - phi^2)), phi = exp(-(t_k - t_{k-1}) / tau); with probability p_out a frame is instead
-// an outlier ~ N(0, s_out^2) (the mixture (1 - p) N(m, v) + p N(0, s_out^2)).
-double ar1_loglik(const std::vector<double>& t, const std::vector<double>& e, double s, double tau,
+// (tau = 0) or Gauss-Markov with correlation time tau: e_k | e_j ~ N(phi e_j, s^2 (1 - phi^2)),
+// phi = exp(-(t_k - t_j) / tau), j the last frame within the gate (a frame beyond it, |e| >
+// gate, is no sample of the noise process and does not condition the next); with probability
+// p_out a frame is instead an outlier ~ N(0, s_out^2): the mixture (1 - p) N(m, v) + p N(0, s_out^2).
+double ar1_loglik(const std::vector<double>& t, const std::vector<double>& e, double gate, double s, double tau,
                   double p_out = 0, double s_out = 1) {
   double ll = 0;
   auto pdf = [](double x, double m, double v) { return std::exp(-0.5 * (x - m) * (x - m) / v) / std::sqrt(2 * M_PI * v); };
+  bool have_prev = false;
+  double t_prev = 0, e_prev = 0;
   for (std::size_t k = 0; k < e.size(); ++k) {
-    const double phi = (tau > 0 && k > 0) ? std::exp(-(t[k] - t[k - 1]) / tau) : 0.0;
-    const double m = k > 0 ? phi * e[k - 1] : 0.0, v = s * s * (1 - phi * phi);
+    const double phi = (tau > 0 && have_prev) ? std::exp(-(t[k] - t_prev) / tau) : 0.0;
+    const double m = phi * e_prev, v = s * s * (1 - phi * phi);
     if (p_out > 0)
       ll += std::log((1 - p_out) * pdf(e[k], m, v) + p_out * pdf(e[k], 0, s_out * s_out) + 1e-300);
     else
       ll += -0.5 * ((e[k] - m) * (e[k] - m) / v + std::log(2 * M_PI * v));
+    if (std::abs(e[k]) <= gate) have_prev = true, t_prev = t[k], e_prev = e[k];
   }
   return ll;
 }
@@ -674,8 +678,8 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       }
     g.nominal_rms = std::sqrt(a2 / std::max(1, g.n));
     g.extended_rms = std::sqrt(b2 / std::max(1, g.n));
-    g.nominal_loglik = ar1_loglik(sc.t, sc.r0, s_nom, 0.0);
-    g.extended_loglik = ar1_loglik(sc.t, sc.r1, s_ext, tau_ext, p_out, s_out);
+    g.nominal_loglik = ar1_loglik(sc.t, sc.r0, gate, s_nom, 0.0);
+    g.extended_loglik = ar1_loglik(sc.t, sc.r1, gate, s_ext, tau_ext, p_out, s_out);
     rep.gain["bearing_rad"] = g;
   }
 
