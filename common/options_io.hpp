@@ -29,6 +29,8 @@ struct Reader {
     x = static_cast<std::int64_t>(s.number(k, static_cast<double>(x), lo, hi));
   }
   void flag(const char* k, bool& x) { x = s.boolean(k, x); }
+  /// Any string (e.g. a file path; "" allowed).
+  void str(const char* k, std::string& x) { x = s.string(k, x); }
   void choice(const char* k, std::string& x, const std::vector<std::string>& allowed) {
     x = s.string(k, x);
     for (const auto& a : allowed)
@@ -56,6 +58,7 @@ struct Writer {
   void integer(const char* k, long& x, long, long) { j[k] = x; }
   void i64(const char* k, std::int64_t& x, double, double) { j[k] = x; }
   void flag(const char* k, bool& x) { j[k] = x; }
+  void str(const char* k, std::string& x) { j[k] = x; }
   void choice(const char* k, std::string& x, const std::vector<std::string>&) { j[k] = x; }
   void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
   void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {

@@ -3,6 +3,7 @@
 #include "options_io.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 namespace rnav {
@@ -35,6 +36,9 @@ template <class V> void visit(TrajectoryOptions& o, V& v) {
   v.num("aim_x_m", o.aim_x_m, -5000, 5000);
   v.num("end_x_m", o.end_x_m, -5000, 50000);
   v.num("step_s", o.step_s, 0.01, 10);
+  v.str("replay_csv", o.replay_csv);
+  v.num("replay_smoothing_s", o.replay_smoothing_s, 1, 300);
+  v.num("replay_max_gap_s", o.replay_max_gap_s, 1e-3, 120);
 }
 template <class V> void visit(PrlOptions& o, V& v) {
   v.num("period_s", o.period_s, 0.01, 60);
@@ -152,7 +156,19 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
 }
 
 Scenario Scenario::load(const std::string& file, const std::vector<std::string>& overrides) {
-  return load_scenario<Scenario>(file, overrides);
+  Scenario sc = load_scenario<Scenario>(file, overrides);
+  // trajectory.replay_csv: a relative path in the file is relative to the file's directory;
+  // one given by an override (--set) is relative to the working directory, like any argument.
+  bool from_override = false;
+  for (const auto& o : overrides)
+    if (o.rfind("trajectory.replay_csv=", 0) == 0) from_override = true;
+  std::string& csv = sc.trajectory.replay_csv;
+  if (!csv.empty() && std::filesystem::path(csv).is_relative()) {
+    const std::filesystem::path base =
+        from_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path();
+    csv = (base / csv).lexically_normal().string();
+  }
+  return sc;
 }
 
 LocalLevelFrame Scenario::landing_frame() const {

@@ -49,6 +49,21 @@ struct TrajectoryOptions {
   double aim_x_m = -300;      ///< [m] where the glide path meets y = 0 (our choice: touchdown zone)
   double end_x_m = 0;         ///< [m] the run ends when the aircraft reaches this x on final
   double step_s = 0.25;       ///< [s] truth sample step; radar and nav sample times lie on this grid
+  /// Replay a recorded approach instead of the analytic path above: a CSV file with columns
+  /// t_s,lat_deg,lon_deg,h_m (time [s], strictly increasing; WGS84 latitude and longitude
+  /// [deg]; height above the WGS84 ellipsoid [m]), e.g. written by rnav_import_adsb. Its first
+  /// row is sim time 0 and its last row ends the run. "" (default) = the analytic path, and the
+  /// keys above except step_s are then the only geometry. A relative path is relative to the
+  /// scenario file's directory (relative to the working directory when it comes from --set).
+  std::string replay_csv;
+  /// [s] half-width W of the replay's smoothing window: position and velocity at t are those
+  /// of a least-squares quadratic in time fitted to the samples within |t_i - t| < W, weighted
+  /// (1 - |t_i - t|^3 / W^3)^3. Larger W: less ADS-B noise, more rounded turns. [1, 300];
+  /// must exceed 2 * the largest time step of the file (at least 3 samples in every window).
+  double replay_smoothing_s = 30;
+  /// [s] largest time step allowed between consecutive rows of replay_csv (a longer gap is an
+  /// error naming the line: the replay would invent the path across it), (0, 120]
+  double replay_max_gap_s = 15;
 };
 
 /// Landing radar error model (Table 1) and schedule.

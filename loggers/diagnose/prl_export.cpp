@@ -1,6 +1,6 @@
 #include "prl_export.hpp"
 
-#include "approach_trajectory.hpp"
+#include "trajectory.hpp"
 #include "inproc_ensemble.hpp"
 #include "prl_csv_recorder_node.hpp"
 #include "prl_node.hpp"
@@ -17,8 +17,7 @@ int export_prl_flight(const Scenario& sc, std::int64_t seed, int realization,
   nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlCsvRecorderNode>(bus, sc, realization, out_dir));
-  const ApproachTrajectory traj(sc.trajectory);
-  const auto r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, traj.duration_s(),
+  const auto r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(),
                                   realization + 1, seed);
   if (failure) *failure = r.failure;
   return r.exit_code;

@@ -92,15 +92,19 @@ int main(int argc, char** argv) {
       }
     } else {
       const auto sc = rnav::Scenario::load(scenario_file, overrides);
-      const rnav::ApproachTrajectory traj(sc.trajectory);
+      const auto traj = rnav::make_trajectory(sc);
       runner = sc.runner;
       step_s = sc.trajectory.step_s;
-      duration_s = traj.duration_s();
+      duration_s = traj->duration_s();
       if (check) {
         sc.print(std::cout);
-        std::cout << "step_s=" << step_s << " duration_s=" << traj.duration_s() << " turn_radius_m=" << traj.turn_radius_m()
-                  << " final_from_s=" << traj.final_time_s() << " descent_x_m=" << traj.descent_x_m()
-                  << "\n";
+        std::cout << "step_s=" << step_s << " duration_s=" << duration_s;
+        if (const auto* a = dynamic_cast<const rnav::ApproachTrajectory*>(traj.get()))
+          std::cout << " turn_radius_m=" << a->turn_radius_m() << " final_from_s=" << a->final_time_s()
+                    << " descent_x_m=" << a->descent_x_m();
+        else
+          std::cout << " replay_csv=" << sc.trajectory.replay_csv;
+        std::cout << "\n";
         return 0;
       }
     }

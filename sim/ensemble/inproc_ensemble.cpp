@@ -1,6 +1,6 @@
 #include "inproc_ensemble.hpp"
 
-#include "approach_trajectory.hpp"
+#include "trajectory.hpp"
 #include "prl_bias_node.hpp"
 #include "prl_logger_node.hpp"
 #include "prl_node.hpp"
@@ -53,8 +53,7 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));
-  const ApproachTrajectory traj(sc.trajectory);
-  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, traj.duration_s(), n, seed, drops);
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed, drops);
 }
 
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,

@@ -1,27 +1,22 @@
 // The aircraft's approach path in the landing frame L (see TrajectoryOptions for the geometry).
 #pragma once
 
-#include "scenario.hpp"
+#include "trajectory.hpp"
 
 #include <Eigen/Dense>
 
 namespace rnav {
 
-struct AircraftKinematics {
-  Eigen::Vector3d p_TA_L;  ///< [m] aircraft A from threshold T, frame L (x, y, z)
-  Eigen::Vector3d v_A_L;   ///< [m/s] velocity, frame L
-};
-
-class ApproachTrajectory {
+class ApproachTrajectory : public Trajectory {
  public:
   /// Throws ConfigError when the path cannot be flown as specified (turn too wide for the
   /// intercept geometry, descent starting before the aircraft is on final, ...).
   explicit ApproachTrajectory(const TrajectoryOptions& o);
 
   /// State at time t_s in [0, duration_s()] (clamped outside).
-  AircraftKinematics at(double t_s) const;
+  AircraftKinematics at(double t_s) const override;
   /// [s] time at which the aircraft reaches x = end_x_m on final.
-  double duration_s() const { return duration_s_; }
+  double duration_s() const override { return duration_s_; }
   /// [m] turn radius r = V^2 / (g tan(bank)).
   double turn_radius_m() const { return radius_m_; }
   /// [m] x where the descent begins (level leg ends).

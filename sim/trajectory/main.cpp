@@ -1,4 +1,4 @@
-// Process "trajectory": LCM wiring only; the model is ApproachTrajectory.
+// Process "trajectory": LCM wiring only; the model is make_trajectory(scenario): ApproachTrajectory or ReplayTrajectory.
 #include "node_main.hpp"
 #include "trajectory_node.hpp"
 

@@ -2,8 +2,10 @@
 // t = i * trajectory.step_s, in L and on WGS84.
 #pragma once
 
-#include "approach_trajectory.hpp"
+#include "trajectory.hpp"
 #include "lockstep_node.hpp"
+
+#include <memory>
 
 namespace rnav {
 
@@ -17,7 +19,7 @@ class TrajectoryNode : public LockstepNode {
 
  private:
   Scenario sc_;
-  ApproachTrajectory traj_;
+  std::unique_ptr<Trajectory> traj_;  // make_trajectory(sc): analytic or replayed
   LocalLevelFrame frame_L_;
 };
 

@@ -1,0 +1,16 @@
+#include "trajectory.hpp"
+
+#include "approach_trajectory.hpp"
+#include "replay_trajectory.hpp"
+
+namespace rnav {
+
+std::unique_ptr<Trajectory> make_trajectory(const Scenario& sc) {
+  const TrajectoryOptions& o = sc.trajectory;
+  if (!o.replay_csv.empty())
+    return std::make_unique<ReplayTrajectory>(o.replay_csv, sc.landing_frame(),
+                                              o.replay_smoothing_s, o.replay_max_gap_s);
+  return std::make_unique<ApproachTrajectory>(o);
+}
+
+}  // namespace rnav
