@@ -47,7 +47,12 @@ class Bus {
 /// All subscribers in one process: publish() queues, run_until_idle() delivers in FIFO order.
 class InprocBus : public Bus {
  public:
+  /// Optional tap: called with every message at publish time, in publish order, before it is
+  /// queued (e.g. to record an LCM event log of an in-process run). Must not publish.
+  RawHandler on_publish;
+
   void publish_raw(const std::string& channel, const void* data, int size) override {
+    if (on_publish) on_publish(channel, data, size);
     const auto* p = static_cast<const std::uint8_t*>(data);
     queue_.push_back({channel, std::vector<std::uint8_t>(p, p + size)});
   }

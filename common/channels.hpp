@@ -1,4 +1,4 @@
-// LCM channel names of the landing-approach simulation.
+// LCM channel names of the simulations.
 #pragma once
 
 namespace rnav::ch {
@@ -10,4 +10,10 @@ inline constexpr const char* kApoi = "PRL_APOI";              // rnav::prl_plot_
 inline constexpr const char* kPrlError = "TRUTH_PRL_ERROR";   // rnav::prl_error_batch_t
 inline constexpr const char* kToi = "PRL_TOI";                // rnav::prl_plot_batch_t, compensated
 inline constexpr const char* kBias = "PRL_BIAS";              // rnav::prl_bias_batch_t
+inline constexpr const char* kScenario = "SIM_SCENARIO";      // rnav::sim_scenario_t, clock -> event logs
+// Azimuth-only (UAV) scenario.
+inline constexpr const char* kTruthTarget = "TRUTH_TARGET";   // rnav::target_truth_batch_t
+inline constexpr const char* kTruthUav = "TRUTH_UAV";         // rnav::observer_batch_t, the UAV's true state
+inline constexpr const char* kUavNav = "UAV_NAV";             // rnav::observer_batch_t, its navigation solution
+inline constexpr const char* kUavBearing = "UAV_BEARING";     // rnav::bearing_batch_t
 }  // namespace rnav::ch

@@ -263,3 +263,71 @@ TEST_CASE("UAV scenario: bad input is an error naming the key", "[integration][u
     CHECK_FALSE(fs::exists(d / "o"));
   }
 }
+
+TEST_CASE("run with lcm-logger: the log records the run and diagnose reads the log and names the hidden effect",
+          "[integration][lcm_log]") {
+  const fs::path d = scratch("lcm_log");
+  const std::string log = (d / "run.lcmlog").string();
+  // Realization 1 loses a batch in its first attempt, so the log holds two attempts of it.
+  const auto r = sh(kRun + "--realizations 2 --seed 7 " + kFast +
+                    "--set prl_effects.range_gain=0.002 --drop prl:PRL_APOI:1:2:0 --lcm-log " + log +
+                    " --out " + (d / "out").string());
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  REQUIRE(fs::exists(log));
+  CHECK_FALSE(fs::exists(log + ".partial"));
+  const std::string diag = kBuild + "/bin/rnav_diagnose prl " + log + " --realization 1";
+  const auto with_file = sh(diag + " --scenario " + kRoot + "/sim/scenarios/paper.json");
+  const auto embedded = sh(diag);  // the scenario from the log's SIM_SCENARIO
+  INFO(with_file.output << embedded.output);
+  REQUIRE(with_file.status == 0);
+  REQUIRE(embedded.status == 0);
+  CHECK(with_file.output.find("realization 1 attempt 1") != std::string::npos);
+  CHECK(with_file.output.find("of earlier attempts") != std::string::npos);
+  const auto at = with_file.output.find("EFFECT   range_gain: g=");
+  REQUIRE(at != std::string::npos);
+  double g = 0, se = 0;
+  REQUIRE(std::sscanf(with_file.output.c_str() + at, "EFFECT   range_gain: g=%lf +- %lf", &g, &se) == 2);
+  CHECK(std::abs(g - 0.002) <= 3 * se);
+  // The two scenario sources give the same report (only the summary line names the source).
+  auto report = [](const std::string& s) { return s.substr(s.find("\nplots used")); };
+  CHECK(report(with_file.output) == report(embedded.output));
+  // Another realization and a missing one.
+  const auto r2 = sh(diag.substr(0, diag.size() - 1) + "5");
+  CHECK(r2.status == 2);
+  CHECK(r2.output.find("realization 5 is not in the log; realizations present: 0-1") != std::string::npos);
+
+  // A failed run leaves the partial log beside FILE, never FILE itself.
+  const std::string log2 = (d / "failed.lcmlog").string();
+  const auto f = sh(kRun + "--realizations 2 --seed 7 " + kFast + "--drop snsins:NAV_SOLUTION:1:0 --lcm-log " +
+                    log2 + " --out " + (d / "out2").string());
+  INFO(f.output);
+  CHECK(f.status != 0);
+  CHECK_FALSE(fs::exists(log2));
+  CHECK(fs::exists(log2 + ".partial"));
+  // ... in which the failed realization is named as incomplete.
+  const auto d2 = sh(kBuild + "/bin/rnav_diagnose prl " + log2 + ".partial --realization 1");
+  CHECK(d2.status == 2);
+  CHECK(d2.output.find("did not complete") != std::string::npos);
+  // --lcm-log needs the multi-process run.
+  const auto inproc = sh(kRun + "--realizations 1 --inproc --lcm-log " + log2 + " --out " + (d / "out3").string());
+  CHECK(inproc.status == 2);
+  CHECK(inproc.output.find("--lcm-log") != std::string::npos);
+}
+
+TEST_CASE("diagnose: INPUT is a CSV folder or an LCM log, anything else is named", "[integration][lcm_log][input]") {
+  const fs::path d = scratch("diag_input");
+  std::ofstream(d / "notes.txt") << "not a log\n";
+  const std::string diag = kBuild + "/bin/rnav_diagnose prl ";
+  const auto text = sh(diag + (d / "notes.txt").string());
+  CHECK(text.status == 2);
+  CHECK(text.output.find("notes.txt' is neither a CSV folder nor an LCM event log") != std::string::npos);
+  const auto none = sh(diag + (d / "missing").string());
+  CHECK(none.status == 2);
+  CHECK(none.output.find("missing': no such file or directory") != std::string::npos);
+  // Log options on a CSV folder are refused, not ignored.
+  fs::create_directories(d / "csv");
+  const auto csv = sh(diag + (d / "csv").string() + " --realization 1");
+  CHECK(csv.status == 2);
+  CHECK(csv.output.find("is a CSV folder") != std::string::npos);
+}

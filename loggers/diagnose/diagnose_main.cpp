@@ -1,20 +1,65 @@
-// rnav_diagnose prl|uav INPUT [--json FILE] [--split-time S] [--alpha A]
-// INPUT: a flight-test CSV folder (README, "Measured data"). Prints the report; writes JSON.
+// rnav_diagnose prl|uav INPUT [--json FILE] [--split-time S] [--alpha A] [...]
+//               [--realization R] [--scenario FILE] [--set key=value]...
+// INPUT: a CSV folder (README, "Measured data") or an LCM event log of a simulation run
+// (scripts/run --lcm-log FILE, lcm-logger): one realization (--realization, default 0), its
+// streams checked for loss and order; the site from --scenario (with --set) or else from the
+// log's SIM_SCENARIO. Prints the report; writes JSON.
 #include "config.hpp"
+#include "lcm_log_input.hpp"
+#include "lcm_log_streams.hpp"
 #include "prl_diagnose.hpp"
 #include "uav_diagnose.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
+namespace {
+
+const char* kUsage =
+    "usage: rnav_diagnose prl|uav INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
+    "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
+    "         [--realization R] [--scenario FILE] [--set key=value]...\n"
+    "  INPUT: a CSV folder, or an LCM event log (scripts/run --lcm-log FILE); for a log,\n"
+    "  --realization picks one (default 0) and --scenario/--set give the site (default: the\n"
+    "  scenario the log carries on SIM_SCENARIO)";
+
+// A CSV folder, an LCM event log, or an error naming INPUT.
+bool is_log_input(const std::string& input) {
+  namespace fs = std::filesystem;
+  if (fs::is_directory(input)) return false;
+  if (!fs::exists(input)) throw rnav::ConfigError("INPUT '" + input + "': no such file or directory");
+  if (!fs::is_regular_file(input) || !rnav::is_lcm_log(input))
+    throw rnav::ConfigError("INPUT '" + input +
+                            "' is neither a CSV folder nor an LCM event log (no LCM sync word 0xEDA1DA01 at its start)");
+  return true;
+}
+
+int integer(const std::string& opt, const std::string& v) {
+  std::size_t pos = 0;
+  int x = 0;
+  try {
+    x = std::stoi(v, &pos);
+  } catch (const std::exception&) {
+    pos = 0;
+  }
+  if (v.empty() || pos != v.size() || x < 0)
+    throw rnav::ConfigError(opt + " '" + v + "' is not a non-negative integer");
+  return x;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   try {
-    if (argc < 3) throw rnav::ConfigError("usage: rnav_diagnose prl INPUT [--json FILE] [--split-time S] [--alpha A]");
+    if (argc < 3) throw rnav::ConfigError(kUsage);
     const std::string kind = argv[1], input = argv[2];
     if (kind != "prl" && kind != "uav") throw rnav::ConfigError("diagnose: kind must be prl or uav, got '" + kind + "'");
     std::string json, residuals;
     rnav::DiagnoseOptions o;
     rnav::UavDiagnoseOptions uo;
+    rnav::LcmLogOptions lo;
+    bool log_options = false;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
       auto value = [&]() -> std::string {
@@ -30,10 +75,21 @@ int main(int argc, char** argv) {
       else if (a == "--confound-corr") o.confound_corr = std::stod(value());
       else if (a == "--nav-sigma") o.nav_sigma_m = std::stod(value());
       else if (a == "--nav-tau") o.nav_tau_s = std::stod(value());
+      else if (a == "--realization") lo.realization = integer(a, value()), log_options = true;
+      else if (a == "--scenario") lo.scenario_file = value(), log_options = true;
+      else if (a == "--set") lo.overrides.push_back(value()), log_options = true;
       else throw rnav::ConfigError("diagnose: unknown option " + a);
     }
-    const auto rep = kind == "prl" ? rnav::diagnose_prl(rnav::PrlFlightData::read_folder(input), o)
-                                   : rnav::diagnose_uav(rnav::AzimuthData::read_folder(input), uo);
+    const bool log = is_log_input(input);
+    if (!log && log_options)
+      throw rnav::ConfigError("--realization, --scenario and --set apply to an LCM event log; '" +
+                              input + "' is a CSV folder");
+    std::string summary;
+    const auto rep =
+        kind == "prl"
+            ? rnav::diagnose_prl(log ? rnav::read_prl_lcm_log(input, lo, &summary) : rnav::PrlFlightData::read_folder(input), o)
+            : rnav::diagnose_uav(log ? rnav::read_uav_lcm_log(input, lo, &summary) : rnav::AzimuthData::read_folder(input), uo);
+    if (!summary.empty()) std::cerr << "diagnose: " << summary << "\n";
     std::cout << rep.text();
     if (!residuals.empty()) rep.write_residuals_csv(residuals);
     if (!json.empty()) {

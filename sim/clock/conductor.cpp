@@ -2,6 +2,7 @@
 
 #include "channels.hpp"
 
+#include <rnav/sim_scenario_t.hpp>
 #include <rnav/sim_window_t.hpp>
 
 #include <cmath>
@@ -44,6 +45,15 @@ void Conductor::grant() {
   window_open_ = true;
   window_wall_s_ = now_s_;
   if (w_ == 0) realization_wall_s_ = now_s_;
+  if (w_ == 0 && !o_.scenario_json.empty()) {
+    sim_scenario_t s;
+    s.realization = r_;
+    s.attempt = a_;
+    s.kind = o_.scenario_kind;
+    s.source = o_.scenario_source;
+    s.scenario_json = o_.scenario_json;
+    bus_.publish(ch::kScenario, s);
+  }
   send(sim_window_t::START);
 }
 

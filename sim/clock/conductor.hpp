@@ -23,6 +23,9 @@ struct ConductorOptions {
   bool realtime = false;           ///< pace windows to the wall clock
   double speed = 1.0;              ///< realtime: sim seconds per wall second, > 0
   double hello_timeout_s = 30;     ///< [s wall] how long to wait for every node's HELLO
+  /// If not empty: published on SIM_SCENARIO (sim_scenario_t) before window 0 of every
+  /// (realization, attempt), so event logs of the run carry their scenario. No node reads it.
+  std::string scenario_kind, scenario_source, scenario_json;
 };
 
 struct RetryEvent {

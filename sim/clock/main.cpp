@@ -111,6 +111,12 @@ int main(int argc, char** argv) {
     std::stringstream ss(nodes);
     for (std::string n; std::getline(ss, n, ',');)
       if (!n.empty()) o.nodes.push_back(n);
+    // Event logs of the run (lcm-logger) carry the scenario as run: the file with the overrides.
+    nlohmann::json doc = rnav::load_json_file(scenario_file);
+    for (const auto& ov : overrides) rnav::apply_override(doc, ov);
+    o.scenario_kind = rnav::scenario_kind(scenario_file);
+    o.scenario_source = scenario_file;
+    o.scenario_json = doc.dump();
     rnav::LcmBus bus(url);
     rnav::Conductor c(bus, runner, step_s, o, duration_s);
     rnav::ProgressBar bar(o.realtime ? "realtime" : "ensemble");

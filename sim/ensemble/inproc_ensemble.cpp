@@ -18,8 +18,10 @@ namespace rnav {
 // Drive nodes and clock on one InprocBus until the clock is done.
 InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
                    const RunnerOptions& runner, double step_s, double duration_s, int n,
-                   std::int64_t seed, const std::vector<std::string>& drops) {
-  ConductorOptions o;
+                   std::int64_t seed, const std::vector<std::string>& drops,
+                   const ConductorOptions& base) {
+  ConductorOptions o = base;
+  o.nodes.clear();
   o.n_realizations = n;
   o.seed = seed;
   for (const auto& node : nodes) {

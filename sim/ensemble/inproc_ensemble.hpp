@@ -21,9 +21,12 @@ struct InprocResult {
 };
 
 /// Drive any set of nodes and the clock on one InprocBus until the clock is done.
+/// `base`: further clock options (e.g. the scenario to publish on SIM_SCENARIO); its
+/// n_realizations, seed and nodes are replaced by n, seed and the nodes' names.
 InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
                               const RunnerOptions& runner, double step_s, double duration_s, int n,
-                              std::int64_t seed, const std::vector<std::string>& drops = {});
+                              std::int64_t seed, const std::vector<std::string>& drops = {},
+                              const ConductorOptions& base = {});
 
 /// Run n realizations with `seed`; write the logger's files into out_dir (if not empty).
 /// `drops` inject deliberate message losses (tests).

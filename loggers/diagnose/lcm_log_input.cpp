@@ -1,0 +1,128 @@
+#include "lcm_log_input.hpp"
+
+#include "channels.hpp"
+#include "config.hpp"
+#include "lcm_log_streams.hpp"
+#include "scenario.hpp"
+#include "uav_scenario.hpp"
+
+#include <rnav/aircraft_truth_batch_t.hpp>
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/nav_batch_t.hpp>
+#include <rnav/observer_batch_t.hpp>
+#include <rnav/prl_plot_batch_t.hpp>
+#include <rnav/target_truth_batch_t.hpp>
+
+namespace rnav {
+
+namespace {
+
+// The scenario of the run: --scenario FILE if given, else the log's SIM_SCENARIO; --set
+// overrides on top. Its sim time 0 must be the log's (else it is another run's scenario).
+template <class Sc>
+Sc scenario_of(const LcmLogStreams& log, const LcmLogOptions& o, const std::string& kind) {
+  Sc sc;
+  if (!o.scenario_file.empty()) {
+    const std::string k = scenario_kind(o.scenario_file);
+    if (k != kind)
+      throw ConfigError("--scenario " + o.scenario_file + " is a '" + k + "' scenario, but diagnose " +
+                        kind + " needs a '" + kind + "' one");
+    sc = Sc::load(o.scenario_file, o.overrides);
+  } else {
+    const sim_scenario_t* s = log.scenario();
+    if (!s)
+      throw ConfigError(log.file() + ": the log has no SIM_SCENARIO message for realization " +
+                        std::to_string(log.realization()) +
+                        " (recorded before runs published it, or filtered out), so the site is "
+                        "unknown: pass the run's --scenario FILE and its --set options");
+    if (s->kind != kind)
+      throw ConfigError(log.file() + ": the log holds a '" + s->kind + "' run (SIM_SCENARIO); use diagnose " +
+                        s->kind);
+    const std::string what = log.file() + ": SIM_SCENARIO (scenario " + s->source + ")";
+    nlohmann::json doc;
+    try {
+      doc = nlohmann::json::parse(s->scenario_json);
+    } catch (const nlohmann::json::exception& e) {
+      throw ConfigError(what + ": not valid JSON: " + e.what());
+    }
+    try {
+      for (const auto& ov : o.overrides) apply_override(doc, ov);
+      sc = Sc::from_json(doc);
+    } catch (const ConfigError& e) {
+      throw ConfigError(what + ": " + e.what());
+    }
+  }
+  if (sc.runner.epoch_utime != log.start_utime())
+    throw ConfigError(log.file() + ": realization " + std::to_string(log.realization()) +
+                      " starts at utime " + std::to_string(log.start_utime()) +
+                      " but the scenario's runner.epoch_utime is " + std::to_string(sc.runner.epoch_utime) +
+                      ": not the scenario of this run");
+  return sc;
+}
+
+std::string scenario_note(const LcmLogOptions& o) {
+  return o.scenario_file.empty() ? "; scenario from the log's SIM_SCENARIO"
+                                 : "; scenario from " + o.scenario_file;
+}
+
+}  // namespace
+
+PrlFlightData read_prl_lcm_log(const std::string& file, const LcmLogOptions& o, std::string* summary) {
+  LcmLogStreams log;
+  log.add_stream<aircraft_truth_batch_t>(ch::kTruth);
+  log.add_stream<prl_plot_batch_t>(ch::kApoi);
+  log.add_stream<nav_batch_t>(ch::kNav);
+  log.read(file, o.realization, "prl");
+  const Scenario sc = scenario_of<Scenario>(log, o, "prl");
+
+  PrlFlightData d;
+  d.radar_site = sc.radar_site();
+  d.azimuth_reference_deg = sc.radar.azimuth_reference_deg;
+  d.threshold = sc.runway.threshold;
+  d.heading_deg = sc.runway.heading_deg;
+  auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };
+  for (const auto* b : log.batches<aircraft_truth_batch_t>(ch::kTruth))
+    for (const auto& s : b->states) d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+  for (const auto* b : log.batches<prl_plot_batch_t>(ch::kApoi))
+    for (const auto& p : b->plots) {
+      d.t_s.push_back(t_of(p.utime));
+      d.plots.push_back({p.range_m, p.course_rad, p.glide_rad});
+    }
+  for (const auto* b : log.batches<nav_batch_t>(ch::kNav))
+    for (const auto& n : b->solutions) d.nav.push_back({t_of(n.utime), {n.lat_deg, n.lon_deg, n.h_m}});
+  const std::string r = ", realization " + std::to_string(o.realization);
+  if (d.plots.size() < 10) throw ConfigError(file + ": " + ch::kApoi + r + ": fewer than 10 plots");
+  if (d.nav.size() < 2) throw ConfigError(file + ": " + ch::kNav + r + ": fewer than 2 solutions");
+  if (summary) *summary = log.summary() + scenario_note(o);
+  return d;
+}
+
+AzimuthData read_uav_lcm_log(const std::string& file, const LcmLogOptions& o, std::string* summary) {
+  LcmLogStreams log;
+  log.add_stream<observer_batch_t>(ch::kUavNav);
+  log.add_stream<bearing_batch_t>(ch::kUavBearing);
+  log.add_stream<target_truth_batch_t>(ch::kTruthTarget);
+  log.read(file, o.realization, "uav");
+  const UavScenario sc = scenario_of<UavScenario>(log, o, "uav");
+
+  AzimuthData d;
+  auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };
+  for (const auto* b : log.batches<observer_batch_t>(ch::kUavNav))
+    for (const auto& s : b->states) d.observer.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+  std::int64_t last = 0;
+  for (const auto* b : log.batches<bearing_batch_t>(ch::kUavBearing))
+    for (const auto& x : b->bearings) {
+      if (d.frames.empty() || x.utime != last) d.frames.push_back({t_of(x.utime), {}});
+      last = x.utime;
+      d.frames.back().bearings_rad.push_back(x.bearing_rad);
+    }
+  for (const auto* b : log.batches<target_truth_batch_t>(ch::kTruthTarget))
+    for (const auto& s : b->states) d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, 0.0}});
+  const std::string r = ", realization " + std::to_string(o.realization);
+  if (d.observer.size() < 2) throw ConfigError(file + ": " + ch::kUavNav + r + ": fewer than 2 states");
+  if (d.frames.size() < 10) throw ConfigError(file + ": " + ch::kUavBearing + r + ": fewer than 10 frames");
+  if (summary) *summary = log.summary() + scenario_note(o);
+  return d;
+}
+
+}  // namespace rnav

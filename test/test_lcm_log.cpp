@@ -1,0 +1,386 @@
+// LCM event logs as diagnose input (loggers/diagnose/lcm_log_*): a log of an in-process run
+// gives exactly the flight the CSV exporter writes (and the same diagnosis), uses the attempt
+// the clock accepted and ignores earlier ones, and every kind of damage to a log is an error
+// naming channel, realization, attempt, window and file.
+#include <catch2/catch.hpp>
+
+#include "channels.hpp"
+#include "config.hpp"
+#include "inproc_ensemble.hpp"
+#include "lcm_log_export.hpp"
+#include "lcm_log_input.hpp"
+#include "lcm_log_streams.hpp"
+#include "prl_diagnose.hpp"
+#include "prl_export.hpp"
+#include "target_node.hpp"
+#include "uav_diagnose.hpp"
+#include "uav_node.hpp"
+
+#include <lcm/lcm-cpp.hpp>
+#include <unistd.h>
+#include <rnav/aircraft_truth_batch_t.hpp>
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/nav_batch_t.hpp>
+#include <rnav/observer_batch_t.hpp>
+#include <rnav/prl_plot_batch_t.hpp>
+#include <rnav/sim_window_t.hpp>
+#include <rnav/target_truth_batch_t.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace rnav;
+
+namespace {
+
+const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.json";
+const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json";
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("rnav_test_lcm_log_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+struct Event {
+  std::string channel;
+  std::vector<std::uint8_t> data;
+};
+
+std::vector<Event> read_events(const std::string& file) {
+  lcm::LogFile log(file, "r");
+  REQUIRE(log.good());
+  std::vector<Event> out;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    const auto* p = static_cast<const std::uint8_t*>(e->data);
+    out.push_back({e->channel, std::vector<std::uint8_t>(p, p + e->datalen)});
+  }
+  return out;
+}
+
+void write_events(const std::string& file, const std::vector<Event>& events) {
+  lcm::LogFile log(file, "w");
+  REQUIRE(log.good());
+  std::int64_t t = 0;
+  for (const auto& ev : events) {
+    lcm::LogEvent e;
+    e.eventnum = 0;
+    e.timestamp = t++;
+    e.channel = ev.channel;
+    e.datalen = static_cast<int>(ev.data.size());
+    e.data = const_cast<std::uint8_t*>(ev.data.data());
+    REQUIRE(log.writeEvent(&e) == 0);
+  }
+}
+
+template <class B> B decode(const Event& e) {
+  B b;
+  REQUIRE(b.decode(e.data.data(), 0, static_cast<int>(e.data.size())) == static_cast<int>(e.data.size()));
+  return b;
+}
+
+template <class B> Event encode(const std::string& channel, const B& b) {
+  Event e{channel, std::vector<std::uint8_t>(static_cast<std::size_t>(b.getEncodedSize()))};
+  b.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
+  return e;
+}
+
+// Index of the event on `channel` (a batch type with a header) of (r, a, w).
+template <class B> std::size_t find_batch(const std::vector<Event>& ev, const std::string& channel, int r, int a, int w) {
+  for (std::size_t i = 0; i < ev.size(); ++i)
+    if (ev[i].channel == channel) {
+      const B b = decode<B>(ev[i]);
+      if (b.header.realization == r && b.header.attempt == a && b.header.window == w) return i;
+    }
+  FAIL("no " << channel << " batch of realization " << r << " attempt " << a << " window " << w);
+  return 0;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// One paper log for several tests: 2 realizations with a hidden time offset; realization 1
+// loses its PRL_APOI batch of window 2 in attempt 0, so it is repeated as attempt 1.
+const std::vector<std::string> kEffect = {"prl_effects.time_offset_s=0.4"};
+const std::int64_t kSeed = 5;
+
+const std::string& paper_log() {
+  static std::string file;
+  if (file.empty()) {
+    const fs::path d = scratch("paper_" + std::to_string(::getpid()));  // ctest -j: one per process
+    const std::string f = (d / "run.lcmlog").string();
+    std::string failure;
+    REQUIRE(export_lcm_log(kPaper, kEffect, kSeed, 2, f, {"PRL_APOI:1:2:0"}, &failure) == 0);
+    file = f;
+  }
+  return file;
+}
+
+LcmLogOptions realization(int r) {
+  LcmLogOptions o;
+  o.realization = r;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("lcm log: the repeated realization equals the CSV export, byte for byte, and diagnoses the same",
+          "[lcm_log]") {
+  const std::string log = paper_log();
+  std::string summary;
+  const PrlFlightData from_log = read_prl_lcm_log(log, realization(1), &summary);
+  INFO(summary);
+  CHECK(summary.find("realization 1 attempt 1") != std::string::npos);  // the repeat was used
+  CHECK(summary.find("scenario from the log's SIM_SCENARIO") != std::string::npos);
+
+  const fs::path d = scratch("paper_csv");
+  REQUIRE(export_prl_flight(Scenario::load(kPaper, kEffect), kSeed, 1, (d / "csv").string()) == 0);
+  from_log.write_folder((d / "log").string());
+  for (const char* f : {"site.json", "radar.csv", "nav.csv", "truth.csv"}) {
+    INFO(f);
+    const std::string ref = slurp(d / "csv" / f);
+    REQUIRE(ref.size() > 100);
+    CHECK(slurp(d / "log" / f) == ref);
+  }
+  // Another realization is other data (the comparison above can fail).
+  PrlFlightData::read_folder((d / "csv").string());
+  read_prl_lcm_log(log, realization(0)).write_folder((d / "r0").string());
+  CHECK(slurp(d / "r0" / "radar.csv") != slurp(d / "csv" / "radar.csv"));
+
+  // The diagnosis of the log (full precision) and of the CSV folder name the same effects
+  // with the same estimates (to far below their standard errors).
+  const DiagnoseReport a = diagnose_prl(from_log, DiagnoseOptions{});
+  const DiagnoseReport b = diagnose_prl(PrlFlightData::read_folder((d / "csv").string()), DiagnoseOptions{});
+  INFO(a.text() << "\n---\n" << b.text());
+  REQUIRE(a.effects.size() == b.effects.size());
+  bool found = false;
+  for (std::size_t i = 0; i < a.effects.size(); ++i) {
+    CHECK(a.effects[i].name == b.effects[i].name);
+    REQUIRE(a.effects[i].estimate.size() == b.effects[i].estimate.size());
+    for (std::size_t k = 0; k < a.effects[i].estimate.size(); ++k)
+      CHECK(std::abs(a.effects[i].estimate[k] - b.effects[i].estimate[k]) <= 0.01 * b.effects[i].stderr_[k]);
+    found |= a.effects[i].name == "time_offset";
+  }
+  CHECK(found);
+}
+
+TEST_CASE("lcm log: batches of the failed attempt are ignored, whatever they hold", "[lcm_log]") {
+  auto ev = read_events(paper_log());
+  // Attempt 0 of realization 1 is in the log up to the lost window: make every batch of it
+  // nonsense; the result must not change.
+  int changed = 0;
+  for (auto& e : ev)
+    if (e.channel == ch::kApoi || e.channel == ch::kTruth) {
+      if (e.channel == ch::kApoi) {
+        auto b = decode<prl_plot_batch_t>(e);
+        if (b.header.realization != 1 || b.header.attempt != 0) continue;
+        for (auto& p : b.plots) p.range_m += 5000;
+        e = encode(ch::kApoi, b);
+        ++changed;
+      }
+    }
+  REQUIRE(changed >= 2);  // windows 0 and 1 (window 2 was lost, so the attempt stopped)
+  const fs::path d = scratch("attempts");
+  write_events((d / "mod.lcmlog").string(), ev);
+  read_prl_lcm_log((d / "mod.lcmlog").string(), realization(1)).write_folder((d / "mod").string());
+  read_prl_lcm_log(paper_log(), realization(1)).write_folder((d / "ref").string());
+  CHECK(slurp(d / "mod" / "radar.csv") == slurp(d / "ref" / "radar.csv"));
+  // While the same change to the accepted attempt does show (the check above can fail).
+  for (auto& e : ev)
+    if (e.channel == ch::kApoi) {
+      auto b = decode<prl_plot_batch_t>(e);
+      if (b.header.realization != 1 || b.header.attempt != 1 || b.header.window != 1) continue;
+      for (auto& p : b.plots) p.range_m += 5000;
+      e = encode(ch::kApoi, b);
+    }
+  write_events((d / "mod2.lcmlog").string(), ev);
+  read_prl_lcm_log((d / "mod2.lcmlog").string(), realization(1)).write_folder((d / "mod2").string());
+  CHECK(slurp(d / "mod2" / "radar.csv") != slurp(d / "ref" / "radar.csv"));
+}
+
+TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, window and file",
+          "[lcm_log][input]") {
+  const auto ev = read_events(paper_log());
+  const fs::path d = scratch("damage");
+  auto with = [&](const std::string& name, const std::vector<Event>& events, int r = 1) {
+    const std::string f = (d / name).string();
+    write_events(f, events);
+    return error_of([&] { read_prl_lcm_log(f, realization(r)); });
+  };
+
+  SECTION("a missing window") {
+    auto v = ev;
+    v.erase(v.begin() + static_cast<long>(find_batch<aircraft_truth_batch_t>(v, ch::kTruth, 1, 1, 3)));
+    const std::string e = with("missing.lcmlog", v);
+    CHECK_THAT(e, Catch::Contains("missing.lcmlog") && Catch::Contains("TRUTH_AIRCRAFT, realization 1, attempt 1") &&
+                      Catch::Contains("window 3 is missing"));
+  }
+  SECTION("the last window missing") {
+    auto v = ev;
+    int last = -1;
+    for (const auto& e : v)
+      if (e.channel == ch::kWindow && decode<sim_window_t>(e).last_window) last = decode<sim_window_t>(e).window;
+    REQUIRE(last > 0);
+    v.erase(v.begin() + static_cast<long>(find_batch<nav_batch_t>(v, ch::kNav, 1, 1, last)));
+    CHECK_THAT(with("last.lcmlog", v), Catch::Contains("NAV_SOLUTION, realization 1, attempt 1: window " +
+                                                       std::to_string(last) + " is missing"));
+  }
+  SECTION("a duplicated batch") {
+    auto v = ev;
+    const std::size_t i = find_batch<nav_batch_t>(v, ch::kNav, 1, 1, 2);
+    v.insert(v.begin() + static_cast<long>(i) + 1, v[i]);
+    CHECK_THAT(with("dup.lcmlog", v), Catch::Contains("NAV_SOLUTION, realization 1, attempt 1") &&
+                                          Catch::Contains("window 2") && Catch::Contains("duplicate"));
+  }
+  SECTION("a reordered batch") {
+    auto v = ev;
+    const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 2);
+    const std::size_t j = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 3);
+    std::swap(v[i], v[j]);
+    CHECK_THAT(with("reorder.lcmlog", v), Catch::Contains("PRL_APOI, realization 1, attempt 1: window 2 is out of order"));
+  }
+  SECTION("a realization that is not in the log") {
+    CHECK_THAT(with("r7.lcmlog", ev, 7), Catch::Contains("realization 7 is not in the log; realizations present: 0-1"));
+  }
+  SECTION("an undecodable message on a known channel") {
+    auto v = ev;
+    const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 0, 0, 1);
+    v[i].data.resize(7);
+    CHECK_THAT(with("garbage.lcmlog", v),
+               Catch::Contains("event " + std::to_string(i) + " on channel PRL_APOI does not decode"));
+  }
+  SECTION("a log cut before the clock moved on") {
+    auto v = ev;
+    // Up to the last window's grant of realization 1 (its batches and the FINISH cut off).
+    auto last_grant = [](const Event& e) {
+      if (e.channel != ch::kWindow) return false;
+      const auto w = decode<sim_window_t>(e);
+      return w.command == sim_window_t::START && w.last_window;
+    };
+    while (!last_grant(v.back())) v.pop_back();
+    CHECK_THAT(with("cut.lcmlog", v), Catch::Contains("realization 1 attempt 1 (the last one in the log) did not complete"));
+    // Realization 0 is complete in the same log.
+    CHECK_NOTHROW(read_prl_lcm_log((d / "cut.lcmlog").string(), realization(0)));
+  }
+  SECTION("no scenario in the log and none given; --scenario then works, a wrong one is refused") {
+    auto v = ev;
+    v.erase(std::remove_if(v.begin(), v.end(), [](const Event& e) { return e.channel == ch::kScenario; }), v.end());
+    CHECK_THAT(with("noscen.lcmlog", v), Catch::Contains("no SIM_SCENARIO") && Catch::Contains("--scenario"));
+    LcmLogOptions o = realization(1);
+    o.scenario_file = kPaper;
+    const std::string f = (d / "noscen.lcmlog").string();
+    read_prl_lcm_log(f, o).write_folder((d / "given").string());
+    read_prl_lcm_log(paper_log(), realization(1)).write_folder((d / "embedded").string());
+    CHECK(slurp(d / "given" / "site.json") == slurp(d / "embedded" / "site.json"));
+    o.overrides = {"runner.epoch_utime=1767225700000000"};
+    CHECK_THAT(error_of([&] { read_prl_lcm_log(f, o); }), Catch::Contains("not the scenario of this run"));
+    o.overrides.clear();
+    o.scenario_file = kUav;
+    CHECK_THAT(error_of([&] { read_prl_lcm_log(f, o); }), Catch::Contains("is a 'uav' scenario"));
+  }
+  SECTION("not a log") {
+    std::ofstream(d / "text.csv") << "t_s,range_m\n1,2\n";
+    CHECK_FALSE(is_lcm_log((d / "text.csv").string()));
+    CHECK(is_lcm_log(paper_log()));
+    CHECK_THAT(error_of([&] { read_prl_lcm_log((d / "text.csv").string(), realization(0)); }),
+               Catch::Contains("text.csv: not an LCM event log"));
+  }
+  SECTION("a radar log read as azimuth data") {
+    CHECK_THAT(error_of([&] { read_uav_lcm_log(paper_log(), realization(0)); }),
+               Catch::Contains("the log holds a 'prl' run (SIM_SCENARIO), not a 'uav' one"));
+    // Without SIM_SCENARIO, the missing streams say it.
+    auto v = ev;
+    v.erase(std::remove_if(v.begin(), v.end(), [](const Event& e) { return e.channel == ch::kScenario; }), v.end());
+    write_events((d / "noscen.lcmlog").string(), v);
+    CHECK_THAT(error_of([&] { read_uav_lcm_log((d / "noscen.lcmlog").string(), realization(0)); }),
+               Catch::Contains("UAV_NAV, realization 0, attempt 0: window 0 is missing"));
+  }
+}
+
+TEST_CASE("lcm log azimuth-only: the log gives exactly what the simulation published and the observer is the nav solution",
+          "[lcm_log][uav]") {
+  const fs::path d = scratch("uav");
+  const std::string log = (d / "uav.lcmlog").string();
+  const std::int64_t seed = 3;
+  REQUIRE(export_lcm_log(kUav, {}, seed, 1, log) == 0);
+  std::string summary;
+  const AzimuthData a = read_uav_lcm_log(log, realization(0), &summary);
+  INFO(summary);
+
+  // Reference: the same simulation, collected straight from the bus (no log in between).
+  const UavScenario sc = UavScenario::load(kUav);
+  InprocBus bus;
+  AzimuthData ref;
+  std::vector<GeoSample> true_uav;
+  auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };
+  bus.subscribe<observer_batch_t>(ch::kUavNav, [&](const observer_batch_t& b) {
+    for (const auto& s : b.states) ref.observer.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+  });
+  bus.subscribe<observer_batch_t>(ch::kTruthUav, [&](const observer_batch_t& b) {
+    for (const auto& s : b.states) true_uav.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+  });
+  bus.subscribe<bearing_batch_t>(ch::kUavBearing, [&](const bearing_batch_t& b) {
+    for (const auto& x : b.bearings) {
+      if (ref.frames.empty() || ref.frames.back().t_s != t_of(x.utime)) ref.frames.push_back({t_of(x.utime), {}});
+      ref.frames.back().bearings_rad.push_back(x.bearing_rad);
+    }
+  });
+  bus.subscribe<target_truth_batch_t>(ch::kTruthTarget, [&](const target_truth_batch_t& b) {
+    for (const auto& s : b.states) ref.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, 0.0}});
+  });
+  std::vector<std::unique_ptr<LockstepNode>> nodes;
+  nodes.push_back(std::make_unique<TargetNode>(bus, sc));
+  nodes.push_back(std::make_unique<UavNode>(bus, sc));
+  REQUIRE(run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, 1, seed).exit_code == 0);
+
+  REQUIRE(ref.frames.size() >= 10);
+  REQUIRE(a.observer.size() == ref.observer.size());
+  REQUIRE(a.frames.size() == ref.frames.size());
+  REQUIRE(a.truth.size() == ref.truth.size());
+  for (std::size_t i = 0; i < a.observer.size(); ++i) {
+    CHECK(a.observer[i].t_s == ref.observer[i].t_s);
+    CHECK(a.observer[i].g.lat_deg == ref.observer[i].g.lat_deg);
+    CHECK(a.observer[i].g.lon_deg == ref.observer[i].g.lon_deg);
+    CHECK(a.observer[i].g.h_m == ref.observer[i].g.h_m);
+  }
+  for (std::size_t i = 0; i < a.frames.size(); ++i) {
+    CHECK(a.frames[i].t_s == ref.frames[i].t_s);
+    CHECK(a.frames[i].bearings_rad == ref.frames[i].bearings_rad);
+  }
+  for (std::size_t i = 0; i < a.truth.size(); ++i) {
+    CHECK(a.truth[i].g.lat_deg == ref.truth[i].g.lat_deg);
+    CHECK(a.truth[i].g.lon_deg == ref.truth[i].g.lon_deg);
+  }
+  // The observer is the UAV's navigation solution, not its true state (which differs).
+  REQUIRE(true_uav.size() == a.observer.size());
+  double max_diff_m = 0;
+  for (std::size_t i = 0; i < a.observer.size(); ++i)
+    max_diff_m = std::max(max_diff_m, std::abs(a.observer[i].g.lat_deg - true_uav[i].g.lat_deg) * 111e3);
+  CHECK(max_diff_m > 0.5);
+  // Through the CSV format too, the diagnosis is the same.
+  a.write_folder((d / "csv").string());
+  const auto r1 = diagnose_uav(a, UavDiagnoseOptions{});
+  const auto r2 = diagnose_uav(AzimuthData::read_folder((d / "csv").string()), UavDiagnoseOptions{});
+  REQUIRE(r1.effects.size() == r2.effects.size());
+  for (std::size_t i = 0; i < r1.effects.size(); ++i) CHECK(r1.effects[i].name == r2.effects[i].name);
+  // A UAV log read as radar data: the scenario kind is named.
+  CHECK_THAT(error_of([&] { read_prl_lcm_log(log, realization(0)); }), Catch::Contains("holds a 'uav' run"));
+}
