@@ -147,8 +147,10 @@ std::size_t write_replay_csv(const std::string& file, const std::vector<AdsbReco
   while (first > 0 && kept[first - 1].t_s >= a.t_start_s - lead_s) --first;
   const LocalLevelFrame L(so.threshold, std::fmod(so.heading_deg + 180.0, 360.0));
   std::size_t last = a.first;
-  while (last < a.last &&
-         L.from_geodetic({kept[last + 1].lat_deg, kept[last + 1].lon_deg, 0.0}).x() >= e.end_x_m)
+  auto x_of = [&](const AdsbRecord& r) {  // x in L at the exported height
+    return L.from_geodetic({r.lat_deg, r.lon_deg, height_ft(r, height) * kFt + a.offset_m}).x();
+  };
+  while (last < a.last && x_of(kept[last + 1]) >= e.end_x_m)
     ++last;
   if (last - first + 1 < 3)
     throw ConfigError("fewer than 3 points of the approach lie before --end-x-m");

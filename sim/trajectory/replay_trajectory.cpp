@@ -60,29 +60,36 @@ ReplayTrajectory::Weights ReplayTrajectory::weights(double t_s) const {
   Weights r;
   r.first = static_cast<std::size_t>(lo - t_.begin());
   const std::size_t n = static_cast<std::size_t>(hi - lo);
-  // Normal equations in the scaled time s = tau / W (for conditioning), basis x = (1, s, s^2):
-  //   A = sum_i w_i x_i x_i^T,  c = A^-1 sum_i w_i x_i p_i;  p = c0, v = c1 / W.
-  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-  std::vector<Eigen::Vector3d> wx(n);
+  // Normal equations in the scaled time s_i = (t_i - t) / W (for conditioning), basis
+  // x_i = (1, s_i, s_i^2), tricube weights w_i = (1 - |s_i|^3)^3:
+  //   A = sum_i w_i x_i x_i^T,   p(t) = sum_i l_i p_i,   l_i = e0^T A^-1 w_i x_i.
+  // Velocity = the exact time derivative of p(t) (weights and window move with t; ds/dt = -1/W):
+  //   d_i = dl_i/dt = e0^T A^-1 (d(w_i x_i)/dt - (dA/dt) A^-1 w_i x_i),
+  //   d(w x)/dt = -(w'(s) x + w x'(s)) / W,   w'(s) = -9 s |s| (1 - |s|^3)^2,   x'(s) = (0, 1, 2 s).
+  // For samples on a quadratic this equals the fitted slope; elsewhere it keeps v = dp/dt.
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero(), dA = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Vector3d> b(n), db(n);
   for (std::size_t k = 0; k < n; ++k) {
     const double s = (t_[r.first + k] - t) / w_s_, a = 1 - std::abs(s * s * s);
-    const double w = a * a * a;
-    const Eigen::Vector3d x(1, s, s * s);
-    wx[k] = w * x;
-    A += wx[k] * x.transpose();
+    const double w = a * a * a, dw_ds = -9 * s * std::abs(s) * a * a;
+    const Eigen::Vector3d x(1, s, s * s), dx_ds(0, 1, 2 * s);
+    b[k] = w * x;
+    db[k] = -(dw_ds * x + w * dx_ds) / w_s_;
+    A += b[k] * x.transpose();
+    dA += -(dw_ds * x * x.transpose() + w * (dx_ds * x.transpose() + x * dx_ds.transpose())) / w_s_;
   }
   const Eigen::LDLT<Eigen::Matrix3d> ldlt(A);
   // The constructor's W > 2 x step guarantees 3 distinct samples with w > 0; a failure here
   // is a bug, not bad input.
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || std::abs(A.determinant()) < 1e-12)
     throw std::logic_error("ReplayTrajectory: singular smoothing fit at t = " + num(t) + " s");
-  const Eigen::Vector3d e0 = ldlt.solve(Eigen::Vector3d::UnitX());  // A^-1 e0 (A symmetric)
-  const Eigen::Vector3d e1 = ldlt.solve(Eigen::Vector3d::UnitY());
+  const Eigen::Vector3d g = ldlt.solve(Eigen::Vector3d::UnitX());  // A^-1 e0 (A symmetric)
+  const Eigen::Vector3d gd = ldlt.solve(dA.transpose() * g);        // A^-1 dA^T A^-1 e0
   r.l.resize(n);
   r.d.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    r.l[k] = e0.dot(wx[k]);
-    r.d[k] = e1.dot(wx[k]) / w_s_;
+    r.l[k] = g.dot(b[k]);
+    r.d[k] = g.dot(db[k]) - gd.dot(b[k]);
   }
   return r;
 }

@@ -9,12 +9,15 @@
 // jumps at every sample), so the replay does not interpolate. At time t it fits, per axis of L,
 // a quadratic in tau = t_i - t by weighted least squares to the samples with |tau| < W
 // (W = trajectory.replay_smoothing_s) with tricube weights w_i = (1 - |tau_i / W|^3)^3:
-//   minimise  sum_i w_i (p_i - c0 - c1 tau_i - c2 tau_i^2)^2,   p(t) = c0,  v(t) = c1.
-// Both are linear in the samples: p(t) = sum_i l_i(t) p_i, v(t) = sum_i d_i(t) p_i (weights()).
+//   minimise  sum_i w_i (p_i - c0 - c1 tau_i - c2 tau_i^2)^2,   p(t) = c0,
+// and v(t) = dp/dt, the exact derivative of that (window and weights move with t), so the
+// published velocity is the derivative of the published position (it equals the fitted slope
+// c1 wherever the samples lie on a quadratic). Both are linear in the samples:
+// p(t) = sum_i l_i(t) p_i, v(t) = sum_i d_i(t) p_i with d_i = dl_i/dt (weights()).
 // Properties: any path quadratic in time (straight legs at constant speed, constant
-// acceleration) is reproduced exactly; because the weights and their first two derivatives
-// vanish at |tau| = W, p(t) and v(t) are continuous and differentiable in t (no jumps when a
-// sample enters or leaves the window). The price: features shorter than about W are rounded
+// acceleration) is reproduced exactly, position and velocity; because the weights and their
+// first two derivatives vanish at |tau| = W, p(t) and v(t) are continuous in t (no jumps when
+// a sample enters or leaves the window). The price: features shorter than about W are rounded
 // (a turn's entry is spread over +-W), and noise of period below ~W is removed.
 // Outside [0, duration_s()] the state is clamped to the nearest end (as ApproachTrajectory).
 #pragma once
@@ -41,7 +44,7 @@ class ReplayTrajectory : public Trajectory {
   double duration_s() const override { return t_.back(); }
 
   /// The linear smoother at time t (clamped to [0, duration_s()]): samples first..first+n-1
-  /// with position weights l_i and velocity weights d_i [1/s].
+  /// with position weights l_i and velocity weights d_i = dl_i/dt [1/s].
   struct Weights {
     std::size_t first = 0;
     std::vector<double> l, d;
