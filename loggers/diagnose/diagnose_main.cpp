@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <iostream>
 
 namespace {
@@ -19,7 +20,11 @@ namespace {
 const char* kUsage =
     "usage: rnav_diagnose prl|uav INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
     "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
+    "         [--split-fraction F] [--ignore-truth] [--seed N]\n"
     "         [--realization R] [--scenario FILE] [--set key=value]...\n"
+    "  prl: --split-time, --nav-sigma, --nav-tau; uav: --gate-deg, --sigma-deg, --split-fraction,\n"
+    "  --ignore-truth (diagnose on a track fitted to the bearings; truth only scores the gain),\n"
+    "  --seed (of that fit's initialisation)\n"
     "  INPUT: a CSV folder, or an LCM event log (scripts/run --lcm-log FILE); for a log,\n"
     "  --realization picks one (default 0) and --scenario/--set give the site (default: the\n"
     "  scenario the log carries on SIM_SCENARIO)";
@@ -48,6 +53,19 @@ int integer(const std::string& opt, const std::string& v) {
   return x;
 }
 
+// A finite number, or an error naming the option.
+double number(const std::string& opt, const std::string& v) {
+  std::size_t pos = 0;
+  double x = 0;
+  try {
+    x = std::stod(v, &pos);
+  } catch (const std::exception&) {
+    pos = 0;
+  }
+  if (v.empty() || pos != v.size() || !std::isfinite(x)) throw rnav::ConfigError(opt + " '" + v + "' is not a finite number");
+  return x;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,14 +85,17 @@ int main(int argc, char** argv) {
         return argv[++i];
       };
       if (a == "--json") json = value();
-      else if (a == "--split-time") o.split_time_s = std::stod(value());
-      else if (a == "--alpha") o.alpha = uo.alpha = std::stod(value());
-      else if (a == "--gate-deg") uo.gate_deg = std::stod(value());
-      else if (a == "--sigma-deg") uo.sigma_deg = std::stod(value());
+      else if (a == "--split-time") o.split_time_s = number(a, value());
+      else if (a == "--alpha") o.alpha = uo.alpha = number(a, value());
+      else if (a == "--gate-deg") uo.gate_deg = number(a, value());
+      else if (a == "--sigma-deg") uo.sigma_deg = number(a, value());
       else if (a == "--residuals") residuals = value();
-      else if (a == "--confound-corr") o.confound_corr = std::stod(value());
-      else if (a == "--nav-sigma") o.nav_sigma_m = std::stod(value());
-      else if (a == "--nav-tau") o.nav_tau_s = std::stod(value());
+      else if (a == "--confound-corr") o.confound_corr = uo.confound_corr = number(a, value());
+      else if (a == "--split-fraction") uo.split_fraction = number(a, value());
+      else if (a == "--ignore-truth") uo.ignore_truth = true;
+      else if (a == "--seed") uo.seed = static_cast<std::uint64_t>(integer(a, value()));
+      else if (a == "--nav-sigma") o.nav_sigma_m = number(a, value());
+      else if (a == "--nav-tau") o.nav_tau_s = number(a, value());
       else if (a == "--realization") lo.realization = integer(a, value()), log_options = true;
       else if (a == "--scenario") lo.scenario_file = value(), log_options = true;
       else if (a == "--set") lo.overrides.push_back(value()), log_options = true;
