@@ -253,17 +253,21 @@ TEST_CASE("uav diagnose without truth: each catalogue effect, alone and in pairs
   // bias 0.95 mrad, time offset 14 ms, manoeuvre 0.03 m/s per component. Hidden magnitudes are
   // 2-4x those, where the test's power is > 0.9 per effect (a miss is a real regression).
   const double nan = std::nan("");
-  Hidden bias, man, scale, corr, outl, bias_man, scale_outl, man_corr;
+  Hidden bias, offset, man, scale, corr, outl, bias_man, scale_outl, man_corr;
   bias.bias = 0.003;
+  offset.tau = 0.05;
   man.man_t = 60, man.dv = {0.1, -0.1};
   scale.noise_scale = 1.6;
   corr.corr_tau = 1.0;
   outl.outlier_prob = 0.02;
   bias_man.bias = 0.003, bias_man.man_t = 60, bias_man.dv = {0.1, -0.1};
   scale_outl.noise_scale = 1.6, scale_outl.outlier_prob = 0.02;
-  man_corr.man_t = 60, man_corr.dv = {0.15, -0.15}, man_corr.corr_tau = 1.0;
+  // Gauss-Markov noise with tau = 1 s at 5 Hz (rho 0.82) inflates the SEs, and with them the
+  // limits, by sqrt((1 + rho) / (1 - rho)) = 3.2: the manoeuvre is 0.3 m/s there (2.6x).
+  man_corr.man_t = 60, man_corr.dv = {0.3, -0.3}, man_corr.corr_tau = 1.0;
   const std::vector<UavCase> cases = {
       {"bias", bias, {{"bearing_bias", 0.003}}, true},
+      {"time_offset", offset, {{"bearing_time_offset", 0.05}}, true},
       {"manoeuvre", man, {{"target_maneuver", 60}}, true},
       {"noise_scale", scale, {{"noise_scale", 1.6}}, false},
       {"correlated_noise", corr, {{"correlated_noise", 1.0}}, false},
@@ -276,20 +280,25 @@ TEST_CASE("uav diagnose without truth: each catalogue effect, alone and in pairs
   for (const auto& c : cases) {
     const auto r = diagnose_uav(synthetic(c.h, ++seed), no_truth());
     INFO(c.label << "\n" << r.text());
+    bool partner = false;  // a confounded partner was named instead: its extrapolation may be worse
     for (const auto& [name, truth] : c.expect) {
       const EffectResult* e = find(r, name);
-      if (!e && name == "bearing_bias") {  // see the bias-only case above: its confounded partner
-        e = find(r, "bearing_time_offset");
+      if (!e) {
+        // Not named itself: then an effect the report says it cannot be told apart from in
+        // this geometry must stand in for it (circling, bias ~ time offset; with a manoeuvre in
+        // the model, bias ~ drift).
+        for (const auto& x : r.effects)
+          if (std::find(x.confounded_with.begin(), x.confounded_with.end(), name) != x.confounded_with.end()) e = &x;
         REQUIRE(e != nullptr);
-        CHECK(std::find(e->confounded_with.begin(), e->confounded_with.end(), "bearing_bias") != e->confounded_with.end());
+        partner = true;
         continue;
       }
       REQUIRE(e != nullptr);
       if (std::isnan(truth)) continue;
-      // target_maneuver's first parameter is the scanned time (SE = the grid step): within 2 steps
-      CHECK(std::abs(e->estimate[0] - truth) <= (name == "target_maneuver" ? 2 : 3) * e->stderr_[0]);
+      // (target_maneuver's first parameter is its time, SE from the profile likelihood)
+      CHECK(std::abs(e->estimate[0] - truth) <= 3 * e->stderr_[0]);
     }
-    if (c.truth_gain) CHECK(r.gain.at("truth_position_m").extended_rms < r.gain.at("truth_position_m").nominal_rms);
+    if (c.truth_gain && !partner) CHECK(r.gain.at("truth_position_m").extended_rms < r.gain.at("truth_position_m").nominal_rms);
     // out of sample, the extended model (mean and noise effects) is the likelier one
     CHECK(r.gain.at("bearing_rad").extended_loglik > r.gain.at("bearing_rad").nominal_loglik);
   }

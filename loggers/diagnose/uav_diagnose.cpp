@@ -375,6 +375,37 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     if (!best || best_p >= o.alpha / m_family) break;
     chosen.push_back(*best);
   }
+  // Manoeuvre time: refine the coarse scan on a grid 8x finer within two steps of the best (the
+  // other chosen effects held in the model); its SE is half the width of the profile
+  // likelihood's 1-sigma interval {tau : 2 log L(tau) >= max - 1} (at least 1/16 step).
+  std::vector<double> tau_se(chosen.size(), 0.0);
+  for (std::size_t s = 0; s < chosen.size(); ++s) {
+    if (chosen[s].name != "target_maneuver") continue;
+    auto others = chosen;
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(s));
+    const Fit1 f0 = ols(obs, use, cols_of(others));
+    const double step = span / 40;
+    std::vector<Effect> cand;
+    std::vector<double> lr;
+    for (int q = -16; q <= 16; ++q) {
+      const double tau = chosen[s].scan_value + q * step / 8;
+      if (tau <= t0 || tau >= t0 + span) continue;
+      Effect m = chosen[s];
+      m.scan_value = tau;
+      m.cols = {[tau](const Ob& x) { return x.J(0) * ramp(x.t, tau); }, [tau](const Ob& x) { return x.J(1) * ramp(x.t, tau); }};
+      auto es = others;
+      es.push_back(m);
+      const Fit1 f = ols(obs, use, cols_of(es));
+      cand.push_back(m);
+      lr.push_back(f.ok ? f.n * std::log(f0.rss / f.rss) / f_ar : 0.0);
+    }
+    const auto ib = static_cast<std::size_t>(std::max_element(lr.begin(), lr.end()) - lr.begin());
+    double lo = cand[ib].scan_value, hi = lo;
+    for (std::size_t m = 0; m < cand.size(); ++m)
+      if (lr[m] >= lr[ib] - 1) lo = std::min(lo, cand[m].scan_value), hi = std::max(hi, cand[m].scan_value);
+    chosen[s] = cand[ib];
+    tau_se[s] = std::max(step / 16, 0.5 * (hi - lo + step / 8));
+  }
   const Fit1 fin = ols(obs, use, cols_of(chosen));
   if (!fin.ok) throw ConfigError("diagnose uav: the extended model's fit is singular");
 
@@ -391,9 +422,11 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         e.estimate = {c.scan_value, std::hypot(fin.beta(col), fin.beta(col + 1))};
         e.stderr_ = {0, std::sqrt(f_ar * 0.5 * (fin.cov(col, col) + fin.cov(col + 1, col + 1)))};
       } else if (c.name == "target_maneuver") {
+        const double step = span / 40;
         e.estimate = {c.scan_value, fin.beta(col), fin.beta(col + 1)};
-        e.stderr_ = {span / 40, se(col), se(col + 1)};  // time: the scan grid's step
-        e.note = "velocity change at the scanned time (grid step " + short_num(span / 40) + " s)";
+        e.stderr_ = {tau_se[s], se(col), se(col + 1)};
+        e.note = "velocity change at the scanned time (grid step " + short_num(step) +
+                 " s, refined to " + short_num(step / 8) + " s; time SE from the profile likelihood)";
       } else {
         e.estimate = {fin.beta(col)};
         e.stderr_ = {se(col)};
@@ -429,9 +462,15 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
         return worst;
       };
       if (c.name != "periodic" && c.name != "target_maneuver") {
-        for (const auto& other : singles)
-          if (other.name != c.name && explained(with_nuis(other.cols)) > o.confound_corr)
-            e.confounded_with.push_back(other.name);
+        // given the rest of the model: the nuisance and the other chosen effects
+        std::vector<Col> rest;
+        for (const auto& oc : others) rest.insert(rest.end(), oc.cols.begin(), oc.cols.end());
+        for (const auto& other : singles) {
+          if (other.name == c.name) continue;
+          auto by = with_nuis(rest);
+          by.insert(by.end(), other.cols.begin(), other.cols.end());
+          if (explained(by) > o.confound_corr) e.confounded_with.push_back(other.name);
+        }
         if (!with_truth && explained(nuis) > o.confound_corr) e.confounded_with.push_back("object_track");
       }
       if (std::find(e.confounded_with.begin(), e.confounded_with.end(), "object_track") != e.confounded_with.end())
@@ -478,14 +517,14 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
                short_num(o.sigma_deg) + " deg";
       rep.effects.push_back(e);
     }
-    // Frames whose detections all lie beyond the gate count as outliers too when the gate is at
-    // least outlier_z robust sigma wide (otherwise they are not necessarily beyond it).
-    int n_out = 0;
-    for (const auto& x : obs) n_out += x.outlier;
-    const bool gate_counts = gate >= o.outlier_z * sigma;
-    const int n_frames = static_cast<int>(obs.size()) + (gate_counts ? beyond_gate : 0);
-    if (gate_counts) n_out += beyond_gate;
-    const double lambda = static_cast<double>(n_frames) * std::erfc(o.outlier_z / std::sqrt(2.0));
+    // An outlier lies beyond thr = min(gate, outlier_z sigma): an associated frame beyond it, or a
+    // frame whose detections all miss the gate; under the nominal model a frame does so with
+    // probability erfc(thr / (sigma sqrt 2)).
+    const double thr = std::min(gate, o.outlier_z * sigma);
+    int n_out = beyond_gate;
+    for (const auto& x : obs) n_out += std::abs(x.r) > thr;
+    const int n_frames = static_cast<int>(obs.size()) + beyond_gate;
+    const double lambda = static_cast<double>(n_frames) * std::erfc(thr / (sigma * std::sqrt(2.0)));
     const double tail = poisson_upper_tail(n_out, lambda);
     if (n_out > 0 && tail < o.alpha / m_family) {
       EffectResult e;
@@ -496,7 +535,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       e.stderr_ = {std::sqrt(fr * (1 - fr) / static_cast<double>(n_frames))};
       e.p_value = tail;
       e.note = std::to_string(n_out) + " of " + std::to_string(n_frames) + " frames with the detection nearest the reference beyond " +
-               short_num(o.outlier_z) + " robust sigma (" + std::to_string(gate_counts ? beyond_gate : 0) + " beyond the gate)";
+               short_num(thr / sigma) + " robust sigma (" + std::to_string(beyond_gate) + " beyond the gate)";
       rep.effects.push_back(e);
     }
     if (correlated) {
