@@ -128,7 +128,9 @@ TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nomin
   INFO(r.text());
   const auto* ns = find(r, "noise_scale");
   REQUIRE(ns != nullptr);
-  CHECK(ns->estimate[0] - 3 * ns->stderr_[0] > 1.5);  // at least 1.5x the nominal 0.5 deg
+  // well above the nominal 0.5 deg (robust estimate: a fifth of the frames miss the 4 deg gate)
+  CHECK(ns->estimate[0] - 3 * ns->stderr_[0] > 1.0);
+  CHECK(ns->estimate[0] > 2.0);
   CHECK(find(r, "correlated_noise") != nullptr);
 }
 
@@ -256,11 +258,11 @@ TEST_CASE("uav diagnose without truth: each catalogue effect, alone and in pairs
   Hidden bias, offset, man, scale, corr, outl, bias_man, scale_outl, man_corr;
   bias.bias = 0.003;
   offset.tau = 0.05;
-  man.man_t = 60, man.dv = {0.1, -0.1};
+  man.man_t = 60, man.dv = {0.15, -0.15};
   scale.noise_scale = 1.6;
   corr.corr_tau = 1.0;
   outl.outlier_prob = 0.02;
-  bias_man.bias = 0.003, bias_man.man_t = 60, bias_man.dv = {0.1, -0.1};
+  bias_man.bias = 0.003, bias_man.man_t = 60, bias_man.dv = {0.15, -0.15};
   scale_outl.noise_scale = 1.6, scale_outl.outlier_prob = 0.02;
   // Gauss-Markov noise with tau = 1 s at 5 Hz (rho 0.82) inflates the SEs, and with them the
   // limits, by sqrt((1 + rho) / (1 - rho)) = 3.2: the manoeuvre is 0.3 m/s there (2.6x).

@@ -161,6 +161,55 @@ double ar1_loglik(const std::vector<double>& t, const std::vector<double>& e, do
   return ll;
 }
 
+// Gauss-Newton fit of the extended track (CV track + velocity changes at taus) plus the
+// linear effect columns fx_cols to the frames e_obs (each with its associated detection), from
+// the track `start`. res: the residuals of the last linearised step. False if it diverges.
+bool fit_extended(const std::vector<Ob>& e_obs, const std::vector<TrackObs>& tobs, const CvTrack& start,
+                  const std::vector<double>& taus, const std::vector<Col>& fx_cols, ExtTrack& tr,
+                  Eigen::VectorXd& beta, std::vector<double>& res) {
+  double s_fit = 0;
+  tr = ExtTrack{};
+  tr.cv = start;
+  tr.tau = taus;
+  tr.dv.assign(taus.size(), Eigen::Vector2d::Zero());
+  const std::size_t nb = fx_cols.size();
+  beta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nb));
+  const auto np = static_cast<Eigen::Index>(4 + 2 * tr.tau.size() + nb);
+  for (int it = 0; it < 20; ++it) {
+    Eigen::MatrixXd X(static_cast<Eigen::Index>(e_obs.size()), np);
+    Eigen::VectorXd y(static_cast<Eigen::Index>(e_obs.size()));
+    for (std::size_t i = 0; i < e_obs.size(); ++i) {
+      const TrackObs& to = tobs[e_obs[i].k];
+      const Eigen::Vector2d d = tr.at(to.t_s) - to.o_F;
+      const double r2 = d.squaredNorm(), gn = -d.y() / r2, ge = d.x() / r2, dt = to.t_s - tr.cv.t_ref_s;
+      double h = std::atan2(d.y(), d.x());
+      for (std::size_t j = 0; j < nb; ++j) h += beta(static_cast<Eigen::Index>(j)) * fx_cols[j](e_obs[i]);
+      const auto row = static_cast<Eigen::Index>(i);
+      y(row) = wrap_pi(e_obs[i].meas - h);
+      X(row, 0) = gn, X(row, 1) = ge, X(row, 2) = dt * gn, X(row, 3) = dt * ge;
+      for (std::size_t m = 0; m < tr.tau.size(); ++m) {
+        const double rm = ramp(to.t_s, tr.tau[m]);
+        X(row, static_cast<Eigen::Index>(4 + 2 * m)) = rm * gn;
+        X(row, static_cast<Eigen::Index>(5 + 2 * m)) = rm * ge;
+      }
+      for (std::size_t j = 0; j < nb; ++j) X(row, static_cast<Eigen::Index>(4 + 2 * tr.tau.size() + j)) = fx_cols[j](e_obs[i]);
+    }
+    Eigen::VectorXd dsc(np);
+    for (Eigen::Index j = 0; j < np; ++j) dsc(j) = X.col(j).norm() > 0 ? 1.0 / X.col(j).norm() : 1.0;
+    const Eigen::VectorXd step = dsc.asDiagonal() * (X * dsc.asDiagonal()).colPivHouseholderQr().solve(y);
+    if (!step.allFinite()) return false;
+    const Eigen::VectorXd e = y - X * step;
+    res.assign(e.data(), e.data() + e.size());
+    s_fit = std::sqrt(e.squaredNorm() / static_cast<double>(e_obs.size()));
+    tr.cv.p0_F += step.segment<2>(0);
+    tr.cv.v_F += step.segment<2>(2);
+    for (std::size_t m = 0; m < tr.tau.size(); ++m) tr.dv[m] += step.segment<2>(static_cast<Eigen::Index>(4 + 2 * m));
+    beta += step.tail(static_cast<Eigen::Index>(nb));
+    if (step.head<2>().norm() < 1e-4) break;
+  }
+  return std::isfinite(s_fit) && s_fit > 0 && tr.cv.p0_F.allFinite();
+}
+
 }  // namespace
 
 DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o) {
@@ -378,12 +427,31 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   // Manoeuvre time: refine the coarse scan on a grid 8x finer within two steps of the best (the
   // other chosen effects held in the model); its SE is half the width of the profile
   // likelihood's 1-sigma interval {tau : 2 log L(tau) >= max - 1} (at least 1/16 step).
+  // The profile is the full nonlinear fit (track, manoeuvres, effects by Gauss-Newton): the
+  // linearisation about the CV track is biased in time when the manoeuvre bends the track.
   std::vector<double> tau_se(chosen.size(), 0.0);
+  std::vector<Ob> use_obs;
+  for (auto i : use) use_obs.push_back(obs[i]);
+  auto nonlinear_rss = [&](const std::vector<Effect>& es, double& rss) {
+    std::vector<double> ts;
+    std::vector<Col> fx;
+    for (const auto& e : es)
+      if (e.name == "target_maneuver") ts.push_back(e.scan_value);
+      else fx.insert(fx.end(), e.cols.begin(), e.cols.end());
+    ExtTrack tr;
+    Eigen::VectorXd beta;
+    std::vector<double> res;
+    if (!fit_extended(use_obs, tobs, full.track, ts, fx, tr, beta, res)) return false;
+    rss = 0;
+    for (double r : res) rss += r * r;
+    return true;
+  };
   for (std::size_t s = 0; s < chosen.size(); ++s) {
     if (chosen[s].name != "target_maneuver") continue;
     auto others = chosen;
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(s));
-    const Fit1 f0 = ols(obs, use, cols_of(others));
+    double rss0 = 0;
+    if (!nonlinear_rss(others, rss0)) continue;
     const double step = span / 40;
     std::vector<Effect> cand;
     std::vector<double> lr;
@@ -395,9 +463,9 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       m.cols = {[tau](const Ob& x) { return x.J(0) * ramp(x.t, tau); }, [tau](const Ob& x) { return x.J(1) * ramp(x.t, tau); }};
       auto es = others;
       es.push_back(m);
-      const Fit1 f = ols(obs, use, cols_of(es));
+      double rss = 0;
       cand.push_back(m);
-      lr.push_back(f.ok ? f.n * std::log(f0.rss / f.rss) / f_ar : 0.0);
+      lr.push_back(nonlinear_rss(es, rss) ? static_cast<double>(use.size()) * std::log(rss0 / rss) / f_ar : 0.0);
     }
     const auto ib = static_cast<std::size_t>(std::max_element(lr.begin(), lr.end()) - lr.begin());
     double lo = cand[ib].scan_value, hi = lo;
@@ -500,6 +568,16 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
 
   // ---- noise_scale, outliers, correlated_noise ----
   {
+    // An outlier lies beyond thr = min(gate, outlier_z sigma): an associated frame beyond it, or a
+    // frame whose detections all miss the gate; under the nominal model a frame does so with
+    // probability erfc(thr / (sigma sqrt 2)).
+    const double thr = std::min(gate, o.outlier_z * sigma);
+    int n_out = beyond_gate;
+    for (const auto& x : obs) n_out += std::abs(x.r) > thr;
+    const int n_frames = static_cast<int>(obs.size()) + beyond_gate;
+    const double lambda = static_cast<double>(n_frames) * std::erfc(thr / (sigma * std::sqrt(2.0)));
+    const double tail = poisson_upper_tail(n_out, lambda);
+    const bool outliers_found = n_out > 0 && tail < o.alpha / m_family;
     const double kpar = static_cast<double>(fin.beta.size());
     const double dof = (fin.n - kpar) / f_ar;
     const double s2 = fin.rss / (fin.n - kpar);
@@ -511,22 +589,27 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
       e.params = {"ratio"};
       e.estimate = {std::sqrt(q)};
       e.stderr_ = {std::sqrt(q) / std::sqrt(2 * dof)};
+      if (outliers_found) {
+        // Outliers below the 5 sigma cut still inflate the RMS: estimate sigma robustly (MAD of
+        // the extended model's residuals); the MAD's efficiency 0.37 widens the SE by 1.64.
+        std::vector<double> res;
+        const auto cols = cols_of(chosen);
+        for (auto i : use) {
+          double pred = 0;
+          for (std::size_t j = 0; j < cols.size(); ++j) pred += fin.beta(static_cast<Eigen::Index>(j)) * cols[j](obs[i]);
+          res.push_back(obs[i].r - pred);
+        }
+        const double ratio = 1.4826 * median_abs(res) / nom;
+        e.estimate = {ratio};
+        e.stderr_ = {1.64 * ratio / std::sqrt(2 * dof)};
+      }
       e.p_value = p;
       e.evidence_lr = dof * (q - 1 - std::log(q));
       e.note = "fitted bearing sigma " + short_num(std::sqrt(s2) / kDegToRad) + " deg against the nominal " +
                short_num(o.sigma_deg) + " deg";
       rep.effects.push_back(e);
     }
-    // An outlier lies beyond thr = min(gate, outlier_z sigma): an associated frame beyond it, or a
-    // frame whose detections all miss the gate; under the nominal model a frame does so with
-    // probability erfc(thr / (sigma sqrt 2)).
-    const double thr = std::min(gate, o.outlier_z * sigma);
-    int n_out = beyond_gate;
-    for (const auto& x : obs) n_out += std::abs(x.r) > thr;
-    const int n_frames = static_cast<int>(obs.size()) + beyond_gate;
-    const double lambda = static_cast<double>(n_frames) * std::erfc(thr / (sigma * std::sqrt(2.0)));
-    const double tail = poisson_upper_tail(n_out, lambda);
-    if (n_out > 0 && tail < o.alpha / m_family) {
+    if (outliers_found) {
       EffectResult e;
       e.name = "outliers";
       e.params = {"fraction"};
@@ -588,51 +671,9 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     // chosen manoeuvres and effect columns, Gauss-Newton on the same frames.
     std::vector<Ob> e_obs;
     for (auto i : est) e_obs.push_back(obs[i]);
-    auto fit_ext = [&](bool extended, ExtTrack& tr, Eigen::VectorXd& beta, std::vector<double>& res) -> bool {
-      double s_fit = 0;
-      tr = ExtTrack{};
-      tr.cv = full.track;
-      if (extended) {
-        tr.tau = taus;
-        tr.dv.assign(taus.size(), Eigen::Vector2d::Zero());
-      }
-      const std::size_t nb = extended ? fx_cols.size() : 0;
-      beta = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nb));
-      const auto np = static_cast<Eigen::Index>(4 + 2 * tr.tau.size() + nb);
-      for (int it = 0; it < 20; ++it) {
-        Eigen::MatrixXd X(static_cast<Eigen::Index>(e_obs.size()), np);
-        Eigen::VectorXd y(static_cast<Eigen::Index>(e_obs.size()));
-        for (std::size_t i = 0; i < e_obs.size(); ++i) {
-          const TrackObs& to = tobs[e_obs[i].k];
-          const Eigen::Vector2d d = tr.at(to.t_s) - to.o_F;
-          const double r2 = d.squaredNorm(), gn = -d.y() / r2, ge = d.x() / r2, dt = to.t_s - tr.cv.t_ref_s;
-          double h = std::atan2(d.y(), d.x());
-          for (std::size_t j = 0; j < nb; ++j) h += beta(static_cast<Eigen::Index>(j)) * fx_cols[j](e_obs[i]);
-          const auto row = static_cast<Eigen::Index>(i);
-          y(row) = wrap_pi(e_obs[i].meas - h);
-          X(row, 0) = gn, X(row, 1) = ge, X(row, 2) = dt * gn, X(row, 3) = dt * ge;
-          for (std::size_t m = 0; m < tr.tau.size(); ++m) {
-            const double rm = ramp(to.t_s, tr.tau[m]);
-            X(row, static_cast<Eigen::Index>(4 + 2 * m)) = rm * gn;
-            X(row, static_cast<Eigen::Index>(5 + 2 * m)) = rm * ge;
-          }
-          for (std::size_t j = 0; j < nb; ++j)
-            X(row, static_cast<Eigen::Index>(4 + 2 * tr.tau.size() + j)) = fx_cols[j](e_obs[i]);
-        }
-        Eigen::VectorXd dsc(np);
-        for (Eigen::Index j = 0; j < np; ++j) dsc(j) = X.col(j).norm() > 0 ? 1.0 / X.col(j).norm() : 1.0;
-        const Eigen::VectorXd step = dsc.asDiagonal() * (X * dsc.asDiagonal()).colPivHouseholderQr().solve(y);
-        if (!step.allFinite()) return false;
-        const Eigen::VectorXd e = y - X * step;
-        res.assign(e.data(), e.data() + e.size());
-        s_fit = std::sqrt(e.squaredNorm() / static_cast<double>(e_obs.size()));
-        tr.cv.p0_F += step.segment<2>(0);
-        tr.cv.v_F += step.segment<2>(2);
-        for (std::size_t m = 0; m < tr.tau.size(); ++m) tr.dv[m] += step.segment<2>(static_cast<Eigen::Index>(4 + 2 * m));
-        beta += step.tail(static_cast<Eigen::Index>(nb));
-        if (step.head<2>().norm() < 1e-4) break;
-      }
-      return std::isfinite(s_fit) && s_fit > 0 && tr.cv.p0_F.allFinite();
+    auto fit_ext = [&](bool extended, ExtTrack& tr, Eigen::VectorXd& beta, std::vector<double>& res) {
+      return fit_extended(e_obs, tobs, full.track, extended ? taus : std::vector<double>{},
+                          extended ? fx_cols : std::vector<Col>{}, tr, beta, res);
     };
     ExtTrack tr0, tr1;
     Eigen::VectorXd b0, b1;
