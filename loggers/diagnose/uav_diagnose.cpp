@@ -82,31 +82,6 @@ double z_two_sided(double p) {
   return lo;
 }
 
-// Interpolate a geodetic series in F's (north, east); false outside or across gaps > 2 s.
-class Series {
- public:
-  Series(const std::vector<GeoSample>& v, const LocalLevelFrame& F) : v_(v) {
-    for (const auto& s : v) {
-      const Eigen::Vector3d q = F.from_geodetic(s.g);
-      p_.emplace_back(q.x(), q.z());
-    }
-  }
-  bool at(double t, Eigen::Vector2d& out) const {
-    const auto it = std::lower_bound(v_.begin(), v_.end(), t, [](const GeoSample& s, double x) { return s.t_s < x; });
-    if (it == v_.begin() || it == v_.end()) return false;
-    const auto i = static_cast<std::size_t>(it - v_.begin());
-    const double t0 = v_[i - 1].t_s, t1 = v_[i].t_s;
-    if (t1 - t0 > 2.0) return false;
-    const double w = (t - t0) / (t1 - t0);
-    out = (1 - w) * p_[i - 1] + w * p_[i];
-    return true;
-  }
-
- private:
-  const std::vector<GeoSample>& v_;
-  std::vector<Eigen::Vector2d> p_;
-};
-
 // The extended track: the CV track plus the chosen manoeuvres (velocity changes dv at tau).
 struct ExtTrack {
   CvTrack cv;
@@ -127,7 +102,8 @@ struct Scored {
 
 // AR(1) coefficient per frame from the lag-1 correlation r_d of the first differences:
 // for AR(1) noise r_d = (rho - 1) / 2, so rho = 1 + 2 r_d, clamped to [0, 0.99].
-double ar1_from_differences(const std::vector<double>& r) {
+// Lag-1 correlation r_d of the first differences of r (0 without spread).
+double diff_lag1(const std::vector<double>& r) {
   double num = 0, den = 0, prev = 0;
   for (std::size_t i = 1; i < r.size(); ++i) {
     const double d = r[i] - r[i - 1];
@@ -135,8 +111,9 @@ double ar1_from_differences(const std::vector<double>& r) {
     if (i > 1) num += d * prev;
     prev = d;
   }
-  return den > 0 ? std::clamp(1 + 2 * num / den, 0.0, 0.99) : 0.0;
+  return den > 0 ? num / den : 0.0;
 }
+double ar1_from_differences(const std::vector<double>& r) { return std::clamp(1 + 2 * diff_lag1(r), 0.0, 0.99); }
 
 // Log-likelihood of residuals e at times t under zero-mean noise of marginal sigma s, white
 // (tau = 0) or Gauss-Markov with correlation time tau: e_k | e_j ~ N(phi e_j, s^2 (1 - phi^2)),
@@ -222,8 +199,8 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   DiagnoseReport rep;
   rep.kind = "uav";
   const LocalLevelFrame F(data.observer.front().g, 0.0);  // x north, z east
-  const Series observer(data.observer, F);
-  const Series truth(data.truth, F);
+  const PlaneSeries observer(data.observer, F);
+  const PlaneSeries truth(data.truth, F);
   const double gate = o.gate_deg * kDegToRad;
 
   // ---- the reference track and the residuals ----
@@ -371,15 +348,10 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   {
     // For white noise the first differences have lag-1 correlation -1/2; AR(1) rho gives
     // (rho - 1) / 2, so rho = 1 + 2 r_d (a fitted track's residual is white to O(1/n)).
-    std::vector<double> d;
-    for (std::size_t i = 1; i < use.size(); ++i) d.push_back(obs[use[i]].r - obs[use[i - 1]].r);
-    double num = 0, den = 0;
-    for (std::size_t i = 0; i < d.size(); ++i) {
-      den += d[i] * d[i];
-      if (i) num += d[i] * d[i - 1];
-    }
-    const double rd = num / den, n = static_cast<double>(d.size());
-    rho = std::clamp(1 + 2 * rd, 0.0, 0.99);
+    std::vector<double> ru;
+    for (auto i : use) ru.push_back(obs[i].r);
+    const double rd = diff_lag1(ru), n = static_cast<double>(ru.size() - 1);
+    rho = ar1_from_differences(ru);
     const double z = (rd + 0.5) / std::sqrt(0.5 / n);
     if (0.5 * std::erfc(z / std::sqrt(2.0)) < o.alpha / m_family) {
       correlated = true;

@@ -28,29 +28,32 @@ double CvTrack::bearing_rate(const TrackObs& x) const {
   return (d.x() * dv.y() - d.y() * dv.x()) / d.squaredNorm();
 }
 
-std::vector<TrackObs> track_observations(const AzimuthData& data, const LocalLevelFrame& F) {
-  std::vector<Eigen::Vector2d> p;
-  for (const auto& s : data.observer) {
+PlaneSeries::PlaneSeries(const std::vector<GeoSample>& v, const LocalLevelFrame& F) : v_(v) {
+  for (const auto& s : v) {
     const Eigen::Vector3d q = F.from_geodetic(s.g);
-    p.emplace_back(q.x(), q.z());
+    p_.emplace_back(q.x(), q.z());
   }
-  auto interp = [&](double t, Eigen::Vector2d& out) {
-    const auto it = std::lower_bound(data.observer.begin(), data.observer.end(), t,
-                                     [](const GeoSample& s, double x) { return s.t_s < x; });
-    if (it == data.observer.begin() || it == data.observer.end()) return false;
-    const auto i = static_cast<std::size_t>(it - data.observer.begin());
-    const double t0 = data.observer[i - 1].t_s, t1 = data.observer[i].t_s;
-    if (t1 - t0 > 2.0) return false;
-    const double w = (t - t0) / (t1 - t0);
-    out = (1 - w) * p[i - 1] + w * p[i];
-    return true;
-  };
+}
+
+bool PlaneSeries::at(double t, Eigen::Vector2d& out) const {
+  const auto it = std::lower_bound(v_.begin(), v_.end(), t, [](const GeoSample& s, double x) { return s.t_s < x; });
+  if (it == v_.begin() || it == v_.end()) return false;
+  const auto i = static_cast<std::size_t>(it - v_.begin());
+  const double t0 = v_[i - 1].t_s, t1 = v_[i].t_s;
+  if (t1 - t0 > 2.0) return false;
+  const double w = (t - t0) / (t1 - t0);
+  out = (1 - w) * p_[i - 1] + w * p_[i];
+  return true;
+}
+
+std::vector<TrackObs> track_observations(const AzimuthData& data, const LocalLevelFrame& F) {
+  const PlaneSeries observer(data.observer, F);
   std::vector<TrackObs> obs;
   const double h = 0.5;  // [s] half-span of the velocity's central difference
   for (const auto& fr : data.frames) {
     TrackObs x;
     Eigen::Vector2d a, b;
-    if (fr.bearings_rad.empty() || !interp(fr.t_s, x.o_F) || !interp(fr.t_s - h, a) || !interp(fr.t_s + h, b)) continue;
+    if (fr.bearings_rad.empty() || !observer.at(fr.t_s, x.o_F) || !observer.at(fr.t_s - h, a) || !observer.at(fr.t_s + h, b)) continue;
     x.t_s = fr.t_s;
     x.vo_F = (b - a) / (2 * h);
     x.bearings_rad = fr.bearings_rad;
