@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace rnav {
@@ -23,6 +24,12 @@ std::vector<std::string> split(const std::string& line) {
 }  // namespace
 
 CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>& columns) {
+  std::vector<CsvColumn> spec;
+  for (const auto& c : columns) spec.push_back({c, CsvKind::kNumber, false});
+  return read_columns(file, spec);
+}
+
+CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvColumn>& columns) {
   CsvTable t;
   t.file_ = file;
   std::ifstream in(file);
@@ -31,18 +38,20 @@ CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>&
   if (!std::getline(in, line) || trim(line).empty())
     throw ConfigError(file + ":1: missing header line (expected columns: " + [&] {
       std::string s;
-      for (const auto& c : columns) s += (s.empty() ? "" : ",") + c;
+      for (const auto& c : columns) s += (s.empty() ? "" : ",") + c.name + (c.optional ? "?" : "");
       return s;
     }() + ")");
   const auto header = split(line);
-  std::vector<int> idx;
+  std::vector<int> idx;  // field index per asked column, -1 for an absent optional one
   for (const auto& c : columns) {
     int found = -1;
     for (std::size_t i = 0; i < header.size(); ++i)
-      if (header[i] == c) found = static_cast<int>(i);
-    if (found < 0) throw ConfigError(file + ":1: header lacks column '" + c + "'");
+      if (header[i] == c.name) found = static_cast<int>(i);
+    if (found < 0 && !c.optional) throw ConfigError(file + ":1: header lacks column '" + c.name + "'");
     idx.push_back(found);
-    t.cols_[c];
+    if (found < 0) continue;
+    if (c.kind == CsvKind::kText) t.text_[c.name];
+    else t.cols_[c.name];
   }
   int lineno = 1;
   while (std::getline(in, line)) {
@@ -60,14 +69,25 @@ CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>&
       throw ConfigError(file + ":" + std::to_string(lineno) + ": " + std::to_string(cells.size()) +
                         " fields, the header has " + std::to_string(header.size()));
     for (std::size_t k = 0; k < columns.size(); ++k) {
+      if (idx[k] < 0) continue;
+      const CsvColumn& c = columns[k];
       const std::string& cell = cells[static_cast<std::size_t>(idx[k])];
+      const std::string where = file + ":" + std::to_string(lineno) + ": column '" + c.name +
+                                "' (field " + std::to_string(idx[k] + 1) + "): ";
+      if (c.kind == CsvKind::kText) {
+        if (cell.empty()) throw ConfigError(where + "empty text");
+        t.text_[c.name].push_back(cell);
+        continue;
+      }
+      if (c.kind == CsvKind::kNumberOrEmpty && cell.empty()) {
+        t.cols_[c.name].push_back(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
       char* end = nullptr;
       const double v = std::strtod(cell.c_str(), &end);
       if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
-        throw ConfigError(file + ":" + std::to_string(lineno) + ": column '" + columns[k] +
-                          "' (field " + std::to_string(idx[k] + 1) + "): '" + cell +
-                          "' is not a finite number");
-      t.cols_[columns[k]].push_back(v);
+        throw ConfigError(where + "'" + cell + "' is not a finite number");
+      t.cols_[c.name].push_back(v);
     }
     t.lines_.push_back(lineno);
   }
@@ -77,6 +97,12 @@ CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>&
 const std::vector<double>& CsvTable::col(const std::string& name) const {
   const auto it = cols_.find(name);
   if (it == cols_.end()) throw std::logic_error("CsvTable: column " + name + " was not read");
+  return it->second;
+}
+
+const std::vector<std::string>& CsvTable::text(const std::string& name) const {
+  const auto it = text_.find(name);
+  if (it == text_.end()) throw std::logic_error("CsvTable: text column " + name + " was not read");
   return it->second;
 }
 

@@ -1,6 +1,8 @@
 // The CSV interchange format's reader: a header line is required, extra columns are ignored,
 // every named column must be present and every cell a finite number; anything else is a
 // ConfigError naming file, line and column. Rows must be in time order.
+// read_columns() also reads text columns, numeric columns with empty cells (NaN) and optional
+// columns that may be absent from the header.
 #pragma once
 
 #include "config.hpp"
@@ -11,12 +13,33 @@
 
 namespace rnav {
 
+/// What the cells of a column must hold.
+enum class CsvKind {
+  kNumber,         ///< a finite number in every cell
+  kNumberOrEmpty,  ///< empty (read as NaN) or a finite number
+  kText,           ///< non-empty text (leading/trailing blanks trimmed; no quoting)
+};
+
+/// One column asked of CsvTable::read_columns.
+struct CsvColumn {
+  std::string name;                  ///< header name
+  CsvKind kind = CsvKind::kNumber;   ///< what its cells must hold
+  bool optional = false;             ///< may be absent from the header (then has(name) is false)
+};
+
 class CsvTable {
  public:
-  /// Read `file`, keeping `columns` (all required).
+  /// Read `file`, keeping `columns` (all required, all numbers).
   static CsvTable read(const std::string& file, const std::vector<std::string>& columns);
+  /// Read `file`, keeping `columns` as each one's spec says.
+  static CsvTable read_columns(const std::string& file, const std::vector<CsvColumn>& columns);
   std::size_t rows() const { return lines_.size(); }
+  /// True if column `name` was asked for and is in the header.
+  bool has(const std::string& name) const { return cols_.count(name) || text_.count(name); }
+  /// A numeric column (kNumber or kNumberOrEmpty; NaN for empty cells).
   const std::vector<double>& col(const std::string& name) const;
+  /// A text column (kText).
+  const std::vector<std::string>& text(const std::string& name) const;
   /// The file's line number of row i (1-based, header = line 1).
   int line(std::size_t i) const { return lines_.at(i); }
   const std::string& file() const { return file_; }
@@ -27,6 +50,7 @@ class CsvTable {
  private:
   std::string file_;
   std::map<std::string, std::vector<double>> cols_;
+  std::map<std::string, std::vector<std::string>> text_;
   std::vector<int> lines_;
 };
 

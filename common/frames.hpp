@@ -22,6 +22,12 @@ struct Geodetic {
   double h_m = 0;      ///< height above the WGS84 ellipsoid [m]
 };
 
+/// A geodetic position with its time of validity.
+struct GeoSample {
+  double t_s = 0;  ///< time of validity [s] (the data set's time scale, e.g. Unix seconds UTC)
+  Geodetic g;      ///< geodetic (WGS84) position at t_s
+};
+
 /// Radar polar coordinates in a local-level frame R.
 struct Polar {
   double range_m = 0;     ///< slant range D [m], >= 0

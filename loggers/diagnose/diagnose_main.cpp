@@ -7,6 +7,7 @@
 #include "config.hpp"
 #include "lcm_log_input.hpp"
 #include "lcm_log_streams.hpp"
+#include "multi_diagnose.hpp"
 #include "prl_diagnose.hpp"
 #include "uav_diagnose.hpp"
 
@@ -18,13 +19,16 @@
 namespace {
 
 const char* kUsage =
-    "usage: rnav_diagnose prl|uav INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
+    "usage: rnav_diagnose prl|uav|multi INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
     "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
     "         [--split-fraction F] [--ignore-truth] [--seed N]\n"
     "         [--realization R] [--scenario FILE] [--set key=value]...\n"
     "  prl: --split-time, --nav-sigma, --nav-tau; uav: --gate-deg, --sigma-deg, --split-fraction,\n"
     "  --ignore-truth (diagnose on a track fitted to the bearings; truth only scores the gain),\n"
     "  --seed (of that fit's initialisation)\n"
+    "  multi: a multi-sensor folder (observer.csv, detections.csv, truth.csv); --gate-deg (bearing\n"
+    "  gate, default 3), --gate-m (range sensors' position gate, default 20), --sigma-deg (nominal\n"
+    "  bearing sigma, default 0.5), --sigma-range-m (default 1), --split-fraction (default 0.6)\n"
     "  INPUT: a CSV folder, or an LCM event log (scripts/run --lcm-log FILE); for a log,\n"
     "  --realization picks one (default 0) and --scenario/--set give the site (default: the\n"
     "  scenario the log carries on SIM_SCENARIO)";
@@ -72,10 +76,12 @@ int main(int argc, char** argv) {
   try {
     if (argc < 3) throw rnav::ConfigError(kUsage);
     const std::string kind = argv[1], input = argv[2];
-    if (kind != "prl" && kind != "uav") throw rnav::ConfigError("diagnose: kind must be prl or uav, got '" + kind + "'");
+    if (kind != "prl" && kind != "uav" && kind != "multi")
+      throw rnav::ConfigError("diagnose: kind must be prl, uav or multi, got '" + kind + "'");
     std::string json, residuals;
     rnav::DiagnoseOptions o;
     rnav::UavDiagnoseOptions uo;
+    rnav::MultiDiagnoseOptions mo;
     rnav::LcmLogOptions lo;
     bool log_options = false;
     for (int i = 3; i < argc; ++i) {
@@ -86,12 +92,14 @@ int main(int argc, char** argv) {
       };
       if (a == "--json") json = value();
       else if (a == "--split-time") o.split_time_s = number(a, value());
-      else if (a == "--alpha") o.alpha = uo.alpha = number(a, value());
-      else if (a == "--gate-deg") uo.gate_deg = number(a, value());
-      else if (a == "--sigma-deg") uo.sigma_deg = number(a, value());
+      else if (a == "--alpha") o.alpha = uo.alpha = mo.search.alpha = number(a, value());
+      else if (a == "--gate-deg") uo.gate_deg = mo.association.gate_bearing_deg = number(a, value());
+      else if (a == "--gate-m") mo.association.gate_position_m = number(a, value());
+      else if (a == "--sigma-deg") uo.sigma_deg = mo.sigma_bearing_deg = number(a, value());
+      else if (a == "--sigma-range-m") mo.sigma_range_m = number(a, value());
       else if (a == "--residuals") residuals = value();
-      else if (a == "--confound-corr") o.confound_corr = uo.confound_corr = number(a, value());
-      else if (a == "--split-fraction") uo.split_fraction = number(a, value());
+      else if (a == "--confound-corr") o.confound_corr = uo.confound_corr = mo.search.confound_corr = number(a, value());
+      else if (a == "--split-fraction") uo.split_fraction = mo.split_fraction = number(a, value());
       else if (a == "--ignore-truth") uo.ignore_truth = true;
       else if (a == "--seed") uo.seed = static_cast<std::uint64_t>(integer(a, value()));
       else if (a == "--nav-sigma") o.nav_sigma_m = number(a, value());
@@ -100,6 +108,22 @@ int main(int argc, char** argv) {
       else if (a == "--scenario") lo.scenario_file = value(), log_options = true;
       else if (a == "--set") lo.overrides.push_back(value()), log_options = true;
       else throw rnav::ConfigError("diagnose: unknown option " + a);
+    }
+    auto write_json = [&](const nlohmann::ordered_json& j) {
+      if (json.empty()) return;
+      std::ofstream f(json + ".partial");
+      f << j.dump(2) << "\n";
+      f.close();
+      if (!f || std::rename((json + ".partial").c_str(), json.c_str()) != 0) throw std::runtime_error("cannot write " + json);
+    };
+    if (kind == "multi") {
+      if (log_options || !std::filesystem::is_directory(input))
+        throw rnav::ConfigError("multi: INPUT must be a multi-sensor CSV folder ('" + input + "' is not a folder, or LCM-log options were given)");
+      const auto rep = rnav::diagnose_multi(rnav::MultiSensorData::read_folder(input), mo);
+      std::cout << rep.text();
+      if (!residuals.empty()) rep.write_residuals_csv(residuals);
+      write_json(rep.to_json());
+      return 0;
     }
     const bool log = is_log_input(input);
     if (!log && log_options)
@@ -113,13 +137,7 @@ int main(int argc, char** argv) {
     if (!summary.empty()) std::cerr << "diagnose: " << summary << "\n";
     std::cout << rep.text();
     if (!residuals.empty()) rep.write_residuals_csv(residuals);
-    if (!json.empty()) {
-      std::ofstream f(json + ".partial");
-      f << rep.to_json().dump(2) << "\n";
-      f.close();
-      if (!f || std::rename((json + ".partial").c_str(), json.c_str()) != 0)
-        throw std::runtime_error("cannot write " + json);
-    }
+    write_json(rep.to_json());
     return 0;
   } catch (const rnav::ConfigError& e) {
     std::cerr << "diagnose: error: " << e.what() << "\n";

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "prl_flight_data.hpp"
+#include "stats.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -93,17 +94,5 @@ struct DiagnoseReport {
 
 DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o);
 
-/// Regularized upper incomplete gamma Q(a, x) (the chi-square survival function is
-/// Q(k/2, x/2)).
-double gamma_q(double a, double x);
-double chi2_sf(double x, double k);
-/// Poisson upper tail P(N >= k) for mean lambda.
-double poisson_upper_tail(int k, double lambda);
-/// Median of |v| (for robust sigma: 1.4826 * median_abs).
-double median_abs(std::vector<double> v);
-/// A number in %.4g for reports (%.1f from 1e5 on: absolute times keep their tenths).
-std::string short_num(double x);
-/// Pearson correlation of x and y (0 when either has no spread).
-double pearson(const std::vector<double>& x, const std::vector<double>& y);
 
 }  // namespace rnav

@@ -17,11 +17,6 @@
 
 namespace rnav {
 
-struct GeoSample {
-  double t_s = 0;
-  Geodetic g;
-};
-
 struct PrlFlightData {
   Geodetic radar_site;
   double azimuth_reference_deg = 0;

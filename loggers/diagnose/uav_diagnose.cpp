@@ -72,16 +72,6 @@ struct Effect {
 
 double ramp(double t, double tau) { return t > tau ? t - tau : 0.0; }
 
-// Two-sided normal quantile z with erfc(z / sqrt 2) = p.
-double z_two_sided(double p) {
-  double lo = 0, hi = 40;
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
-  }
-  return lo;
-}
-
 // The extended track: the CV track plus the chosen manoeuvres (velocity changes dv at tau).
 struct ExtTrack {
   CvTrack cv;

@@ -28,24 +28,6 @@ double CvTrack::bearing_rate(const TrackObs& x) const {
   return (d.x() * dv.y() - d.y() * dv.x()) / d.squaredNorm();
 }
 
-PlaneSeries::PlaneSeries(const std::vector<GeoSample>& v, const LocalLevelFrame& F) : v_(v) {
-  for (const auto& s : v) {
-    const Eigen::Vector3d q = F.from_geodetic(s.g);
-    p_.emplace_back(q.x(), q.z());
-  }
-}
-
-bool PlaneSeries::at(double t, Eigen::Vector2d& out) const {
-  const auto it = std::lower_bound(v_.begin(), v_.end(), t, [](const GeoSample& s, double x) { return s.t_s < x; });
-  if (it == v_.begin() || it == v_.end()) return false;
-  const auto i = static_cast<std::size_t>(it - v_.begin());
-  const double t0 = v_[i - 1].t_s, t1 = v_[i].t_s;
-  if (t1 - t0 > 2.0) return false;
-  const double w = (t - t0) / (t1 - t0);
-  out = (1 - w) * p_[i - 1] + w * p_[i];
-  return true;
-}
-
 std::vector<TrackObs> track_observations(const AzimuthData& data, const LocalLevelFrame& F) {
   const PlaneSeries observer(data.observer, F);
   std::vector<TrackObs> obs;

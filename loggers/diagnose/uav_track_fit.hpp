@@ -18,6 +18,7 @@
 #pragma once
 
 #include "azimuth_data.hpp"
+#include "plane_series.hpp"
 
 #include <Eigen/Dense>
 
@@ -31,18 +32,6 @@ struct TrackFitOptions {
   int ransac_trials = 400;    ///< minimal-set trials of the initialisation, >= 1
   std::uint64_t seed = 1;     ///< random seed of the initialisation (deterministic)
   int max_iterations = 30;    ///< Gauss-Newton iterations per association round
-};
-
-/// A geodetic time series in F's (north, east), linearly interpolated; at() is false outside
-/// its span or across a gap longer than 2 s. Keeps a reference to v.
-class PlaneSeries {
- public:
-  PlaneSeries(const std::vector<GeoSample>& v, const LocalLevelFrame& F);
-  bool at(double t_s, Eigen::Vector2d& out) const;
-
- private:
-  const std::vector<GeoSample>& v_;
-  std::vector<Eigen::Vector2d> p_;
 };
 
 /// One frame of observation for the fit.

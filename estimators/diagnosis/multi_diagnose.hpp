@@ -1,0 +1,71 @@
+// Diagnosis of multi-sensor, multi-target data (multi_sensor_data.hpp) against the nominal
+// model: every sensor measures the true geometry (bearing, and range for range sensors) from
+// the observer's navigation solution to the target's reference track, with white noise of its
+// nominal sigma, on one common clock; every target follows its reference track (a constant
+// velocity between scripted manoeuvres).
+//
+// Channels: "<sensor>:<target>:bearing" [rad] for every sensor, "<sensor>:<target>:range" [m]
+// for range sensors; residual = measured - predicted from the reference.
+// Catalogue (columns per observation; h = the predicted measurement, d = target - observer,
+// v_rel its rate, v_T the target's velocity, u / u_perp its course and starboard unit vectors):
+//   sensor scope:  time_offset [s] (sensor stamp - true time): -dh/dd v_rel;
+//                  bearing_bias [rad]: 1 on its bearings; range_bias [m]: 1 on its ranges;
+//                  range_gain [1]: the predicted range; bias_step [rad] on its bearings at a
+//                  scanned time;
+//   target scope:  truth_time_offset [s] (reference stamp - true time): +dh/dd v_T;
+//                  antenna_offset [m] (the sensed centre ahead of / to starboard of the
+//                  reference antenna): dh/dd u, dh/dd u_perp;
+//   sensor x target: antenna_offset for each range sensor (where that sensor sees the hull);
+//   common:        time_offset (one clock for every sensor), bearing_bias (the observer's heading).
+// Scope questions: sensor clocks vs target reference clocks vs both vs one common clock;
+// per-sensor bearing biases vs one heading bias; hull offsets per target vs per sensor and target.
+// The target model is tested on each reference track alone (target_model.hpp).
+// Gain, keyed "<sensor>:<target>": fit on the first split_fraction of the span, score the rest;
+// range sensors: position error of the detection against the reference [m]; bearing-only
+// sensors: bearing error [deg].
+#pragma once
+
+#include "effect_search.hpp"
+#include "multi_association.hpp"
+#include "multi_sensor_data.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+
+namespace rnav {
+
+struct MultiDiagnoseOptions {
+  AssociationOptions association;
+  SearchOptions search;             ///< alpha (familywise), power, confound_corr, ...
+  double split_fraction = 0.6;      ///< estimation window = first fraction of the span, (0.2, 0.9)
+  double sigma_bearing_deg = 0.5;   ///< [deg] nominal bearing noise of every sensor, > 0
+  double sigma_range_m = 1.0;       ///< [m] nominal range noise of range sensors, > 0
+  int step_grid = 24;               ///< scan grid of bias_step (10 % to 90 % of the span), >= 2
+  bool test_target_model = true;    ///< check each reference track against the target model
+};
+
+struct MultiGain {
+  int n = 0;
+  double nominal_rms = 0, extended_rms = 0;
+  std::string unit;  ///< "m" (position error) or "deg" (bearing error)
+};
+
+struct MultiReport {
+  Problem problem;                  ///< as posed to the engine (without the column functions' data)
+  SearchResult result;
+  std::vector<FoundEffect> target_effects;  ///< target_maneuver findings on the reference tracks
+  std::vector<std::string> target_notes;
+  std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>"
+  std::map<std::string, SensorAssociation> association;
+  double split_time_s = 0;
+  nlohmann::ordered_json to_json() const;
+  std::string text() const;
+  /// t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier (bearings in rad)
+  void write_residuals_csv(const std::string& file) const;
+};
+
+MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o);
+
+}  // namespace rnav

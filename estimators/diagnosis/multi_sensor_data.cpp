@@ -1,0 +1,231 @@
+#include "multi_sensor_data.hpp"
+
+#include "config.hpp"
+#include "csv_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+namespace rnav {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMaxRange_m = 1e6;
+
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", x);
+  return b;
+}
+
+/// ConfigError "FILE:LINE: column 'COL': WHAT" for row i of t.
+[[noreturn]] void fail(const CsvTable& t, std::size_t i, const std::string& col, const std::string& what) {
+  throw ConfigError(t.file() + ":" + std::to_string(t.line(i)) + ": column '" + col + "': " + what);
+}
+
+/// Latitude in [-90, 90] and longitude in [-180, 360] of row i, else ConfigError.
+void check_lat_lon(const CsvTable& t, std::size_t i) {
+  const double lat = t.col("lat_deg")[i], lon = t.col("lon_deg")[i];
+  if (lat < -90 || lat > 90) fail(t, i, "lat_deg", num(lat) + " is outside [-90, 90]");
+  if (lon < -180 || lon > 360) fail(t, i, "lon_deg", num(lon) + " is outside [-180, 360]");
+}
+
+bool name_chars(const std::string& s, bool upper) {
+  if (s.empty()) return false;
+  for (char c : s)
+    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || (upper && c >= 'A' && c <= 'Z')))
+      return false;
+  return true;
+}
+
+void read_observer(const std::string& file, MultiSensorData& d) {
+  const CsvTable t = CsvTable::read_columns(
+      file, {{"t_s"}, {"lat_deg"}, {"lon_deg"}, {"h_m"}, {"heading_deg", CsvKind::kNumberOrEmpty, true}});
+  t.require_time_order("t_s", false);
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    check_lat_lon(t, i);
+    const double hdg = t.has("heading_deg") ? t.col("heading_deg")[i] : kNaN;
+    if (!std::isnan(hdg) && (hdg < 0 || hdg >= 360)) fail(t, i, "heading_deg", num(hdg) + " is outside [0, 360)");
+    d.observer.push_back({t.col("t_s")[i], {t.col("lat_deg")[i], t.col("lon_deg")[i], t.col("h_m")[i]}});
+    d.observer_heading_deg.push_back(hdg);
+  }
+  if (d.observer.size() < 2)
+    throw ConfigError(file + ": " + std::to_string(d.observer.size()) + " data rows, at least 2 are needed");
+}
+
+void read_detections(const std::string& file, MultiSensorData& d) {
+  const CsvTable t = CsvTable::read_columns(file, {{"t_s"},
+                                                   {"sensor", CsvKind::kText},
+                                                   {"range_m", CsvKind::kNumberOrEmpty},
+                                                   {"bearing_deg", CsvKind::kNumberOrEmpty},
+                                                   {"elevation_deg", CsvKind::kNumberOrEmpty, true}});
+  struct Scan {
+    double t_s;
+    bool empty;  // the scan's row so far is an empty-scan row
+  };
+  std::map<std::string, Scan> last;  // per sensor: its latest scan
+  std::size_t n_det = 0;
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    Detection x;
+    x.t_s = t.col("t_s")[i];
+    x.sensor = t.text("sensor")[i];
+    x.range_m = t.col("range_m")[i];
+    const double b = t.col("bearing_deg")[i];
+    const double e = t.has("elevation_deg") ? t.col("elevation_deg")[i] : kNaN;
+    if (!valid_sensor_name(x.sensor)) fail(t, i, "sensor", "'" + x.sensor + "' is not a sensor name ([a-z0-9_]+)");
+    if (!std::isnan(x.range_m) && (x.range_m < 0 || x.range_m > kMaxRange_m))
+      fail(t, i, "range_m", num(x.range_m) + " is outside [0, 1e6]");
+    if (!std::isnan(b) && (b < -360 || b > 360)) fail(t, i, "bearing_deg", num(b) + " is outside [-360, 360]");
+    if (std::isnan(b) && !std::isnan(x.range_m)) fail(t, i, "bearing_deg", "empty, but range_m is given");
+    if (!std::isnan(e) && (e < -90 || e > 90)) fail(t, i, "elevation_deg", num(e) + " is outside [-90, 90]");
+    if (std::isnan(b) && !std::isnan(e)) fail(t, i, "elevation_deg", "given on an empty-scan row");
+    x.bearing_rad = std::isnan(b) ? kNaN : wrap_pi(b * kDegToRad);
+    x.elevation_rad = std::isnan(e) ? kNaN : e * kDegToRad;
+    const bool empty = x.empty_scan();
+    const auto it = last.find(x.sensor);
+    if (it != last.end()) {
+      if (x.t_s < it->second.t_s)
+        fail(t, i, "t_s", "sensor '" + x.sensor + "' goes back in time (" + num(x.t_s) + " after " +
+                              num(it->second.t_s) + ")");
+      if (x.t_s == it->second.t_s && (empty || it->second.empty))
+        fail(t, i, "bearing_deg", "sensor '" + x.sensor + "' has an empty-scan row and another row at t_s " +
+                                      num(x.t_s));
+    }
+    last[x.sensor] = {x.t_s, empty};
+    n_det += empty ? 0 : 1;
+    d.detections.push_back(x);
+  }
+  if (n_det == 0)
+    throw ConfigError(file + ": no detections at all (" + std::to_string(t.rows()) + " empty-scan rows)");
+}
+
+void read_truth(const std::string& file, MultiSensorData& d) {
+  const CsvTable t = CsvTable::read_columns(
+      file, {{"t_s"}, {"target", CsvKind::kText}, {"lat_deg"}, {"lon_deg"}, {"h_m", CsvKind::kNumberOrEmpty, true}});
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const std::string& name = t.text("target")[i];
+    if (!valid_target_name(name)) fail(t, i, "target", "'" + name + "' is not a target name ([A-Za-z0-9_]+)");
+    check_lat_lon(t, i);
+    auto& v = d.truth[name];
+    const double ts = t.col("t_s")[i];
+    if (!v.empty() && ts <= v.back().t_s)
+      fail(t, i, "t_s", "target '" + name + "' is not in strictly increasing time (" + num(ts) + " after " +
+                            num(v.back().t_s) + ")");
+    v.push_back({ts, {t.col("lat_deg")[i], t.col("lon_deg")[i], t.has("h_m") ? t.col("h_m")[i] : kNaN}});
+  }
+}
+
+/// Opens `file` for writing; close() flushes and throws naming the file on any failure.
+class CheckedFile {
+ public:
+  explicit CheckedFile(std::string file) : file_(std::move(file)), f_(file_, std::ios::trunc) {
+    if (!f_) throw std::runtime_error("cannot open " + file_ + " for writing");
+  }
+  std::ofstream& out() { return f_; }
+  void close() {
+    f_.flush();
+    f_.close();
+    if (!f_) throw std::runtime_error("error writing " + file_ + " (disk full?)");
+  }
+
+ private:
+  std::string file_;
+  std::ofstream f_;
+};
+
+/// "%.<prec>f" of x, or "" for NaN.
+std::string cell(double x, int prec) {
+  if (std::isnan(x)) return "";
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", prec, x);
+  return b;
+}
+
+bool any_finite(const std::vector<double>& v) {
+  return std::any_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); });
+}
+
+}  // namespace
+
+bool Detection::empty_scan() const { return std::isnan(bearing_rad) && std::isnan(range_m); }
+
+bool valid_sensor_name(const std::string& s) { return name_chars(s, false); }
+bool valid_target_name(const std::string& s) { return name_chars(s, true); }
+
+std::vector<std::string> MultiSensorData::sensors() const {
+  std::set<std::string> s;
+  for (const auto& x : detections) s.insert(x.sensor);
+  return {s.begin(), s.end()};
+}
+
+MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
+  MultiSensorData d;
+  read_observer(dir + "/observer.csv", d);
+  read_detections(dir + "/detections.csv", d);
+  if (std::filesystem::exists(dir + "/truth.csv")) read_truth(dir + "/truth.csv", d);
+  return d;
+}
+
+void MultiSensorData::write_folder(const std::string& dir) const {
+  if (!observer_heading_deg.empty() && observer_heading_deg.size() != observer.size())
+    throw std::invalid_argument("MultiSensorData: observer_heading_deg has " +
+                                std::to_string(observer_heading_deg.size()) + " values for " +
+                                std::to_string(observer.size()) + " observer rows");
+  for (const auto& x : detections)
+    if (!valid_sensor_name(x.sensor)) throw ConfigError("MultiSensorData: '" + x.sensor + "' is not a sensor name");
+  for (const auto& [name, v] : truth)
+    if (!valid_target_name(name)) throw ConfigError("MultiSensorData: '" + name + "' is not a target name");
+  std::filesystem::create_directories(dir);
+  {
+    const bool hdg = any_finite(observer_heading_deg);
+    CheckedFile f(dir + "/observer.csv");
+    f.out() << "t_s,lat_deg,lon_deg,h_m" << (hdg ? ",heading_deg" : "") << "\n";
+    for (std::size_t i = 0; i < observer.size(); ++i) {
+      const auto& s = observer[i];
+      f.out() << cell(s.t_s, 6) << ',' << cell(s.g.lat_deg, 10) << ',' << cell(s.g.lon_deg, 10) << ','
+              << cell(s.g.h_m, 4);
+      if (hdg) f.out() << ',' << cell(observer_heading_deg[i], 6);
+      f.out() << '\n';
+    }
+    f.close();
+  }
+  {
+    const bool elev = std::any_of(detections.begin(), detections.end(),
+                                  [](const Detection& x) { return !std::isnan(x.elevation_rad); });
+    CheckedFile f(dir + "/detections.csv");
+    f.out() << "t_s,sensor,range_m,bearing_deg" << (elev ? ",elevation_deg" : "") << "\n";
+    for (const auto& x : detections) {
+      f.out() << cell(x.t_s, 6) << ',' << x.sensor << ',' << cell(x.range_m, 3) << ','
+              << cell(x.bearing_rad / kDegToRad, 6);
+      if (elev) f.out() << ',' << cell(x.elevation_rad / kDegToRad, 6);
+      f.out() << '\n';
+    }
+    f.close();
+  }
+  const std::string truth_file = dir + "/truth.csv";
+  if (truth.empty()) {
+    std::filesystem::remove(truth_file);  // no stale truth from an earlier write
+    return;
+  }
+  bool h = false;
+  for (const auto& [name, v] : truth)
+    for (const auto& s : v) h = h || !std::isnan(s.g.h_m);
+  CheckedFile f(truth_file);
+  f.out() << "t_s,target,lat_deg,lon_deg" << (h ? ",h_m" : "") << "\n";
+  for (const auto& [name, v] : truth)
+    for (const auto& s : v) {
+      f.out() << cell(s.t_s, 6) << ',' << name << ',' << cell(s.g.lat_deg, 10) << ',' << cell(s.g.lon_deg, 10);
+      if (h) f.out() << ',' << cell(s.g.h_m, 4);
+      f.out() << '\n';
+    }
+  f.close();
+}
+
+}  // namespace rnav

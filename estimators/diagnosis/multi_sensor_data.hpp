@@ -1,0 +1,61 @@
+// Multi-sensor, multi-target observation data in a CSV interchange format: one folder with
+//   observer.csv    t_s,lat_deg,lon_deg,h_m[,heading_deg]
+//                   the observer's (ownship's) navigation solution, WGS84, h_m above the
+//                   ellipsoid; t_s strictly increasing; heading_deg optional column, clockwise
+//                   from true north in [0, 360), cells may be empty (unknown).
+//   detections.csv  t_s,sensor,range_m,bearing_deg[,elevation_deg]
+//                   one row per detection. sensor: [a-z0-9_]+ (radar, lidar, eo, ir, ...).
+//                   range_m: empty for bearing-only sensors, else in [0, 1e6]. bearing_deg:
+//                   true bearing observer -> detection, clockwise from north, [-360, 360].
+//                   elevation_deg: optional column, cells may be empty, [-90, 90]. range_m and
+//                   bearing_deg both empty: a scan of that sensor without detection. Rows of one
+//                   sensor in non-decreasing t_s (one t_s = one scan); sensors may interleave.
+//   truth.csv       optional file: t_s,target,lat_deg,lon_deg[,h_m]
+//                   each target's reference track; target: [A-Za-z0-9_]+; per target t_s
+//                   strictly increasing; h_m optional column, cells may be empty.
+// Times are in one time scale for all files (e.g. Unix seconds, UTC). Headers are required,
+// extra columns ignored; every violation is a ConfigError naming file:line and the column.
+#pragma once
+
+#include "frames.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// One detection (or one empty scan) of one sensor, seen from the observer.
+struct Detection {
+  double t_s = 0;           ///< time of the scan [s], the observer's time scale
+  std::string sensor;       ///< sensor name, [a-z0-9_]+
+  double range_m = 0;       ///< range observer -> detection [m], >= 0; NaN for bearing-only sensors and empty scans
+  double bearing_rad = 0;   ///< true bearing observer -> detection [rad], clockwise from north, (-pi, pi]; NaN for an empty scan
+  double elevation_rad = 0; ///< elevation above the observer's horizontal [rad], [-pi/2, pi/2]; NaN if none
+  /// True for a row that records a scan without detection.
+  bool empty_scan() const;
+};
+
+struct MultiSensorData {
+  std::vector<GeoSample> observer;           ///< observer's position, t_s strictly increasing
+  std::vector<double> observer_heading_deg;  ///< observer's heading at observer[i].t_s [deg], clockwise from true north, [0, 360); NaN where absent. Same length as observer (write_folder also accepts it empty: no heading)
+  std::vector<Detection> detections;         ///< file order: per sensor non-decreasing t_s
+  std::map<std::string, std::vector<GeoSample>> truth;  ///< per target name, t_s strictly increasing; h_m NaN where unknown; empty without truth.csv
+
+  /// The sensor names of `detections`, sorted and distinct.
+  std::vector<std::string> sensors() const;
+  /// Read and validate a folder (see the file comment); ConfigError naming file:line:column.
+  static MultiSensorData read_folder(const std::string& dir);
+  /// Write the folder (created if needed): t %.6f s, lat/lon %.10f deg, h %.4f m, range %.3f m,
+  /// angles %.6f deg; optional columns only when some value is known; truth.csv only with truth
+  /// (a stale one is removed). Throws naming the file when a write fails (e.g. disk full) and
+  /// ConfigError for names the format cannot hold.
+  void write_folder(const std::string& dir) const;
+};
+
+/// True if `s` is a valid sensor name ([a-z0-9_]+).
+bool valid_sensor_name(const std::string& s);
+/// True if `s` is a valid target name ([A-Za-z0-9_]+).
+bool valid_target_name(const std::string& s);
+
+}  // namespace rnav

@@ -1,0 +1,32 @@
+// A geodetic time series (observer or target positions) in a local level frame F's horizontal
+// plane: 2-D vectors (north, east) [m], linearly interpolated in time.
+#pragma once
+
+#include "frames.hpp"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace rnav {
+
+class PlaneSeries {
+ public:
+  /// @param v  samples in time order (kept by reference: must outlive this object)
+  /// @param F  frame with x north, z east (LocalLevelFrame with bearing 0)
+  /// @param max_gap_s  [s] interpolation is refused across a longer gap between samples, > 0
+  PlaneSeries(const std::vector<GeoSample>& v, const LocalLevelFrame& F, double max_gap_s = 2.0);
+  /// Position at t_s (north, east) [m]; false outside the span or across a gap.
+  bool at(double t_s, Eigen::Vector2d& out) const;
+  /// Velocity at t_s [m/s], central difference of at() over t_s +- half_span_s; false if either end fails.
+  bool velocity(double t_s, double half_span_s, Eigen::Vector2d& out) const;
+  double t_first() const;
+  double t_last() const;
+
+ private:
+  const std::vector<GeoSample>& v_;
+  std::vector<Eigen::Vector2d> p_;
+  double max_gap_s_;
+};
+
+}  // namespace rnav

@@ -1,0 +1,245 @@
+#include "effect_report.hpp"
+
+#include "stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rnav::search_detail {
+
+namespace {
+
+using Chosen = std::vector<std::pair<std::size_t, std::size_t>>;
+
+Chosen without(const Chosen& c, std::size_t s) {
+  Chosen out = c;
+  out.erase(out.begin() + static_cast<std::ptrdiff_t>(s));
+  return out;
+}
+
+// The best grid point of entry e given the model `rest` (its LR and index).
+std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P, std::size_t e) {
+  double best = -1;
+  std::size_t arg = 0;
+  for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
+    const double lr = P.lr(d.Cw[e][v]);
+    if (lr > best) best = lr, arg = v;
+  }
+  return {best, arg};
+}
+
+// SE of a scanned value from its profile: half the width of {v : LR(v) >= LR_max - 1}, at
+// least the grid step / sqrt(12).
+double scan_se(const Design& d, const Projector& P, std::size_t e, std::size_t v0) {
+  const Candidate& c = d.pb->catalogue[e];
+  const double top = P.lr(d.Cw[e][v0]);
+  std::size_t lo = v0, hi = v0;
+  while (lo > 0 && P.lr(d.Cw[e][lo - 1]) >= top - 1) --lo;
+  while (hi + 1 < c.scan.size() && P.lr(d.Cw[e][hi + 1]) >= top - 1) ++hi;
+  const double step = c.scan.size() > 1 ? std::abs(c.scan[1] - c.scan[0]) : 0.0;
+  return std::max(0.5 * std::abs(c.scan[hi] - c.scan[lo]), step / std::sqrt(12.0));
+}
+
+void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, double m, FoundEffect& fe,
+                 std::size_t s) {
+  const Problem& p = *d.pb;
+  const Chosen rest = without(chosen, s);
+  const Eigen::MatrixXd M = model_matrix(d, rest);
+  const Projector P(M, d.yw, d.n_used);
+  const auto [e, v] = chosen[s];
+  const double lr_self = P.lr(d.Cw[e][v]);
+  for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
+    if (f == e || std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; })) continue;
+    const auto [lr_f, vf] = best_variant(d, P, f);
+    const double corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][vf]);
+    const double k = static_cast<double>(p.catalogue[f].params.size());
+    const bool passes = lr_f > 0 && log_chi2_sf(lr_f, k) + std::log(static_cast<double>(d.Cw[f].size()) * m) < std::log(o.alpha);
+    // "explains as well": within the look-elsewhere cost of the larger scan (at least 2)
+    const double cost = 2 * std::max(1.0, std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
+    if (corr > o.confound_corr || (passes && lr_self - lr_f < cost)) {
+      FoundEffect::Confound cf;
+      cf.name = p.catalogue[f].name;
+      cf.scope = p.catalogue[f].scope;
+      cf.corr = corr;
+      cf.dlr = lr_self - lr_f;
+      fe.confounded_with.push_back(cf);
+    }
+  }
+  std::sort(fe.confounded_with.begin(), fe.confounded_with.end(),
+            [](const auto& a, const auto& b) { return a.dlr < b.dlr; });
+  if (fe.confounded_with.size() > 4) fe.confounded_with.resize(4);
+  if (!fe.confounded_with.empty()) {
+    const auto& c = fe.confounded_with.front();
+    const Candidate* other = nullptr;
+    for (const auto& cd : p.catalogue)
+      if (cd.name == c.name && cd.scope.sensor == c.scope.sensor && cd.scope.target == c.scope.target) other = &cd;
+    const Candidate& self = p.catalogue[e];
+    fe.note += (fe.note.empty() ? "" : "; ") + std::string("explains the same residual here as ") + c.name + " (" +
+               c.scope.label() + "; canonical correlation " + short_num(c.corr) + ", 2 log LR difference " +
+               short_num(c.dlr) + ")" + (self.scanned() ? "" : "; named as the physical one-parameter cause") +
+               ". Data in which " + self.signature + " and " + (other ? other->signature : c.name) +
+               " vary differently would separate them";
+  }
+}
+
+}  // namespace
+
+void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const std::vector<NoiseFit>& fits,
+            SearchResult& res) {
+  const Problem& p = *d.pb;
+  const double m = res.family_size;
+  const Eigen::MatrixXd M = model_matrix(d, chosen);
+  const Ols fin = ols(M, d.yw, d.used);
+  if (!fin.ok) throw std::logic_error("effect search: the chosen model is singular");
+  const double scale = fin.rss / std::max(1.0, fin.n - static_cast<double>(M.cols()));
+  const Eigen::MatrixXd cov = fin.cov_unscaled * scale;
+  const Eigen::MatrixXd R = raw_model_matrix(d, chosen);
+  const Eigen::Index q = p.nuisance.cols();
+  res.nuisance_fit = q > 0 ? Eigen::VectorXd(R.leftCols(q) * fin.beta.head(q)) : Eigen::VectorXd::Zero(R.rows());
+  res.effect_fit = R.rightCols(R.cols() - q) * fin.beta.tail(R.cols() - q);
+
+  // ---- the chosen effects ----
+  Eigen::Index col = q;
+  for (std::size_t s = 0; s < chosen.size(); ++s) {
+    const auto [e, v] = chosen[s];
+    const Candidate& c = p.catalogue[e];
+    FoundEffect fe;
+    fe.name = c.name;
+    fe.scope = c.scope;
+    fe.params = c.params;
+    fe.entry = e;
+    fe.variant = v;
+    for (std::size_t j = 0; j < c.params.size(); ++j) {
+      fe.estimate.push_back(fin.beta(col + static_cast<Eigen::Index>(j)));
+      fe.stderr_.push_back(std::sqrt(cov(col + static_cast<Eigen::Index>(j), col + static_cast<Eigen::Index>(j))));
+    }
+    col += static_cast<Eigen::Index>(c.params.size());
+    const Chosen rest = without(chosen, s);
+    const Projector P(model_matrix(d, rest), d.yw, d.n_used);
+    fe.lr = P.lr(d.Cw[e][v]);
+    const double k = static_cast<double>(c.params.size());
+    fe.log10_p = std::min(0.0, (log_chi2_sf(fe.lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
+    fe.delta_bic = fe.lr - (k + (c.scanned() ? 1 : 0)) * std::log(d.n_used);
+    if (c.scanned()) {
+      fe.scan_param = c.scan_param;
+      fe.scan_value = c.scan[v];
+      fe.scan_se = scan_se(d, P, e, v);
+      fe.note = "scanned over " + std::to_string(c.scan.size()) + " values of " + c.scan_param +
+                " (look-elsewhere: its share of alpha is split over them)";
+    }
+    confounding(d, o, chosen, m, fe, s);
+    res.effects.push_back(fe);
+  }
+
+  // ---- detection limits: each non-scanned entry alone with the nuisance ----
+  {
+    const double z = z_two_sided(o.alpha / m) + normal_upper_quantile(1 - o.power);
+    for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+      const Candidate& c = p.catalogue[e];
+      if (c.scanned()) continue;
+      const Ols f = ols(model_matrix(d, {{e, 0}}), d.yw, d.used);
+      if (!f.ok) continue;
+      const double sc = f.rss / std::max(1.0, f.n - static_cast<double>(q + 1));
+      for (std::size_t j = 0; j < c.params.size(); ++j) {
+        const auto ix = q + static_cast<Eigen::Index>(j);
+        res.detection_limits[c.name + "@" + c.scope.label()][c.params[j]] = z * std::sqrt(f.cov_unscaled(ix, ix) * sc);
+      }
+    }
+  }
+
+  // ---- noise findings per channel ----
+  for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
+    ChannelNoise cn;
+    cn.fit = fits[ch];
+    const NoiseParams& np = cn.fit.params;
+    const double nominal = p.channels[ch].nominal_sigma;
+    const double qv = np.s2 / (nominal * nominal);
+    // effective sample size of the variance estimate under Gauss-Markov correlation
+    const auto& t = d.times[ch];
+    const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
+    const double phi = cn.fit.correlated ? std::exp(-dt / np.tau_s) : 0.0;
+    const double rho1 = np.lambda * phi;
+    const double n_eff = std::max(2.0, cn.fit.n * (1 - rho1) / (1 + rho1));
+    cn.noise_scale = std::sqrt(qv);
+    cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);
+    const double lr = n_eff * (qv - 1 - std::log(qv));
+    cn.log10_p_scale = std::min(0.0, (log_chi2_sf(lr, 1) + std::log(m)) / std::log(10.0));
+    cn.scale_named = cn.log10_p_scale < std::log10(o.alpha);
+    cn.correlated_named = cn.fit.correlated;
+    res.noise.push_back(cn);
+  }
+
+  out_of_sample(d, chosen, o.noise, res);
+  // outliers named: flags in excess of the Gaussian expectation and a positive held-out gain
+  for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
+    ChannelNoise& cn = res.noise[ch];
+    const int flagged = static_cast<int>(d.rows[ch].size()) - cn.fit.n;
+    const double lambda = o.noise.expected_false_flags;
+    cn.outliers_named = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha && cn.outlier_gain > 0;
+  }
+
+  // ---- unexplained: whitened residual against whitened covariates ----
+  {
+    const Eigen::VectorXd rw = d.yw - M * fin.beta;
+    const double tests = std::max(1.0, static_cast<double>(p.covariates.size() * d.rows.size()));
+    for (const auto& [name, values] : p.covariates) {
+      if (values.size() != p.size()) throw std::invalid_argument("effect search: covariate " + name + " has the wrong size");
+      const Eigen::VectorXd xw = d.whiten(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())));
+      for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
+        std::vector<double> a, b;
+        for (auto i : d.rows[ch])
+          if (d.used[i]) a.push_back(xw(static_cast<Eigen::Index>(i))), b.push_back(rw(static_cast<Eigen::Index>(i)));
+        const double r = pearson(a, b);
+        const double z = std::abs(r) * std::sqrt(static_cast<double>(a.size()));
+        if (r != 0 && std::erfc(z / std::sqrt(2.0)) * tests < o.alpha)
+          res.unexplained.push_back(p.channels[ch].name + " residual correlates with " + name + " (r = " + short_num(r) +
+                                    ", after the extended model and its noise model)");
+      }
+    }
+  }
+
+  // ---- scope questions ----
+  for (const auto& sq : p.scope_questions) {
+    ScopeAnswer ans;
+    ans.question = sq.question;
+    std::vector<std::size_t> family;
+    for (const auto& alt : sq.alternatives) family.insert(family.end(), alt.second.begin(), alt.second.end());
+    Chosen base;
+    for (const auto& c : chosen)
+      if (std::find(family.begin(), family.end(), c.first) == family.end()) base.push_back(c);
+    const Eigen::MatrixXd B = model_matrix(d, base);
+    const Projector P(B, d.yw, d.n_used);
+    ScopeAnswer::Alt none{"none", 0, 0, 0};
+    ans.alternatives.push_back(none);
+    double best = 0;
+    ans.supported = "none";
+    for (const auto& [label, entries] : sq.alternatives) {
+      Chosen add;
+      for (auto e : entries) {
+        const std::size_t v = std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; }) != chosen.end()
+                                  ? std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; })->second
+                                  : 0;
+        add.push_back({e, v});
+      }
+      Eigen::MatrixXd C = model_matrix(d, add).rightCols(model_matrix(d, add).cols() - d.Nw.cols());
+      // drop columns the base or earlier ones already span (e.g. a common effect inside per-sensor ones)
+      const Ols f = ols(C, Eigen::VectorXd::Zero(C.rows()));
+      ScopeAnswer::Alt a;
+      a.label = label;
+      if (!f.ok) {
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C);
+        qr.setThreshold(1e-6);
+        const Eigen::MatrixXd Cp = C * qr.colsPermutation();
+        C = Cp.leftCols(qr.rank());
+      }
+      a.k = static_cast<int>(C.cols());
+      a.lr = std::max(0.0, P.lr(C));
+      a.bic = a.k * std::log(d.n_used) - a.lr;
+      if (a.bic < best) best = a.bic, ans.supported = label;
+      ans.alternatives.push_back(a);
+    }
+    res.scopes.push_back(ans);
+  }
+}
+
+}  // namespace rnav::search_detail

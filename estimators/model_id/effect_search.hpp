@@ -1,0 +1,160 @@
+// The effect-search engine: what does the nominal model get wrong in these observations?
+// It knows nothing of radars or cameras. An adapter states the problem:
+//   - observations: residuals y = measured - reference prediction, grouped in channels (one
+//     sensor x target x quantity each, in time order), each with its nominal noise sigma;
+//   - nuisance columns (the nominal model's own free parameters, e.g. a constant bias);
+//   - a catalogue of candidate effects: regressor columns per observation, each with a scope
+//     (sensor, target, both or neither), scanned over a grid (a step time, a period, a
+//     manoeuvre time) or not (a physical one-parameter cause).
+// The engine then:
+//   1. identifies each channel's noise model first (noise_id.hpp: white, Gauss-Markov, their sum,
+//      outlier flags) and tests every mean effect under it (GLS through the innovations form);
+//   2. forward selection: the entry with the smallest Bonferroni-adjusted p-value enters while
+//      that p is below alpha. Familywise error: alpha is split equally over the catalogue entries
+//      (m = catalogue size + the noise tests) and a scanned entry splits its share over its grid
+//      (look-elsewhere), so under the nominal model P(any effect named) <= alpha; a scanned entry
+//      thus pays for its scan and a physical entry that explains the same residual wins;
+//   3. re-identifies the noise with the chosen effects and repeats until the choice settles;
+//   4. reports each effect's estimate and SE (GLS, scale from the whitened residuals), its
+//      evidence (2 log LR without it, adjusted p, delta BIC), what it is confounded with (the
+//      canonical correlation of its whitened columns with another entry's given the rest of the
+//      model, or another entry that explains the residual as well), detection limits (the size
+//      detected with probability `power` at the per-entry level, from the Fisher information),
+//      noise findings (noise_scale against the nominal sigma, correlated_noise, and outliers only
+//      when the outlier mixture raises the out-of-sample likelihood), the out-of-sample gain (fit
+//      on the estimation frames, score the rest), residual correlations left unexplained, and
+//      answers to scope questions (which of several explanations the likelihood supports).
+#pragma once
+
+#include "noise_id.hpp"
+
+#include <Eigen/Dense>
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// Where an effect acts: a sensor, a target's reference, both, or everything (empty = null).
+struct Scope {
+  std::string sensor, target;
+  std::string label() const;  ///< "sensor radar", "target 1", "radar:1", "common"
+};
+
+struct Channel {
+  std::string name;           ///< e.g. "radar:1:range"
+  std::string sensor, target; ///< scope keys (may be empty)
+  std::string unit;           ///< unit of y, e.g. "m", "rad"
+  double nominal_sigma = 1;   ///< the nominal model's white noise sigma [unit], > 0
+};
+
+struct Candidate {
+  std::string name;                 ///< catalogue name, e.g. "time_offset"
+  Scope scope;
+  std::vector<std::string> params;  ///< parameter names with their unit, one per column
+  std::string signature;            ///< what its columns scale with (for the confounding note)
+  std::string scan_param;           ///< name of the scanned value ("t_s", "period_s"); empty: not scanned
+  std::vector<double> scan;         ///< the scan grid (empty: not scanned)
+  /// Columns of grid point v (0 when not scanned): n_obs x params.size(), zero outside its scope.
+  std::function<Eigen::MatrixXd(std::size_t v)> columns;
+  bool scanned() const { return !scan.empty(); }
+  std::size_t variants() const { return scan.empty() ? 1 : scan.size(); }
+};
+
+/// Which explanation does the data support? Each alternative is a set of catalogue entries
+/// (indices into Problem::catalogue) fitted together (grid point 0 of scanned entries).
+struct ScopeQuestion {
+  std::string question;
+  std::vector<std::pair<std::string, std::vector<std::size_t>>> alternatives;  ///< (label, entries)
+};
+
+struct Problem {
+  std::vector<Channel> channels;
+  std::vector<int> channel;        ///< per observation: index into channels
+  std::vector<double> t_s;         ///< per observation: time [s]; per channel non-decreasing
+  std::vector<double> y;           ///< per observation: residual [channel unit]
+  std::vector<char> estimation;    ///< per observation: 1 = estimation window, 0 = scored (held out)
+  Eigen::MatrixXd nuisance;        ///< n_obs x q nominal-model parameters (may have 0 columns)
+  std::vector<std::string> nuisance_names;
+  std::vector<Candidate> catalogue;
+  std::vector<std::pair<std::string, std::vector<double>>> covariates;  ///< for "unexplained"
+  std::vector<ScopeQuestion> scope_questions;
+  std::size_t size() const { return y.size(); }
+};
+
+struct SearchOptions {
+  double alpha = 0.01;          ///< familywise false-alarm level, (0, 0.5)
+  double power = 0.9;           ///< detection probability of the reported detection limits, (0.5, 1)
+  double confound_corr = 0.9;   ///< canonical correlation above which two effects are confounded, (0, 1)
+  int max_effects = 8;          ///< most effects named, >= 1
+  int max_rounds = 3;           ///< noise/effect re-identification rounds, >= 1
+  NoiseIdOptions noise;         ///< noise identification (alpha_correlated is set from alpha)
+};
+
+struct FoundEffect {
+  std::string name;
+  Scope scope;
+  std::vector<std::string> params;
+  std::vector<double> estimate, stderr_;
+  std::string scan_param;
+  double scan_value = 0, scan_se = 0;  ///< scanned entries: the chosen grid value and its SE
+  double lr = 0;                       ///< 2 log LR of the final model against it without this effect
+  double log10_p = 0;                  ///< log10 of its Bonferroni-adjusted p-value
+  double delta_bic = 0;                ///< BIC(without) - BIC(with)
+  struct Confound {
+    std::string name;
+    Scope scope;
+    double corr = 0;   ///< canonical correlation given the rest of the model
+    double dlr = 0;    ///< 2 log LR of this effect minus that of the other in its place
+  };
+  std::vector<Confound> confounded_with;
+  std::string note;
+  std::size_t entry = 0, variant = 0;  ///< catalogue entry and grid point
+};
+
+struct ChannelNoise {
+  NoiseFit fit;                 ///< identified on the final model's residuals (all frames)
+  double noise_scale = 1, noise_scale_se = 0;  ///< fitted sigma / nominal sigma
+  double log10_p_scale = 0;     ///< adjusted p of noise_scale != 1
+  bool scale_named = false, correlated_named = false, outliers_named = false;
+  double outlier_gain = 0;      ///< out-of-sample log-likelihood gain of the outlier mixture
+};
+
+struct SeriesGain {
+  int n = 0;                                       ///< scored frames
+  double nominal_rms = 0, extended_rms = 0;        ///< [unit] held-out residual RMS
+  double nominal_loglik = 0, extended_loglik = 0;  ///< held-out predictive log-likelihood
+};
+
+struct ScopeAnswer {
+  std::string question;
+  struct Alt {
+    std::string label;
+    int k = 0;           ///< parameters
+    double lr = 0;       ///< 2 log LR against none of them (given the rest of the model)
+    double bic = 0;      ///< k log n - lr (smaller is better)
+  };
+  std::vector<Alt> alternatives;
+  std::string supported;  ///< label with the smallest BIC ("none" if none beats it)
+};
+
+struct SearchResult {
+  std::vector<FoundEffect> effects;
+  std::vector<ChannelNoise> noise;              ///< per channel
+  Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit
+  Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: fitted on the estimation frames only
+  std::vector<SeriesGain> gain;                ///< per channel
+  std::map<std::string, std::map<std::string, double>> detection_limits;  ///< "name@scope" -> param -> size
+  std::vector<std::string> unexplained;
+  std::vector<ScopeAnswer> scopes;
+  double family_size = 0;                       ///< m of the Bonferroni split
+  std::string familywise;                       ///< the stated rule, for reports
+};
+
+/// Run the search. Throws std::invalid_argument naming the culprit on an inconsistent problem
+/// (sizes, non-finite values, times out of order, a column function of the wrong shape).
+SearchResult search_effects(const Problem& pb, const SearchOptions& o);
+
+}  // namespace rnav

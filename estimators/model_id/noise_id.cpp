@@ -1,0 +1,187 @@
+#include "noise_id.hpp"
+
+#include "stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rnav {
+
+namespace {
+
+struct Reml {
+  double ll = -INFINITY;
+  double s2 = 1;
+};
+
+// REML log-likelihood at (lambda, tau) with s^2 profiled; [X | e] whitened with s^2 = 1.
+Reml reml(const std::vector<double>& t, const Eigen::MatrixXd& Xe, double lambda, double tau,
+          const std::vector<char>& skip) {
+  NoiseParams p;
+  p.lambda = lambda;
+  p.tau_s = tau;
+  Eigen::MatrixXd W = Xe;
+  Eigen::VectorXd logS;
+  whiten(t, p, skip, W, &logS);
+  const Eigen::Index k = Xe.cols() - 1;
+  const Eigen::MatrixXd X = W.leftCols(k);
+  const Eigen::VectorXd e = W.col(k);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+  qr.setThreshold(1e-10);
+  const Eigen::Index rank = qr.rank();
+  double n = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
+  const double nprime = n - static_cast<double>(rank);
+  if (nprime < 5) return {};
+  const Eigen::VectorXd r = e - X * qr.solve(e);
+  const double rss = r.squaredNorm();
+  if (!(rss > 0)) return {};
+  // log|X~' X~| over the rank-revealing R's diagonal
+  double logdet = 0;
+  for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
+  Reml out;
+  out.s2 = rss / nprime;
+  out.ll = -0.5 * (nprime * std::log(out.s2) + logS.sum() + logdet + nprime * (1 + std::log(2 * M_PI)));
+  return out;
+}
+
+// Golden-section maximum of f on [a, b].
+template <class F>
+double golden_max(F f, double a, double b, int iters) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1);
+  double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
+  for (int i = 0; i < iters; ++i) {
+    if (fc > fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
+    else a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
+  }
+  return fc > fd ? c : d;
+}
+
+}  // namespace
+
+NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                        const NoiseIdOptions& o) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  if (e.size() != n || (X.size() > 0 && X.rows() != n)) throw std::invalid_argument("identify_noise: sizes differ");
+  if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
+  const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
+  // Fixed effects: 1, (t - tm) / span, ((t - tm) / span)^2, then X; and e last.
+  const double tm = t0 + span / 2;
+  Eigen::MatrixXd Xe(n, 3 + X.cols() + 1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double u = (t[static_cast<std::size_t>(i)] - tm) / span;
+    Xe(i, 0) = 1, Xe(i, 1) = u, Xe(i, 2) = u * u;
+  }
+  if (X.cols() > 0) Xe.middleCols(3, X.cols()) = X;
+  Xe.col(Xe.cols() - 1) = e;
+
+  const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
+  const double ltau_lo = std::log(o.tau_min_s), ltau_hi = std::log(tau_hi);
+  NoiseFit fit;
+  std::vector<char> skip(static_cast<std::size_t>(n), 0);
+  for (int round = 0; round < 5; ++round) {
+    const Reml white = reml(t, Xe, 0.0, 1.0, skip);
+    if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
+    // grid
+    const double lambdas[] = {0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995};
+    double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
+    const int n_tau = 28;
+    for (int i = 0; i < n_tau; ++i) {
+      const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
+      for (double lam : lambdas) {
+        const double ll = reml(t, Xe, lam, std::exp(lt), skip).ll;
+        if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
+      }
+    }
+    // refine: log tau, then logit lambda, twice
+    const double dlt = (ltau_hi - ltau_lo) / (n_tau - 1);
+    auto logit = [](double x) { return std::log(x / (1 - x)); };
+    auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
+    for (int it = 0; it < 2; ++it) {
+      best_lt = golden_max([&](double lt) { return reml(t, Xe, best_lam, std::exp(lt), skip).ll; },
+                           std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
+      const double z = golden_max([&](double z) { return reml(t, Xe, expit(z), std::exp(best_lt), skip).ll; },
+                                  logit(0.01), logit(0.999), 40);
+      best_lam = expit(z);
+    }
+    const Reml corr = reml(t, Xe, best_lam, std::exp(best_lt), skip);
+    fit.loglik_white = white.ll;
+    fit.loglik_correlated = corr.ll;
+    fit.correlated = 2 * (corr.ll - white.ll) > 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile = -2 log alpha
+    fit.params = NoiseParams{};
+    if (fit.correlated) {
+      fit.params.s2 = corr.s2;
+      fit.params.lambda = best_lam;
+      fit.params.tau_s = std::exp(best_lt);
+      // SE of log tau from the profile curvature (second difference over +-0.1 in log tau)
+      const double h = 0.1;
+      const double lp = reml(t, Xe, best_lam, std::exp(best_lt + h), skip).ll,
+                   lm = reml(t, Xe, best_lam, std::exp(best_lt - h), skip).ll;
+      const double curv = -(lp - 2 * corr.ll + lm) / (h * h);
+      fit.se_tau_s = curv > 0 ? fit.params.tau_s / std::sqrt(curv) : fit.params.tau_s;
+    } else {
+      fit.params.s2 = white.s2;
+      fit.params.lambda = 0;
+      fit.params.tau_s = 1;
+    }
+    if (!o.flag_outliers) break;
+    // flag: standardized innovations of the GLS residual under the chosen model
+    Eigen::MatrixXd W = Xe;
+    std::vector<char> none;
+    whiten(t, fit.params, skip, W);
+    const Eigen::Index k = Xe.cols() - 1;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(k));
+    const Eigen::VectorXd beta = qr.solve(W.col(k));
+    // raw residual of the mean model, then its innovations over all frames (flags re-decided)
+    const Eigen::VectorXd raw = Xe.col(k) - Xe.leftCols(k) * beta;
+    Eigen::MatrixXd R = raw;
+    NoiseParams pr = fit.params;
+    fit.z_outlier = z_two_sided(std::min(0.5, o.expected_false_flags / static_cast<double>(n)));
+    // innovations conditioned on the non-flagged past: whiten with the current skip, then
+    // score each flagged frame by its own prediction
+    std::vector<char> next(static_cast<std::size_t>(n), 0);
+    {
+      const double q = pr.lambda * pr.s2, r = (1 - pr.lambda) * pr.s2;
+      double g = 0, P = q, t_prev = 0;
+      bool started = false;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        double gm = g, Pm = P;
+        if (started && q > 0) {
+          const double phi = std::exp(-(t[static_cast<std::size_t>(i)] - t_prev) / pr.tau_s);
+          gm = phi * g;
+          Pm = phi * phi * P + q * (1 - phi * phi);
+        }
+        const double S = Pm + r, nu = raw(i) - gm;
+        if (std::abs(nu) / std::sqrt(S) > fit.z_outlier) {
+          next[static_cast<std::size_t>(i)] = 1;
+          continue;
+        }
+        const double K = q > 0 ? Pm / S : 0.0;
+        g = gm + K * nu;
+        P = (1 - K) * Pm;
+        t_prev = t[static_cast<std::size_t>(i)];
+        started = true;
+      }
+    }
+    if (next == skip) break;
+    skip = next;
+  }
+  fit.outlier = skip;
+  fit.n = 0;
+  for (char s : skip) fit.n += !s;
+  const int flagged = static_cast<int>(n) - fit.n;
+  if (flagged > 0) {
+    fit.params.p_out = std::min(0.49, static_cast<double>(flagged) / static_cast<double>(n));
+    // outlier spread: their residuals about the mean model's level (robust to a few)
+    std::vector<double> r;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (skip[static_cast<std::size_t>(i)]) r.push_back(e(i));
+    double ss = 0;
+    for (double x : r) ss += x * x;
+    fit.params.s_out2 = std::max(ss / static_cast<double>(r.size()), 4 * fit.params.s2);
+  }
+  return fit;
+}
+
+}  // namespace rnav

@@ -1,0 +1,49 @@
+// Identify a channel's noise model (noise_model.hpp) by restricted maximum likelihood.
+//
+// The fixed effects X (a quadratic trend in time, the nuisance and the effects chosen so far,
+// restricted to the channel) are estimated by GLS inside the likelihood, and REML's
+// -1/2 log|X~' X~| term is kept, so a slow mean effect (bias, drift, a step) is not taken for
+// correlated noise. For each (lambda, tau) the scale s^2 is profiled out in closed form:
+//   l_R = -1/2 [ n' log(RSS / n') + sum log S~_i + log|X~' X~| + n' (1 + log 2 pi) ],
+// n' = n - rank(X), S~ the innovation variances for s^2 = 1. Search: a log grid of tau in
+// [tau_min_s, min(tau_max_s, span / tau_span_divisor)] by a grid of lambda, then coordinate
+// golden-section refinement. White noise is the model lambda = 0; the correlated model is kept
+// when 2 (l_corr - l_white) exceeds the chi-square(2) quantile at alpha_correlated.
+// Outliers: frames whose standardized innovation exceeds z_outlier are flagged and the model is
+// refitted without them (they do not update the state), until the flags settle.
+#pragma once
+
+#include "noise_model.hpp"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace rnav {
+
+struct NoiseIdOptions {
+  double tau_min_s = 0.05;        ///< [s] shortest correlation time searched, > 0
+  double tau_max_s = 600;         ///< [s] longest, further limited to span / tau_span_divisor
+  double tau_span_divisor = 4;    ///< a correlation longer than span / 4 is a slow mean effect here
+  double alpha_correlated = 0.01; ///< level of the white-vs-correlated test, (0, 0.5)
+  bool flag_outliers = true;      ///< flag and refit (the caller decides whether to keep the mixture)
+  double expected_false_flags = 0.05;  ///< expected number of Gaussian frames flagged per channel
+};
+
+struct NoiseFit {
+  NoiseParams params;             ///< the chosen model (white or correlated; p_out from the flags)
+  std::vector<char> outlier;      ///< frames flagged (size n; all 0 when flag_outliers is false)
+  double loglik_white = 0;        ///< REML log-likelihood of the white model
+  double loglik_correlated = 0;   ///< REML log-likelihood of the best correlated model
+  bool correlated = false;        ///< correlated model kept
+  double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
+  double z_outlier = 0;           ///< the flag threshold used
+  int n = 0;                      ///< frames used (not flagged)
+};
+
+/// t: frame times [s] (non-decreasing); e: residuals; X: fixed-effect columns (n x k, may be
+/// empty: a quadratic trend is always added).
+NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                        const NoiseIdOptions& o);
+
+}  // namespace rnav

@@ -1,0 +1,99 @@
+// Out-of-sample gain: the nominal model (nuisance only, the nominal white sigma) and the
+// extended one (nuisance + chosen effects, the noise model identified on the estimation
+// frames' residuals) are fitted on the estimation frames and scored on the held-out frames:
+// residual RMS, and the one-step-ahead predictive log-likelihood (every frame conditions the
+// later ones; only held-out frames are summed). The outlier mixture is kept for a channel only
+// if it raises that held-out likelihood.
+#include "effect_report.hpp"
+
+#include <cmath>
+
+namespace rnav::search_detail {
+
+void out_of_sample(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen,
+                   const NoiseIdOptions& no, SearchResult& res) {
+  const Problem& p = *d.pb;
+  const auto n = static_cast<Eigen::Index>(p.size());
+  std::vector<char> est(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) est[i] = p.estimation[i] && d.used[i];
+  const Eigen::Map<const Eigen::VectorXd> y(p.y.data(), n);
+  const Eigen::Index q = p.nuisance.cols();
+  // nominal: nuisance only
+  Eigen::VectorXd pred0 = Eigen::VectorXd::Zero(n);
+  if (q > 0) {
+    const Ols f0 = ols(d.Nw, d.yw, est, true);
+    if (f0.ok) pred0 = p.nuisance * f0.beta;
+  }
+  // extended: the chosen effects refitted on the window; an effect the window does not
+  // determine (max |estimate / SE| < 2 there, e.g. a step after the split or one nearly
+  // collinear with another inside the window) is left out, the rest refitted.
+  std::vector<std::pair<std::size_t, std::size_t>> kept;
+  for (const auto& c : chosen) {  // absent from the window
+    const Eigen::MatrixXd& C = d.Cw[c.first][c.second];
+    double in = 0;
+    for (Eigen::Index i = 0; i < C.rows(); ++i)
+      if (est[static_cast<std::size_t>(i)]) in += C.row(i).squaredNorm();
+    if (in > 1e-12 * C.squaredNorm()) kept.push_back(c);
+  }
+  Eigen::VectorXd pred1 = pred0;
+  for (std::size_t pass = 0; pass <= chosen.size(); ++pass) {
+    const Eigen::MatrixXd Mw = model_matrix(d, kept);
+    if (Mw.cols() == 0) break;
+    const Ols f1 = ols(Mw, d.yw, est);
+    std::size_t weakest = kept.size();
+    double weakest_z = 2.0;
+    Eigen::Index col = q;
+    for (std::size_t s = 0; s < kept.size(); ++s) {
+      const auto k = static_cast<Eigen::Index>(p.catalogue[kept[s].first].params.size());
+      double z = 0;
+      for (Eigen::Index j = col; j < col + k && f1.ok; ++j) {
+        const double scale = f1.rss / std::max(1.0, f1.n - static_cast<double>(Mw.cols()));
+        z = std::max(z, std::abs(f1.beta(j)) / std::sqrt(f1.cov_unscaled(j, j) * scale));
+      }
+      if (z < weakest_z || !f1.ok) weakest_z = z, weakest = s;  // singular: drop the latest chosen
+      col += k;
+    }
+    if (f1.ok && weakest == kept.size()) {
+      pred1 = raw_model_matrix(d, kept) * f1.beta;
+      break;
+    }
+    kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(weakest == kept.size() ? kept.size() - 1 : weakest));
+  }
+  res.nominal_oos = pred0;
+  res.extended_oos = pred1;
+  res.gain.assign(d.rows.size(), SeriesGain{});
+  for (std::size_t c = 0; c < d.rows.size(); ++c) {
+    const auto& rows = d.rows[c];
+    std::vector<double> r0, r1, t, r1_est, t_est;
+    std::vector<char> score;
+    for (auto i : rows) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      r0.push_back(y(ii) - pred0(ii));
+      r1.push_back(y(ii) - pred1(ii));
+      t.push_back(p.t_s[i]);
+      score.push_back(!p.estimation[i]);
+      if (p.estimation[i]) r1_est.push_back(r1.back()), t_est.push_back(p.t_s[i]);
+    }
+    SeriesGain& g = res.gain[c];
+    double a = 0, b = 0;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      if (score[k] && d.used[rows[k]]) a += r0[k] * r0[k], b += r1[k] * r1[k], ++g.n;
+    if (g.n == 0 || r1_est.size() < 10) continue;
+    g.nominal_rms = std::sqrt(a / g.n);
+    g.extended_rms = std::sqrt(b / g.n);
+    NoiseParams nom;
+    nom.s2 = p.channels[c].nominal_sigma * p.channels[c].nominal_sigma;
+    g.nominal_loglik = predictive_loglik(t, r0, nom, score);
+    // the extended noise: identified on the estimation frames' extended residuals
+    const NoiseFit nf = identify_noise(t_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
+                                       Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), no);
+    NoiseParams gauss = nf.params;
+    gauss.p_out = 0, gauss.s_out2 = 0;
+    const double l_gauss = predictive_loglik(t, r1, gauss, score);
+    const double l_mix = nf.params.p_out > 0 ? predictive_loglik(t, r1, nf.params, score) : l_gauss;
+    res.noise[c].outlier_gain = l_mix - l_gauss;
+    g.extended_loglik = std::max(l_gauss, l_mix);
+  }
+}
+
+}  // namespace rnav::search_detail

@@ -1,0 +1,190 @@
+#include "search_design.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rnav::search_detail {
+
+Ols ols(const Eigen::MatrixXd& X0, const Eigen::VectorXd& y0, const std::vector<char>& mask, bool basic) {
+  Ols f;
+  Eigen::MatrixXd X = X0;
+  Eigen::VectorXd y = y0;
+  if (!mask.empty())
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      if (!mask[static_cast<std::size_t>(i)]) X.row(i).setZero(), y(i) = 0;
+  f.n = 0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) f.n += mask.empty() || mask[static_cast<std::size_t>(i)];
+  const Eigen::Index k = X.cols();
+  if (k == 0) {
+    f.rss = y.squaredNorm();
+    f.ok = true;
+    return f;
+  }
+  Eigen::VectorXd d(k);
+  for (Eigen::Index j = 0; j < k; ++j) d(j) = X.col(j).norm() > 0 ? 1.0 / X.col(j).norm() : 1.0;
+  const Eigen::MatrixXd Xs = X * d.asDiagonal();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Xs);
+  qr.setThreshold(1e-9);
+  f.rank = static_cast<int>(qr.rank());
+  if (f.rank < k && !basic) return f;  // collinear: the caller decides
+  f.beta = d.asDiagonal() * qr.solve(y);
+  f.rss = (y - X * f.beta).squaredNorm();
+  if (f.rank < k) {
+    f.ok = f.beta.allFinite();
+    return f;
+  }
+  const Eigen::MatrixXd Rinv = qr.matrixR().topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(
+      Eigen::MatrixXd::Identity(k, k));
+  const Eigen::MatrixXd cs = Rinv * Rinv.transpose();  // in the permuted, scaled basis
+  const Eigen::MatrixXd P = qr.colsPermutation();
+  f.cov_unscaled = d.asDiagonal() * (P * cs * P.transpose()) * d.asDiagonal();
+  f.ok = true;
+  return f;
+}
+
+Design::Design(const Problem& p) : pb(&p) {
+  const std::size_t n = p.size();
+  if (p.channel.size() != n || p.t_s.size() != n || p.estimation.size() != n)
+    throw std::invalid_argument("effect search: channel, t_s, y and estimation must have one entry per observation");
+  if (p.nuisance.rows() != static_cast<Eigen::Index>(n) && p.nuisance.cols() > 0)
+    throw std::invalid_argument("effect search: nuisance must have one row per observation");
+  rows.assign(p.channels.size(), {});
+  times.assign(p.channels.size(), {});
+  for (std::size_t i = 0; i < n; ++i) {
+    const int c = p.channel[i];
+    if (c < 0 || static_cast<std::size_t>(c) >= p.channels.size())
+      throw std::invalid_argument("effect search: observation " + std::to_string(i) + " names no channel");
+    if (!std::isfinite(p.t_s[i]) || !std::isfinite(p.y[i]))
+      throw std::invalid_argument("effect search: observation " + std::to_string(i) + " of channel " +
+                                  p.channels[static_cast<std::size_t>(c)].name + " is not finite");
+    auto& tc = times[static_cast<std::size_t>(c)];
+    if (!tc.empty() && p.t_s[i] < tc.back())
+      throw std::invalid_argument("effect search: channel " + p.channels[static_cast<std::size_t>(c)].name +
+                                  " is not in time order at observation " + std::to_string(i));
+    rows[static_cast<std::size_t>(c)].push_back(i);
+    tc.push_back(p.t_s[i]);
+  }
+  for (std::size_t c = 0; c < rows.size(); ++c) {
+    if (!(p.channels[c].nominal_sigma > 0))
+      throw std::invalid_argument("effect search: channel " + p.channels[c].name + " needs a nominal sigma > 0");
+    if (rows[c].size() < 10)
+      throw std::invalid_argument("effect search: channel " + p.channels[c].name + " has fewer than 10 observations");
+  }
+}
+
+Eigen::MatrixXd Design::raw_columns(std::size_t e, std::size_t v) const {
+  const Candidate& c = pb->catalogue[e];
+  Eigen::MatrixXd C = c.columns(v);
+  if (C.rows() != static_cast<Eigen::Index>(pb->size()) || C.cols() != static_cast<Eigen::Index>(c.params.size()))
+    throw std::invalid_argument("effect search: entry " + c.name + " (" + c.scope.label() + ") returned " +
+                                std::to_string(C.rows()) + " x " + std::to_string(C.cols()) + " columns, expected " +
+                                std::to_string(pb->size()) + " x " + std::to_string(c.params.size()));
+  if (!C.allFinite())
+    throw std::invalid_argument("effect search: entry " + c.name + " (" + c.scope.label() + ") has non-finite columns");
+  return C;
+}
+
+Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
+  for (std::size_t c = 0; c < rows.size(); ++c) {
+    const auto m = static_cast<Eigen::Index>(rows[c].size());
+    Eigen::MatrixXd B(m, raw.cols());
+    for (Eigen::Index r = 0; r < m; ++r) B.row(r) = raw.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)]));
+    if (B.isZero(0)) continue;
+    rnav::whiten(times[c], noise[c], skip[c], B);
+    for (Eigen::Index r = 0; r < m; ++r) out.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)])) = B.row(r);
+  }
+  return out;
+}
+
+void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std::vector<char>>& sk) {
+  noise = np;
+  skip = sk;
+  const Problem& p = *pb;
+  used.assign(p.size(), 1);
+  for (std::size_t c = 0; c < rows.size(); ++c)
+    for (std::size_t r = 0; r < rows[c].size(); ++r)
+      if (!skip[c].empty() && skip[c][r]) used[rows[c][r]] = 0;
+  n_used = 0;
+  for (char u : used) n_used += u;
+  yw = whiten(Eigen::Map<const Eigen::VectorXd>(p.y.data(), static_cast<Eigen::Index>(p.size())));
+  Nw = p.nuisance.cols() > 0 ? whiten(p.nuisance) : Eigen::MatrixXd(static_cast<Eigen::Index>(p.size()), 0);
+  Cw.assign(p.catalogue.size(), {});
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e)
+    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten(raw_columns(e, v)));
+}
+
+Eigen::MatrixXd model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen) {
+  Eigen::Index k = d.Nw.cols();
+  for (const auto& [e, v] : chosen) k += d.Cw[e][v].cols();
+  Eigen::MatrixXd M(d.yw.size(), k);
+  M.leftCols(d.Nw.cols()) = d.Nw;
+  Eigen::Index col = d.Nw.cols();
+  for (const auto& [e, v] : chosen) {
+    M.middleCols(col, d.Cw[e][v].cols()) = d.Cw[e][v];
+    col += d.Cw[e][v].cols();
+  }
+  return M;
+}
+
+Eigen::MatrixXd raw_model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen) {
+  const Problem& p = *d.pb;
+  Eigen::Index k = p.nuisance.cols();
+  std::vector<Eigen::MatrixXd> blocks;
+  for (const auto& [e, v] : chosen) {
+    blocks.push_back(d.raw_columns(e, v));
+    k += blocks.back().cols();
+  }
+  Eigen::MatrixXd M(static_cast<Eigen::Index>(p.size()), k);
+  if (p.nuisance.cols() > 0) M.leftCols(p.nuisance.cols()) = p.nuisance;
+  Eigen::Index col = p.nuisance.cols();
+  for (const auto& b : blocks) {
+    M.middleCols(col, b.cols()) = b;
+    col += b.cols();
+  }
+  return M;
+}
+
+namespace {
+// Orthonormal basis of the columns of A after projecting out span(Q) (Q orthonormal); empty if
+// nothing is left (relative singular value below 1e-6).
+Eigen::MatrixXd residual_basis(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
+  Eigen::MatrixXd R = Q.cols() > 0 ? Eigen::MatrixXd(A - Q * (Q.transpose() * A)) : A;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeThinU);
+  const auto& s = svd.singularValues();
+  const double ref = A.norm();
+  Eigen::Index rank = 0;
+  for (Eigen::Index i = 0; i < s.size(); ++i)
+    if (s(i) > 1e-6 * ref && s(i) > 0) ++rank;
+  return svd.matrixU().leftCols(rank);
+}
+Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {
+  if (M.cols() == 0) return Eigen::MatrixXd(M.rows(), 0);
+  return residual_basis(Eigen::MatrixXd(M.rows(), 0), M);
+}
+}  // namespace
+
+Projector::Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used)
+    : Q(orthonormal(M)), r(Q.cols() > 0 ? Eigen::VectorXd(y - Q * (Q.transpose() * y)) : y), n(n_used) {}
+
+double Projector::lr(const Eigen::MatrixXd& C) const {
+  const Eigen::MatrixXd B = residual_basis(Q, C);
+  if (B.cols() < C.cols()) return -1;
+  const double rss0 = r.squaredNorm(), drop = (B.transpose() * r).squaredNorm();
+  if (!(rss0 > 0)) return 0;
+  return n * std::log(rss0 / std::max(rss0 - drop, 1e-300 * rss0));
+}
+
+double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen::MatrixXd& C, double n) {
+  return Projector(M, y, n).lr(C);
+}
+
+double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  const Eigen::MatrixXd Q = orthonormal(M);
+  const Eigen::MatrixXd Qa = residual_basis(Q, A), Qb = residual_basis(Q, B);
+  if (Qa.cols() == 0 || Qb.cols() == 0) return 1.0;  // inside the rest of the model: not separable
+  Eigen::JacobiSVD<Eigen::MatrixXd> s(Qa.transpose() * Qb);
+  return std::min(1.0, s.singularValues()(0));
+}
+
+}  // namespace rnav::search_detail

@@ -1,0 +1,66 @@
+// Internal to the effect search: the problem's columns whitened under the channels' noise
+// models (one whitening per noise model), and least squares on whitened columns.
+#pragma once
+
+#include "effect_search.hpp"
+
+namespace rnav::search_detail {
+
+/// Least squares of y on X with column equilibration and a rank-revealing QR; rows with
+/// mask 0 (when mask is non-empty) are left out. A rank-deficient X fails (ok false) unless
+/// basic is set: then the columns the QR finds dependent get 0 (a basic solution; no cov).
+struct Ols {
+  Eigen::VectorXd beta;
+  Eigen::MatrixXd cov_unscaled;  ///< (X' X)^-1 (multiply by the residual variance)
+  double rss = 0;
+  double n = 0;
+  int rank = 0;
+  bool ok = false;
+};
+Ols ols(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<char>& mask = {}, bool basic = false);
+
+struct Design {
+  const Problem* pb = nullptr;
+  std::vector<std::vector<std::size_t>> rows;   ///< per channel: observation indices in time order
+  std::vector<std::vector<double>> times;       ///< per channel: their times
+  std::vector<NoiseParams> noise;               ///< per channel
+  std::vector<std::vector<char>> skip;          ///< per channel: frames kept out (outliers)
+  Eigen::VectorXd yw;                           ///< whitened residuals
+  Eigen::MatrixXd Nw;                           ///< whitened nuisance
+  std::vector<std::vector<Eigen::MatrixXd>> Cw; ///< [entry][grid point] whitened columns
+  std::vector<char> used;                       ///< per observation: not skipped
+  double n_used = 0;
+
+  /// Index the channels (checks sizes, finiteness and time order).
+  explicit Design(const Problem& p);
+  /// Whiten everything under these noise models and outlier flags.
+  void set_noise(const std::vector<NoiseParams>& np, const std::vector<std::vector<char>>& sk);
+  /// A raw n_obs x k matrix whitened channel by channel.
+  Eigen::MatrixXd whiten(const Eigen::MatrixXd& raw) const;
+  /// Raw columns of entry e at grid point v (checked shape).
+  Eigen::MatrixXd raw_columns(std::size_t e, std::size_t v) const;
+};
+
+/// [Nw | whitened columns of the chosen (entry, grid point) pairs].
+Eigen::MatrixXd model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen);
+/// The same in raw (unwhitened) columns.
+Eigen::MatrixXd raw_model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen);
+
+/// The model spanned by M (whitened) with y projected off it: 2 log LR of adding columns,
+/// scale profiled: n log(RSS_M / RSS_(M,C)); -1 if C is (nearly) inside span(M).
+struct Projector {
+  Eigen::MatrixXd Q;   ///< orthonormal basis of span(M)
+  Eigen::VectorXd r;   ///< y minus its projection
+  double n = 0;
+  Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used);
+  double lr(const Eigen::MatrixXd& C) const;
+};
+
+/// 2 log LR of adding columns C to the model spanned by M (whitened), scale profiled:
+/// n log(RSS_M / RSS_(M,C)); -1 if C is (nearly) inside span(M).
+double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen::MatrixXd& C, double n);
+
+/// Largest canonical correlation of the column spaces of A and B after projecting out M.
+double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+
+}  // namespace rnav::search_detail

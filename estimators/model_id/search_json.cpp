@@ -1,0 +1,125 @@
+#include "search_json.hpp"
+
+#include "stats.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace rnav {
+
+nlohmann::ordered_json scope_json(const Scope& s) {
+  nlohmann::ordered_json j;
+  j["sensor"] = s.sensor.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.sensor);
+  j["target"] = s.target.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.target);
+  return j;
+}
+
+namespace {
+nlohmann::ordered_json one_or_list(const std::vector<double>& v) {
+  return v.size() == 1 ? nlohmann::ordered_json(v[0]) : nlohmann::ordered_json(v);
+}
+Scope channel_scope(const Channel& c) { return {c.sensor, c.target}; }
+}  // namespace
+
+nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
+  nlohmann::ordered_json j;
+  j["effects"] = nlohmann::ordered_json::array();
+  for (const auto& e : r.effects) {
+    nlohmann::ordered_json x;
+    x["name"] = e.name;
+    x["scope"] = scope_json(e.scope);
+    x["params"] = e.params;
+    x["estimate"] = one_or_list(e.estimate);
+    x["stderr"] = one_or_list(e.stderr_);
+    if (!e.scan_param.empty()) x["scanned"] = {{"param", e.scan_param}, {"value", e.scan_value}, {"stderr", e.scan_se}};
+    x["evidence"] = {{"lr", e.lr}, {"log10_p_adjusted", e.log10_p}, {"delta_bic", e.delta_bic}};
+    x["confounded_with"] = nlohmann::ordered_json::array();
+    for (const auto& c : e.confounded_with)
+      x["confounded_with"].push_back({{"name", c.name}, {"scope", scope_json(c.scope)}, {"canonical_corr", c.corr},
+                                      {"lr_difference", c.dlr}});
+    if (!e.note.empty()) x["note"] = e.note;
+    j["effects"].push_back(x);
+  }
+  // noise findings as effects too (scope = the channel's)
+  for (std::size_t c = 0; c < r.noise.size(); ++c) {
+    const auto& n = r.noise[c];
+    const Channel& ch = pb.channels[c];
+    if (n.scale_named)
+      j["effects"].push_back({{"name", "noise_scale"}, {"scope", scope_json(channel_scope(ch))}, {"channel", ch.name},
+                              {"params", {"ratio"}}, {"estimate", n.noise_scale}, {"stderr", n.noise_scale_se},
+                              {"evidence", {{"log10_p_adjusted", n.log10_p_scale}}},
+                              {"note", "fitted sigma " + short_num(std::sqrt(n.fit.params.s2)) + " " + ch.unit +
+                                           " against the nominal " + short_num(ch.nominal_sigma) + " " + ch.unit}});
+    if (n.correlated_named)
+      j["effects"].push_back({{"name", "correlated_noise"}, {"scope", scope_json(channel_scope(ch))}, {"channel", ch.name},
+                              {"params", {"tau_s", "correlated_share"}}, {"estimate", {n.fit.params.tau_s, n.fit.params.lambda}},
+                              {"stderr", {n.fit.se_tau_s, nullptr}},
+                              {"evidence", {{"lr", 2 * (n.fit.loglik_correlated - n.fit.loglik_white)}}},
+                              {"note", n.fit.params.kind() + " noise; every mean effect is tested under it"}});
+    if (n.outliers_named)
+      j["effects"].push_back({{"name", "outliers"}, {"scope", scope_json(channel_scope(ch))}, {"channel", ch.name},
+                              {"params", {"fraction"}}, {"estimate", n.fit.params.p_out},
+                              {"stderr", std::sqrt(n.fit.params.p_out * (1 - n.fit.params.p_out) / std::max(1, n.fit.n))},
+                              {"evidence", {{"heldout_loglik_gain", n.outlier_gain}}},
+                              {"note", "frames beyond " + short_num(n.fit.z_outlier) +
+                                           " sigma of their prediction; the mixture raises the held-out likelihood"}});
+  }
+  j["noise"] = nlohmann::ordered_json::object();
+  for (std::size_t c = 0; c < r.noise.size(); ++c) {
+    const auto& n = r.noise[c];
+    j["noise"][pb.channels[c].name] = {{"model", n.fit.params.kind()},
+                                       {"sigma", std::sqrt(n.fit.params.s2)},
+                                       {"unit", pb.channels[c].unit},
+                                       {"tau_s", n.fit.correlated ? nlohmann::ordered_json(n.fit.params.tau_s) : nlohmann::ordered_json(nullptr)},
+                                       {"correlated_share", n.fit.params.lambda},
+                                       {"outlier_fraction", n.fit.params.p_out},
+                                       {"noise_scale", n.noise_scale},
+                                       {"frames", n.fit.n}};
+  }
+  j["series_gain"] = nlohmann::ordered_json::object();
+  for (std::size_t c = 0; c < r.gain.size(); ++c) {
+    const auto& g = r.gain[c];
+    j["series_gain"][pb.channels[c].name] = {{"n", g.n}, {"unit", pb.channels[c].unit}, {"nominal_rms", g.nominal_rms},
+                                             {"extended_rms", g.extended_rms}, {"nominal_loglik", g.nominal_loglik},
+                                             {"extended_loglik", g.extended_loglik}};
+  }
+  j["detection_limits"] = r.detection_limits;
+  j["scope_support"] = nlohmann::ordered_json::array();
+  for (const auto& s : r.scopes) {
+    nlohmann::ordered_json q;
+    q["question"] = s.question;
+    q["supported"] = s.supported;
+    q["alternatives"] = nlohmann::ordered_json::array();
+    for (const auto& a : s.alternatives) q["alternatives"].push_back({{"label", a.label}, {"k", a.k}, {"lr", a.lr}, {"bic", a.bic}});
+    j["scope_support"].push_back(q);
+  }
+  j["unexplained"] = r.unexplained;
+  j["familywise"] = r.familywise;
+  return j;
+}
+
+std::string search_text(const Problem& pb, const SearchResult& r) {
+  std::ostringstream o;
+  for (const auto& e : r.effects) {
+    o << "  EFFECT   " << e.name << " [" << e.scope.label() << "]:";
+    for (std::size_t i = 0; i < e.estimate.size(); ++i)
+      o << " " << e.params[i] << "=" << short_num(e.estimate[i]) << " +- " << short_num(e.stderr_[i]);
+    if (!e.scan_param.empty()) o << " at " << e.scan_param << "=" << short_num(e.scan_value) << " +- " << short_num(e.scan_se);
+    o << "  (2 log LR " << short_num(e.lr) << ", log10 p " << short_num(e.log10_p) << ")";
+    for (const auto& c : e.confounded_with) o << "  confounded with " << c.name << " [" << c.scope.label() << "]";
+    o << "\n";
+  }
+  for (std::size_t c = 0; c < r.noise.size(); ++c) {
+    const auto& n = r.noise[c];
+    o << "  noise    " << pb.channels[c].name << ": " << n.fit.params.kind() << " sigma " << short_num(std::sqrt(n.fit.params.s2))
+      << " " << pb.channels[c].unit << " (" << short_num(n.noise_scale) << "x nominal" << (n.scale_named ? ", named" : "") << ")";
+    if (n.fit.correlated) o << ", tau " << short_num(n.fit.params.tau_s) << " +- " << short_num(n.fit.se_tau_s) << " s";
+    if (n.outliers_named) o << ", outliers " << short_num(100 * n.fit.params.p_out) << " %";
+    o << "\n";
+  }
+  for (const auto& s : r.scopes) o << "  scope    " << s.question << " -> " << s.supported << "\n";
+  for (const auto& u : r.unexplained) o << "  unexplained: " << u << "\n";
+  return o.str();
+}
+
+}  // namespace rnav

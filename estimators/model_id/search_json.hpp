@@ -1,0 +1,20 @@
+// The effect search's result as JSON and as text lines (sensor-agnostic parts of a report).
+#pragma once
+
+#include "effect_search.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace rnav {
+
+/// {"sensor": S or null, "target": T or null}
+nlohmann::ordered_json scope_json(const Scope& s);
+/// "effects" (chosen effects then named noise findings), "noise" per channel, "series_gain",
+/// "detection_limits", "scope_support", "unexplained", "familywise".
+nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r);
+/// A human-readable summary (one line per finding).
+std::string search_text(const Problem& pb, const SearchResult& r);
+
+}  // namespace rnav

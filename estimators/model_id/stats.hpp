@@ -1,0 +1,39 @@
+// Distribution functions and small statistics shared by every diagnosis (no dependency on any
+// sensor). Accuracy: relative 1e-12 for the gamma and beta tails over the ranges used here
+// (dof <= 1e4, x <= 1e6); the log tails stay finite where the tails underflow a double.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// Regularized upper incomplete gamma Q(a, x), a > 0, x >= 0.
+double gamma_q(double a, double x);
+/// log Q(a, x), finite even where Q underflows (x up to ~1e8).
+double log_gamma_q(double a, double x);
+/// Chi-square survival function P(X > x), k > 0 degrees of freedom.
+double chi2_sf(double x, double k);
+/// log of chi2_sf.
+double log_chi2_sf(double x, double k);
+/// Upper normal quantile: z with P(Z > z) = p, p in (0, 1).
+double normal_upper_quantile(double p);
+/// Two-sided normal quantile: z with P(|Z| > z) = p, p in (0, 1).
+double z_two_sided(double p);
+/// Poisson upper tail P(N >= k) for mean lambda >= 0.
+double poisson_upper_tail(int k, double lambda);
+/// Regularized incomplete beta I_x(a, b), a, b > 0, x in [0, 1].
+double beta_inc(double a, double b, double x);
+/// Clopper-Pearson interval for k successes in n trials at confidence conf (e.g. 0.95).
+struct Interval {
+  double lo = 0, hi = 1;
+};
+Interval clopper_pearson(int k, int n, double conf);
+/// Median of |v| (robust sigma: 1.4826 * median_abs). Empty v gives 0.
+double median_abs(std::vector<double> v);
+/// Pearson correlation of x and y (0 when either has no spread).
+double pearson(const std::vector<double>& x, const std::vector<double>& y);
+/// A number in %.4g for reports (%.1f from 1e5 on: absolute times keep their tenths).
+std::string short_num(double x);
+
+}  // namespace rnav

@@ -1,0 +1,394 @@
+// The multi-sensor, multi-target CSV format: round trip, every kind of bad input named by
+// file:line, and the Autoferry import (counts against the data set's README, detections on
+// the boats' GNSS truth, malformed JSON named by record).
+#include <catch2/catch.hpp>
+
+#include "config.hpp"
+#include "multi_sensor_data.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace rnav;
+
+namespace {
+
+const double kNaN = std::nan("");
+
+/// A fresh, empty temporary folder private to this process.
+fs::path temp_dir(const std::string& tag) {
+  const fs::path d = fs::temp_directory_path() / ("rnav_msd_" + tag + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// NaN equals NaN; otherwise |a - b| <= tol.
+bool near(double a, double b, double tol) { return (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= tol; }
+
+MultiSensorData sample_data() {
+  MultiSensorData d;
+  d.observer = {{100.0, {63.4, 10.4, 40.0}}, {100.5, {63.40001, 10.40002, 40.1}}, {101.0, {63.40002, 10.40004, 40.2}}};
+  const double r = kDegToRad;
+  d.detections = {
+      {100.0, "radar", 250.125, 30.5 * r, kNaN},    {100.1, "eo", kNaN, -170.25 * r, kNaN},  // interleaved
+      {100.0, "radar", 12.5, 180.0 * r, 2.5 * r},   {100.1, "eo", kNaN, 179.999 * r, kNaN},
+      {100.2, "lidar", kNaN, kNaN, kNaN},           {100.7, "radar", kNaN, kNaN, kNaN},      // empty scans
+      {100.7, "lidar", 0.0, 0.0, -1.0 * r},         {100.9, "ir_2", kNaN, 45.0 * r, kNaN}};
+  d.truth["1"] = {{100.0, {63.401, 10.401, 39.9}}, {100.04, {63.40101, 10.40101, 39.9}}};
+  d.truth["Gunnerus_2"] = {{99.8, {63.402, 10.402, kNaN}}, {100.0, {63.40201, 10.40202, kNaN}}};
+  return d;
+}
+
+void check_equal(const MultiSensorData& a, const MultiSensorData& b) {
+  REQUIRE(a.observer.size() == b.observer.size());
+  for (std::size_t i = 0; i < a.observer.size(); ++i) {
+    CHECK(near(a.observer[i].t_s, b.observer[i].t_s, 1e-6));
+    CHECK(near(a.observer[i].g.lat_deg, b.observer[i].g.lat_deg, 1e-10));
+    CHECK(near(a.observer[i].g.lon_deg, b.observer[i].g.lon_deg, 1e-10));
+    CHECK(near(a.observer[i].g.h_m, b.observer[i].g.h_m, 1e-4));
+    const double ha = a.observer_heading_deg.empty() ? kNaN : a.observer_heading_deg[i];
+    CHECK(near(ha, b.observer_heading_deg.at(i), 1e-6));
+  }
+  REQUIRE(a.detections.size() == b.detections.size());
+  for (std::size_t i = 0; i < a.detections.size(); ++i) {
+    const auto &x = a.detections[i], &y = b.detections[i];
+    INFO("detection " << i);
+    CHECK(near(x.t_s, y.t_s, 1e-6));
+    CHECK(x.sensor == y.sensor);
+    CHECK(near(x.range_m, y.range_m, 1e-3));
+    CHECK(near(wrap_pi(x.bearing_rad), y.bearing_rad, 1e-6 * kDegToRad));
+    CHECK(near(x.elevation_rad, y.elevation_rad, 1e-6 * kDegToRad));
+    CHECK(x.empty_scan() == y.empty_scan());
+  }
+  REQUIRE(a.truth.size() == b.truth.size());
+  for (const auto& [name, v] : a.truth) {
+    REQUIRE(b.truth.count(name) == 1);
+    const auto& w = b.truth.at(name);
+    REQUIRE(v.size() == w.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      CHECK(near(v[i].t_s, w[i].t_s, 1e-6));
+      CHECK(near(v[i].g.lat_deg, w[i].g.lat_deg, 1e-10));
+      CHECK(near(v[i].g.lon_deg, w[i].g.lon_deg, 1e-10));
+      CHECK(near(v[i].g.h_m, w[i].g.h_m, 1e-4));
+    }
+  }
+}
+
+/// The message of the ConfigError that reading `dir` throws ("" if none).
+std::string read_error(const fs::path& dir) {
+  try {
+    MultiSensorData::read_folder(dir.string());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// Run a shell command; its exit code, stderr into `err`.
+int run(const std::string& cmd, const fs::path& tmp, std::string& err) {
+  const fs::path ef = tmp / "stderr.txt";
+  const int st = std::system((cmd + " 2>" + ef.string()).c_str());
+  std::ifstream in(ef);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  err = ss.str();
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+const std::string kImport = std::string(RNAV_BINARY_DIR) + "/bin/rnav_import_autoferry";
+
+/// Horizontal position (north, east) [m] of a time series in F at t, linearly interpolated;
+/// false outside its span or across a gap longer than max_gap_s [s].
+bool interp(const std::vector<GeoSample>& v, const LocalLevelFrame& F, double t, double max_gap_s,
+            Eigen::Vector2d& ne) {
+  const auto it = std::lower_bound(v.begin(), v.end(), t, [](const GeoSample& s, double x) { return s.t_s < x; });
+  if (it == v.end()) return false;
+  const auto q = F.from_geodetic(it->g);
+  if (it->t_s == t) {
+    ne = {q.x(), q.z()};
+    return true;
+  }
+  if (it == v.begin() || it->t_s - (it - 1)->t_s > max_gap_s) return false;
+  const auto p = F.from_geodetic((it - 1)->g);
+  const double a = (t - (it - 1)->t_s) / (it->t_s - (it - 1)->t_s);
+  ne = Eigen::Vector2d(p.x(), p.z()) * (1 - a) + Eigen::Vector2d(q.x(), q.z()) * a;
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
+  const fs::path dir = temp_dir("rt");
+  MultiSensorData d = sample_data();
+  SECTION("no heading column") {
+    d.write_folder(dir.string());
+    std::ifstream in(dir / "observer.csv");
+    std::string header;
+    std::getline(in, header);
+    CHECK(header == "t_s,lat_deg,lon_deg,h_m");
+    const auto r = MultiSensorData::read_folder(dir.string());
+    check_equal(d, r);
+    CHECK(r.sensors() == std::vector<std::string>{"eo", "ir_2", "lidar", "radar"});
+    CHECK(std::isnan(r.truth.at("Gunnerus_2")[0].g.h_m));
+  }
+  SECTION("heading column, some cells empty") {
+    d.observer_heading_deg = {0.0, kNaN, 359.5};
+    d.write_folder(dir.string());
+    check_equal(d, MultiSensorData::read_folder(dir.string()));
+  }
+  SECTION("without truth: no truth.csv (a stale one removed), empty map") {
+    d.write_folder(dir.string());
+    d.truth.clear();
+    d.write_folder(dir.string());
+    CHECK(!fs::exists(dir / "truth.csv"));
+    CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
+  }
+  SECTION("a failed write (disk full) throws naming the file") {
+    if (!fs::exists("/dev/full")) return;
+    fs::create_symlink("/dev/full", dir / "detections.csv");
+    CHECK_THROWS_WITH(d.write_folder(dir.string()), Catch::Contains("detections.csv"));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisensor][input]") {
+  const fs::path dir = temp_dir("bad");
+  sample_data().write_folder(dir.string());
+  REQUIRE(read_error(dir).empty());
+  const std::string det_head = "t_s,sensor,range_m,bearing_deg\n";
+  auto det = [&](const std::string& rows) { std::ofstream(dir / "detections.csv") << det_head << rows; };
+  auto expect = [&](const std::string& where, const std::string& col) {
+    const std::string e = read_error(dir);
+    INFO(e);
+    CHECK(e.find(where) != std::string::npos);
+    if (!col.empty()) CHECK(e.find("column '" + col + "'") != std::string::npos);
+    CHECK(!e.empty());
+  };
+  SECTION("non-numeric cell") {
+    det("1,radar,10,20\n2,radar,abc,20\n");
+    expect("detections.csv:3", "range_m");
+  }
+  SECTION("bad sensor name") {
+    det("1,radar,10,20\n2,Radar,10,20\n");
+    expect("detections.csv:3", "sensor");
+  }
+  SECTION("empty sensor name") {
+    det("1,radar,10,20\n2,,10,20\n");
+    expect("detections.csv:3", "sensor");
+  }
+  SECTION("negative range") {
+    det("1,radar,10,20\n2,radar,-1,20\n");
+    expect("detections.csv:3", "range_m");
+  }
+  SECTION("bearing 400") {
+    det("1,radar,10,20\n2,radar,10,400\n");
+    expect("detections.csv:3", "bearing_deg");
+  }
+  SECTION("range without bearing") {
+    det("1,radar,10,20\n2,radar,10,\n");
+    expect("detections.csv:3", "bearing_deg");
+  }
+  SECTION("elevation out of range") {
+    std::ofstream(dir / "detections.csv") << "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n";
+    expect("detections.csv:3", "elevation_deg");
+  }
+  SECTION("time going backwards within a sensor; two sensors interleaving is fine") {
+    det("1,radar,10,20\n0.5,eo,,20\n1,radar,12,21\n2,radar,10,20\n1.5,eo,,20\n");
+    CHECK(read_error(dir).empty());
+    det("1,radar,10,20\n0.5,eo,,20\n2,radar,10,20\n1.9,radar,10,20\n");
+    expect("detections.csv:5", "t_s");
+  }
+  SECTION("an empty scan beside a detection at one time") {
+    det("1,radar,10,20\n1,radar,,\n");
+    expect("detections.csv:3", "bearing_deg");
+  }
+  SECTION("no detections at all") {
+    det("1,radar,,\n");
+    expect("detections.csv", "");
+    det("");
+    expect("detections.csv", "");
+  }
+  SECTION("missing column") {
+    std::ofstream(dir / "detections.csv") << "t_s,sensor,bearing_deg\n1,radar,20\n";
+    expect("detections.csv:1", "range_m");
+  }
+  SECTION("observer: time order, latitude, heading, fewer than 2 rows") {
+    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n";
+    expect("observer.csv:3", "t_s");
+    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n";
+    expect("observer.csv:3", "lat_deg");
+    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,-181,0\n";
+    expect("observer.csv:3", "lon_deg");
+    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n";
+    expect("observer.csv:3", "heading_deg");
+    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n";
+    expect("observer.csv", "");
+  }
+  SECTION("truth: time order per target, target name; missing truth.csv is fine") {
+    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n2,1,63,10\n";
+    CHECK(read_error(dir).empty());
+    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n";
+    expect("truth.csv:4", "t_s");
+    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n";
+    expect("truth.csv:3", "target");
+    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg,h_m\n1,1,63,10,\n2,1,63,10,x\n";
+    expect("truth.csv:3", "h_m");
+    fs::remove(dir / "truth.csv");
+    CHECK(read_error(dir).empty());
+    CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("Autoferry import: counts of the README, radar and lidar on the GNSS truth",
+          "[multisensor][autoferry][real]") {
+  const std::string data = std::string(RNAV_SOURCE_DIR) + "/../shared/data/autoferry";
+  if (!fs::exists(data)) {
+    WARN("shared data not found at " << data << ": skipped");
+    return;
+  }
+  struct Count {
+    std::size_t scans, detections;
+  };
+  // From the README's "Scenarios" table: EO, IR frames/bearings; radar, lidar scans/points;
+  // truth unique samples of targets 1 / 2.
+  const std::map<int, std::map<std::string, Count>> expected = {
+      {2, {{"eo", {591, 1944}}, {"ir", {1012, 1446}}, {"radar", {70, 437}}, {"lidar", {234, 412}}}},
+      {22, {{"eo", {423, 5652}}, {"ir", {724, 2507}}, {"radar", {50, 263}}, {"lidar", {168, 170}}}}};
+  const std::map<int, std::array<std::size_t, 2>> truth_n = {{2, {1554, 591}}, {22, {854, 423}}};
+  const fs::path tmp = temp_dir("af");
+  for (const auto& [sc, exp] : expected) {
+    const fs::path out = tmp / ("sc" + std::to_string(sc));
+    std::string err;
+    REQUIRE(run(kImport + " " + data + "/scenario" + std::to_string(sc) + " --out " + out.string(), tmp, err) == 0);
+    CHECK(err.find("sensor radar: " + std::to_string(exp.at("radar").scans) + " scans") != std::string::npos);
+    const auto d = MultiSensorData::read_folder(out.string());
+    CHECK(d.sensors() == std::vector<std::string>{"eo", "ir", "lidar", "radar"});
+    for (const auto& [s, c] : exp) {
+      std::set<double> scans;
+      std::size_t n = 0;
+      for (const auto& x : d.detections)
+        if (x.sensor == s) {
+          scans.insert(x.t_s);
+          n += x.empty_scan() ? 0 : 1;
+        }
+      INFO("scenario " << sc << " sensor " << s);
+      CHECK(scans.size() == c.scans);
+      CHECK(n == c.detections);
+    }
+    REQUIRE(d.truth.size() == 2);
+    CHECK(d.truth.at("1").size() == truth_n.at(sc)[0]);
+    CHECK(d.truth.at("2").size() == truth_n.at(sc)[1]);
+
+    // Physics: per radar/lidar scan and target, the detection nearest to the interpolated truth.
+    const LocalLevelFrame F(d.observer.front().g, 0.0);  // x north, y up, z east
+    for (const std::string s : {"radar", "lidar"}) {
+      std::map<std::string, std::map<double, double>> nearest;  // target -> scan time -> distance [m]
+      for (const auto& x : d.detections) {
+        if (x.sensor != s || x.empty_scan()) continue;
+        Eigen::Vector2d own, tgt;
+        REQUIRE(interp(d.observer, F, x.t_s, 1.0, own));
+        const Eigen::Vector2d p = own + x.range_m * Eigen::Vector2d(std::cos(x.bearing_rad), std::sin(x.bearing_rad));
+        for (const auto& [name, v] : d.truth) {
+          if (!interp(v, F, x.t_s, 1.0, tgt)) continue;
+          auto [it, fresh] = nearest[name].emplace(x.t_s, 1e9);
+          it->second = std::min(it->second, (p - tgt).norm());
+        }
+      }
+      std::size_t within50 = 0, within15 = 0;
+      for (const auto& [name, m] : nearest) {
+        std::size_t a = 0, b = 0;
+        for (const auto& [t, dist] : m) {
+          a += dist <= 50;
+          b += dist <= 15;
+        }
+        std::cout << "scenario " << sc << " " << s << " target " << name << ": " << b << " of " << a
+                  << " scans with a detection within 50 m have one within 15 m ("
+                  << (a ? 100.0 * b / a : 0.0) << " %)\n";
+        within50 += a;
+        within15 += b;
+      }
+      INFO("scenario " << sc << " " << s);
+      REQUIRE(within50 > 10);
+      CHECK(static_cast<double>(within15) >= 0.8 * static_cast<double>(within50));
+    }
+  }
+  fs::remove_all(tmp);
+}
+
+TEST_CASE("Autoferry import: malformed JSON is named by file and record", "[multisensor][autoferry][input]") {
+  const fs::path tmp = temp_dir("json");
+  const fs::path sc = tmp / "scenarioX";
+  fs::create_directories(sc);
+  const std::string gt_ok = R"([{"targetID":1,"position":[1,2,0],"time":10.0},{"targetID":2,"position":[3,4,0],"time":10.0}])";
+  auto write = [&](const std::string& rec1, const std::string& gt1) {
+    std::ofstream(sc / "scenarioX_detections.json")
+        << "[{\"sensorID\":2,\"time\":10.0,\"ownshipPosition\":[0,0],\"measurement\":[[1,2],[3,4]],\"measurements\":[]},"
+        << rec1 << "]";
+    std::ofstream(sc / "scenarioX_groundTruth.json") << "[" << gt_ok << "," << gt1 << "]";
+  };
+  const std::string cmd = kImport + " " + sc.string() + " --out " + (tmp / "out").string();
+  std::string err;
+  SECTION("well formed: imports") {
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    CHECK(run(cmd, tmp, err) == 0);
+    INFO(err);
+    CHECK(err.find("sensor radar: 1 scans, 2 detections") != std::string::npos);
+  }
+  SECTION("short ownshipPosition") {
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0],"measurement":0.5})", gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    INFO(err);
+    CHECK(err.find("scenarioX_detections.json record 1") != std::string::npos);
+    CHECK(err.find("ownshipPosition") != std::string::npos);
+  }
+  SECTION("ragged radar rows") {
+    write(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    INFO(err);
+    CHECK(err.find("record 1") != std::string::npos);
+    CHECK(err.find("differ in length") != std::string::npos);
+  }
+  SECTION("missing key, non-numeric value, unknown sensor") {
+    write(R"({"sensorID":4,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    CHECK(err.find("record 1: missing key 'time'") != std::string::npos);
+    write(R"({"sensorID":3,"time":10.1,"ownshipPosition":[0,0],"measurement":[0.5,"x"]})", gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    CHECK(err.find("record 1: measurement[1] is not a number") != std::string::npos);
+    write(R"({"sensorID":7,"time":10.1,"ownshipPosition":[0,0],"measurement":[]})", gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    CHECK(err.find("record 1: unknown sensorID 7") != std::string::npos);
+  }
+  SECTION("ground-truth element of a wrong shape") {
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})",
+          R"([{"targetID":1,"position":[1,2],"time":10.0}])");
+    CHECK(run(cmd, tmp, err) != 0);
+    INFO(err);
+    CHECK(err.find("scenarioX_groundTruth.json element 1") != std::string::npos);
+    CHECK(err.find("position") != std::string::npos);
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})", "{\"targetID\":1}");
+    CHECK(run(cmd, tmp, err) != 0);
+    CHECK(err.find("element 1: not a list") != std::string::npos);
+  }
+  SECTION("--help: usage of both modes on stdout") {
+    CHECK(run(kImport + " --help >" + (tmp / "usage.txt").string(), tmp, err) == 0);
+    std::ifstream in(tmp / "usage.txt");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    CHECK(ss.str().find("--out DIR") != std::string::npos);
+    CHECK(ss.str().find("--sensor eo|ir --target 1|2") != std::string::npos);
+  }
+  fs::remove_all(tmp);
+}
