@@ -95,6 +95,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   const Eigen::MatrixXd cov = fin.cov_unscaled * scale;
   const Eigen::MatrixXd R = raw_model_matrix(d, chosen);
   const Eigen::Index q = p.nuisance.cols();
+  res.nuisance_beta = fin.beta.head(q);
   res.nuisance_fit = q > 0 ? Eigen::VectorXd(R.leftCols(q) * fin.beta.head(q)) : Eigen::VectorXd::Zero(R.rows());
   res.effect_fit = R.rightCols(R.cols() - q) * fin.beta.tail(R.cols() - q);
 
@@ -169,7 +170,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     res.noise.push_back(cn);
   }
 
-  out_of_sample(d, chosen, o.noise, res);
+  if (o.score_holdout) out_of_sample(d, o, res);
   // outliers named: flags in excess of the Gaussian expectation and a positive held-out gain
   for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
     ChannelNoise& cn = res.noise[ch];

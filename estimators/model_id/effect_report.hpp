@@ -11,7 +11,6 @@ void report(const Design& d, const SearchOptions& o, const std::vector<std::pair
             const std::vector<NoiseFit>& fits, SearchResult& res);
 
 /// Out-of-sample gain and the outlier decision per channel (oos_gain.cpp).
-void out_of_sample(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen,
-                   const NoiseIdOptions& no, SearchResult& res);
+void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res);
 
 }  // namespace rnav::search_detail

@@ -91,6 +91,9 @@ struct SearchOptions {
   int max_effects = 8;          ///< most effects named, >= 1
   int max_rounds = 3;           ///< noise/effect re-identification rounds, >= 1
   NoiseIdOptions noise;         ///< noise identification (alpha_correlated is set from alpha)
+  /// Score the held-out frames: the whole search (selection and fit) is rerun on the
+  /// estimation frames alone and its model predicts the rest. Off inside that rerun.
+  bool score_holdout = true;
 };
 
 struct FoundEffect {
@@ -144,7 +147,9 @@ struct SearchResult {
   std::vector<FoundEffect> effects;
   std::vector<ChannelNoise> noise;              ///< per channel
   Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit
-  Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: fitted on the estimation frames only
+  Eigen::VectorXd nuisance_beta;                ///< the nuisance's estimate (full data)
+  Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: selected and fitted on the estimation frames only
+  std::vector<std::string> holdout_effects;     ///< what the estimation frames alone selected ("name@scope")
   std::vector<SeriesGain> gain;                ///< per channel
   std::map<std::string, std::map<std::string, double>> detection_limits;  ///< "name@scope" -> param -> size
   std::vector<std::string> unexplained;
