@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""Residual plot of a multi-sensor diagnosis: one panel per sensor:target, bearing residual
+(measured minus reference) [deg] against time with the extended model's fit, the estimation /
+held-out split marked. Usage: plot_multi.py RESIDUALS.csv OUT.png [TITLE]"""
+import csv
+import math
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    rows = {}
+    with open(sys.argv[1], newline="") as f:
+        for r in csv.DictReader(f):
+            if r["quantity"] != "bearing":
+                continue
+            rows.setdefault(f"{r['sensor']}:{r['target']}", []).append(r)
+    keys = sorted(rows)
+    if not keys:
+        sys.exit(f"plot_multi: no bearing rows in {sys.argv[1]}")
+    t0 = min(float(r["t_s"]) for k in keys for r in rows[k])
+    cols = 2
+    nrow = math.ceil(len(keys) / cols)
+    fig, axes = plt.subplots(nrow, cols, figsize=(11, 2.3 * nrow), sharex=True, squeeze=False)
+    for ax, k in zip(axes.flat, keys):
+        rr = rows[k]
+        t = [float(r["t_s"]) - t0 for r in rr]
+        y = [math.degrees(float(r["residual"])) for r in rr]
+        fit = [math.degrees(float(r["extended_fit"])) for r in rr]
+        out = [r["outlier"] == "1" for r in rr]
+        ax.plot([a for a, o in zip(t, out) if not o], [b for b, o in zip(y, out) if not o], ".", ms=2, color="0.5",
+                label="residual")
+        ax.plot([a for a, o in zip(t, out) if o], [b for b, o in zip(y, out) if o], "x", ms=3, color="tab:red",
+                label="outlier")
+        # the fit, broken across gaps longer than 3 s
+        seg_t, seg_y = [], []
+        for a, b in zip(t, fit):
+            if seg_t and a - seg_t[-1] > 3:
+                ax.plot(seg_t, seg_y, "-", color="tab:blue", lw=1.2)
+                seg_t, seg_y = [], []
+            seg_t.append(a)
+            seg_y.append(b)
+        ax.plot(seg_t, seg_y, "-", color="tab:blue", lw=1.2, label="extended model")
+        split = [a for a, r in zip(t, rr) if r["estimation"] == "0"]
+        if split:
+            ax.axvline(min(split), color="k", ls=":", lw=0.8)
+        ax.set_title(k, fontsize=9)
+        ax.set_ylabel("bearing [deg]", fontsize=8)
+        lim = sorted(abs(v) for v in y)[int(0.98 * (len(y) - 1))] * 1.3 + 0.1
+        ax.set_ylim(-lim, lim)
+    for ax in axes.flat[len(keys):]:
+        ax.axis("off")
+    for ax in axes[-1]:
+        ax.set_xlabel("time since first detection [s]")
+    axes.flat[0].legend(fontsize=7, loc="upper right")
+    fig.suptitle(sys.argv[3] if len(sys.argv) > 3 else "multi-sensor diagnosis (dotted: held-out window starts)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(sys.argv[2], dpi=110)
+
+
+if __name__ == "__main__":
+    main()
