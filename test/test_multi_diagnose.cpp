@@ -98,7 +98,7 @@ int mean_effects(const MultiReport& r) { return static_cast<int>(r.result.effect
 
 }  // namespace
 
-TEST_CASE("multi diagnosis: nominal data name no mean effect; the turn is named") {
+TEST_CASE("multi diagnosis: nominal data name no mean effect, and the turn is named") {
   const MultiReport r = diagnose_multi(make(1, {}), options());
   INFO(r.text());
   CHECK(mean_effects(r) == 0);

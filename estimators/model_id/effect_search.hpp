@@ -91,8 +91,8 @@ struct SearchOptions {
   int max_effects = 8;          ///< most effects named, >= 1
   int max_rounds = 3;           ///< noise/effect re-identification rounds, >= 1
   NoiseIdOptions noise;         ///< noise identification (alpha_correlated is set from alpha)
-  /// Score the held-out frames: the whole search (selection and fit) is rerun on the
-  /// estimation frames alone and its model predicts the rest. Off inside that rerun.
+  /// Score the held-out frames: the named effects refitted on the estimation frames alone
+  /// (those the window does not determine, |estimate / SE| < 2 there, left out) predict the rest.
   bool score_holdout = true;
 };
 
@@ -148,8 +148,8 @@ struct SearchResult {
   std::vector<ChannelNoise> noise;              ///< per channel
   Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit
   Eigen::VectorXd nuisance_beta;                ///< the nuisance's estimate (full data)
-  Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: selected and fitted on the estimation frames only
-  std::vector<std::string> holdout_effects;     ///< what the estimation frames alone selected ("name@scope")
+  Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: fitted on the estimation frames only
+  std::vector<std::string> holdout_effects;     ///< the named effects the estimation frames determine ("name@scope")
   std::vector<SeriesGain> gain;                ///< per channel
   std::map<std::string, std::map<std::string, double>> detection_limits;  ///< "name@scope" -> param -> size
   std::vector<std::string> unexplained;
