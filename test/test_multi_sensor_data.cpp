@@ -340,47 +340,39 @@ TEST_CASE("Autoferry import: malformed JSON is named by file and record", "[mult
   };
   const std::string cmd = kImport + " " + sc.string() + " --out " + (tmp / "out").string();
   std::string err;
+  const std::string eo_ok = R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})";
   SECTION("well formed: imports") {
-    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    write(eo_ok, gt_ok);
     CHECK(run(cmd, tmp, err) == 0);
     INFO(err);
     CHECK(err.find("sensor radar: 1 scans, 2 detections") != std::string::npos);
   }
-  SECTION("short ownshipPosition") {
-    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0],"measurement":0.5})", gt_ok);
+  // The import of (rec1, gt1) fails and its message holds every one of `needles`.
+  auto fails_with = [&](const std::string& rec1, const std::string& gt1, const std::vector<std::string>& needles) {
+    write(rec1, gt1);
     CHECK(run(cmd, tmp, err) != 0);
     INFO(err);
-    CHECK(err.find("scenarioX_detections.json record 1") != std::string::npos);
-    CHECK(err.find("ownshipPosition") != std::string::npos);
+    for (const auto& n : needles) CHECK(err.find(n) != std::string::npos);
+  };
+  SECTION("short ownshipPosition") {
+    fails_with(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0],"measurement":0.5})", gt_ok,
+               {"scenarioX_detections.json record 1", "ownshipPosition"});
   }
   SECTION("ragged radar rows") {
-    write(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok);
-    CHECK(run(cmd, tmp, err) != 0);
-    INFO(err);
-    CHECK(err.find("record 1") != std::string::npos);
-    CHECK(err.find("differ in length") != std::string::npos);
+    fails_with(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok,
+               {"record 1", "differ in length"});
   }
   SECTION("missing key, non-numeric value, unknown sensor") {
-    write(R"({"sensorID":4,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
-    CHECK(run(cmd, tmp, err) != 0);
-    CHECK(err.find("record 1: missing key 'time'") != std::string::npos);
-    write(R"({"sensorID":3,"time":10.1,"ownshipPosition":[0,0],"measurement":[0.5,"x"]})", gt_ok);
-    CHECK(run(cmd, tmp, err) != 0);
-    CHECK(err.find("record 1: measurement[1] is not a number") != std::string::npos);
-    write(R"({"sensorID":7,"time":10.1,"ownshipPosition":[0,0],"measurement":[]})", gt_ok);
-    CHECK(run(cmd, tmp, err) != 0);
-    CHECK(err.find("record 1: unknown sensorID 7") != std::string::npos);
+    fails_with(R"({"sensorID":4,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok, {"record 1: missing key 'time'"});
+    fails_with(R"({"sensorID":3,"time":10.1,"ownshipPosition":[0,0],"measurement":[0.5,"x"]})", gt_ok,
+               {"record 1: measurement[1] is not a number"});
+    fails_with(R"({"sensorID":7,"time":10.1,"ownshipPosition":[0,0],"measurement":[]})", gt_ok,
+               {"record 1: unknown sensorID 7"});
   }
   SECTION("ground-truth element of a wrong shape") {
-    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})",
-          R"([{"targetID":1,"position":[1,2],"time":10.0}])");
-    CHECK(run(cmd, tmp, err) != 0);
-    INFO(err);
-    CHECK(err.find("scenarioX_groundTruth.json element 1") != std::string::npos);
-    CHECK(err.find("position") != std::string::npos);
-    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0,0],"measurement":0.5})", "{\"targetID\":1}");
-    CHECK(run(cmd, tmp, err) != 0);
-    CHECK(err.find("element 1: not a list") != std::string::npos);
+    fails_with(eo_ok, R"([{"targetID":1,"position":[1,2],"time":10.0}])",
+               {"scenarioX_groundTruth.json element 1", "position"});
+    fails_with(eo_ok, "{\"targetID\":1}", {"element 1: not a list"});
   }
   SECTION("--help: usage of both modes on stdout") {
     CHECK(run(kImport + " --help >" + (tmp / "usage.txt").string(), tmp, err) == 0);

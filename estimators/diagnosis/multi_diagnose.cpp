@@ -19,6 +19,7 @@ MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptio
   const std::vector<AssociatedDetection> a = associate(data, o.association, rep.association);
   MultiProblem mp = build_multi_problem(a, o.sigma_bearing_deg * kDegToRad, o.sigma_range_m, o.split_fraction, o.step_grid);
   rep.split_time_s = mp.split_time_s;
+  rep.dropped_channels = mp.dropped_channels;
   rep.result = search_effects(mp.problem, o.search);
   const SearchResult& r = rep.result;
 
@@ -71,6 +72,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
   for (const auto& [s, st] : association)
     j["association"][s] = {{"scans", st.scans}, {"detections", st.detections}, {"ambiguous_scans", st.ambiguous_scans},
                            {"associated", st.associated}, {"missed", st.missed}};
+  j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
   j["effects"] = core["effects"];
   for (const auto& e : target_effects) {
@@ -101,6 +103,7 @@ std::string MultiReport::text() const {
     for (const auto& [t, n] : st.associated) o << " " << t << ":" << n;
     o << " (ambiguous scans " << st.ambiguous_scans << ")\n";
   }
+  for (const auto& d : dropped_channels) o << "  not diagnosed (fewer than 10 associated detections): " << d << "\n";
   o << search_text(problem, result);
   for (const auto& e : target_effects)
     o << "  EFFECT   target_maneuver [target " << e.scope.target << "]: at t = " << short_num(e.scan_value) << " +- "

@@ -60,6 +60,7 @@ struct MultiReport {
   std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>"
   std::map<std::string, SensorAssociation> association;
   double split_time_s = 0;
+  std::vector<std::string> dropped_channels;  ///< sensor:target:quantity with too few detections to diagnose
   nlohmann::ordered_json to_json() const;
   std::string text() const;
   /// t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier (bearings in rad)

@@ -65,10 +65,9 @@ MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, doub
   mp.bearing_obs.assign(a.size(), -1);
   mp.range_obs.assign(a.size(), -1);
   auto geoms = std::make_shared<std::vector<ObsGeom>>();
-  std::vector<std::string> dropped;
   for (auto& [name, list] : by_channel) {
     if (list.size() < 10) {  // too few to identify a noise model: reported, not used
-      dropped.push_back(name + " (" + std::to_string(list.size()) + " detections)");
+      mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
       continue;
     }
     std::stable_sort(list.begin(), list.end(), [&](const auto& u, const auto& w) { return a[u.first].t_s < a[w.first].t_s; });
@@ -186,7 +185,6 @@ MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, doub
     aspect[i] = g.dh * g.u_perp;  // the line-of-sight cross-component of the hull axis
   }
   p.covariates = {{"range", range}, {"target speed", speed}, {"time", time}, {"aspect (hull across the line of sight)", aspect}};
-  (void)dropped;
   return mp;
 }
 

@@ -13,6 +13,7 @@ struct MultiProblem {
   Problem problem;
   std::vector<long> bearing_obs, range_obs;  ///< per associated detection: its observation index (-1: none)
   double split_time_s = 0;
+  std::vector<std::string> dropped_channels;  ///< "name (n detections)": fewer than 10, not used
 };
 
 /// @param nominal_sigma_bearing_rad, nominal_sigma_range_m  nominal white noise (> 0)

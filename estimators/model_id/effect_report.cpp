@@ -216,23 +216,21 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     ans.supported = "none";
     for (const auto& [label, entries] : sq.alternatives) {
       Chosen add;
-      for (auto e : entries) {
-        const std::size_t v = std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; }) != chosen.end()
-                                  ? std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; })->second
-                                  : 0;
-        add.push_back({e, v});
+      for (auto e : entries) {  // the chosen grid point of a chosen entry, else point 0
+        const auto it = std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; });
+        add.push_back({e, it != chosen.end() ? it->second : 0});
       }
-      Eigen::MatrixXd C = model_matrix(d, add).rightCols(model_matrix(d, add).cols() - d.Nw.cols());
-      // drop columns the base or earlier ones already span (e.g. a common effect inside per-sensor ones)
-      const Ols f = ols(C, Eigen::VectorXd::Zero(C.rows()));
+      const Eigen::MatrixXd all = model_matrix(d, add);
+      Eigen::MatrixXd C = all.rightCols(all.cols() - d.Nw.cols());
+      // keep independent columns only (e.g. a common effect inside per-sensor ones)
+      // (columns scaled to unit norm first: their units differ by orders of magnitude)
+      Eigen::VectorXd inv_norm(C.cols());
+      for (Eigen::Index j = 0; j < C.cols(); ++j) inv_norm(j) = C.col(j).norm() > 0 ? 1.0 / C.col(j).norm() : 1.0;
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C * inv_norm.asDiagonal());
+      qr.setThreshold(1e-6);
+      if (qr.rank() < C.cols()) C = Eigen::MatrixXd(C * qr.colsPermutation()).leftCols(qr.rank());
       ScopeAnswer::Alt a;
       a.label = label;
-      if (!f.ok) {
-        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C);
-        qr.setThreshold(1e-6);
-        const Eigen::MatrixXd Cp = C * qr.colsPermutation();
-        C = Cp.leftCols(qr.rank());
-      }
       a.k = static_cast<int>(C.cols());
       a.lr = std::max(0.0, P.lr(C));
       a.bic = a.k * std::log(d.n_used) - a.lr;

@@ -128,18 +128,15 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     if (!o.flag_outliers) break;
     // flag: standardized innovations of the GLS residual under the chosen model
     Eigen::MatrixXd W = Xe;
-    std::vector<char> none;
     whiten(t, fit.params, skip, W);
     const Eigen::Index k = Xe.cols() - 1;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(k));
     const Eigen::VectorXd beta = qr.solve(W.col(k));
     // raw residual of the mean model, then its innovations over all frames (flags re-decided)
     const Eigen::VectorXd raw = Xe.col(k) - Xe.leftCols(k) * beta;
-    Eigen::MatrixXd R = raw;
-    NoiseParams pr = fit.params;
+    const NoiseParams& pr = fit.params;
     fit.z_outlier = z_two_sided(std::min(0.5, o.expected_false_flags / static_cast<double>(n)));
-    // innovations conditioned on the non-flagged past: whiten with the current skip, then
-    // score each flagged frame by its own prediction
+    // innovations conditioned on the non-flagged past (a flagged frame does not update the state)
     std::vector<char> next(static_cast<std::size_t>(n), 0);
     {
       const double q = pr.lambda * pr.s2, r = (1 - pr.lambda) * pr.s2;
