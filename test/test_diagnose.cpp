@@ -29,9 +29,9 @@ DiagnoseReport run(const std::vector<std::string>& effects, std::int64_t seed, c
   return diagnose_prl(PrlFlightData::read_folder(d.string()), DiagnoseOptions{});
 }
 
-const EffectResult* find(const DiagnoseReport& r, const std::string& name) {
+const EffectResult* find(const DiagnoseReport& r, const std::string& name, const std::string& channel = "") {
   for (const auto& e : r.effects)
-    if (e.name == name && !e.nominal) return &e;
+    if (e.name == name && !e.nominal && (channel.empty() || e.channel == channel)) return &e;
   return nullptr;
 }
 
@@ -44,19 +44,34 @@ int n_effects(const DiagnoseReport& r) {
 struct Hidden {
   std::vector<std::string> sets;  // scenario overrides
   std::string name;               // catalogue name to find
-  std::string param;              // which parameter to check
+  std::string param;              // which parameter to check (noise findings: the channel; the first parameter is checked)
   double truth;                   // its true value (in the catalogue's units)
   std::string gain_channel;       // channel whose out-of-sample RMS must improve ("" = none)
 };
 
+bool is_noise_finding(const std::string& n) { return n == "noise_scale" || n == "correlated_noise" || n == "outliers"; }
+
 void check_found(const DiagnoseReport& r, const Hidden& h, bool overall_gain = false) {
-  const EffectResult* e = find(r, h.name);
+  const bool noise = is_noise_finding(h.name);
+  const EffectResult* e = find(r, h.name, noise ? h.param : "");
+  bool partner = false;
+  if (!e && !noise) {
+    // Not named itself: then an effect the report says it cannot be told apart from in this
+    // geometry must stand in for it (e.g. a course drift and the azimuth-elevation coupling
+    // along a steady glide); its estimate is then not comparable.
+    for (const auto& x : r.effects)
+      if (std::find(x.confounded_with.begin(), x.confounded_with.end(), h.name) != x.confounded_with.end()) e = &x;
+    partner = e != nullptr;
+  }
   REQUIRE(e != nullptr);
   std::size_t k = 0;
-  while (k < e->params.size() && e->params[k] != h.param) ++k;
-  REQUIRE(k < e->params.size());
-  INFO(h.name << "." << h.param << " = " << e->estimate[k] << " +- " << e->stderr_[k] << ", truth " << h.truth);
-  CHECK(std::abs(e->estimate[k] - h.truth) <= 3 * e->stderr_[k]);
+  if (!noise && !partner) {
+    while (k < e->params.size() && e->params[k] != h.param) ++k;
+    REQUIRE(k < e->params.size());
+  }
+  INFO(h.name << "." << h.param << " = " << e->estimate[k] << " +- " << e->stderr_[k] << ", truth " << h.truth
+               << (partner ? " (stood in for by " + e->name + ")" : ""));
+  if (!partner) CHECK(std::abs(e->estimate[k] - h.truth) <= 3 * e->stderr_[k]);
   if (!h.gain_channel.empty()) {
     // Two effects: one effect's extrapolation can cost a channel the other gains in, so the
     // gain is judged on the compensated position against truth.
@@ -73,15 +88,15 @@ void check_found(const DiagnoseReport& r, const Hidden& h, bool overall_gain = f
 // 1.5-3 times the limit, so a correct search finds them with high probability.
 const std::vector<Hidden> kSingles = {
     {{"prl_effects.range_gain=0.0008"}, "range_gain", "g", 0.0008, "range"},
-    {{"prl_effects.time_offset_s=0.4"}, "time_offset", "tau_s", 0.4, "range"},
+    {{"prl_effects.time_offset_s=0.4"}, "time_offset", "tau_s", 0.4, "course"},  // held out: near the radar, the azimuth rate is largest
     {{"prl_effects.elevation_refraction_rad=0.0001"}, "elevation_refraction", "k_rad", 1e-4, "glide"},
     {{"prl_effects.azimuth_elevation_coupling_rad=0.2"}, "azimuth_elevation_coupling", "c_rad", 0.2, "course"},
     {{"prl_effects.site_offset_north_m=60"}, "site_offset", "north_m", 60, "course"},
     {{"prl_effects.drift_course_radps=0.000015"}, "bias_drift", "course_radps", 1.5e-5, "course"},
     {{"prl_effects.step_time_s=250", "prl_effects.step_glide_rad=0.004"}, "bias_step", "glide_rad", 0.004, "glide"},
     {{"prl_effects.periodic_period_s=30", "prl_effects.periodic_glide_rad=0.003"}, "periodic", "amplitude_glide_rad", 0.003, "glide"},
-    {{"prl_effects.noise_scale=1.3"}, "noise_scale", "course", 1.3, ""},
-    {{"prl_effects.correlated_noise_tau_s=5"}, "correlated_noise", "course_tau_s", 5, ""},
+    {{"prl_effects.noise_scale=1.3"}, "noise_scale", "course", 1.3, ""},  // (ratio, per channel)
+    {{"prl_effects.correlated_noise_tau_s=5"}, "correlated_noise", "course", 5, ""}  // (tau_s, per channel),
 };
 
 }  // namespace

@@ -54,8 +54,9 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
     const double corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][vf]);
     const double k = static_cast<double>(p.catalogue[f].params.size());
     const bool passes = lr_f > 0 && log_chi2_sf(lr_f, k) + std::log(static_cast<double>(d.Cw[f].size()) * m) < std::log(o.alpha);
-    // "explains as well": within the look-elsewhere cost of the larger scan (at least 2)
-    const double cost = 2 * std::max(1.0, std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
+    // "explains as well": the 2 log LR difference is below strong evidence (6 on the
+    // Kass-Raftery scale) or below the look-elsewhere cost of the larger scan, 2 log(grid)
+    const double cost = std::max(6.0, 2 * std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
     if (corr > o.confound_corr || (passes && lr_self - lr_f < cost)) {
       FoundEffect::Confound cf;
       cf.name = p.catalogue[f].name;
@@ -96,6 +97,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   const Eigen::MatrixXd R = raw_model_matrix(d, chosen);
   const Eigen::Index q = p.nuisance.cols();
   res.nuisance_beta = fin.beta.head(q);
+  res.nuisance_se = cov.diagonal().head(q).cwiseSqrt();
   res.nuisance_fit = q > 0 ? Eigen::VectorXd(R.leftCols(q) * fin.beta.head(q)) : Eigen::VectorXd::Zero(R.rows());
   res.effect_fit = R.rightCols(R.cols() - q) * fin.beta.tail(R.cols() - q);
 
@@ -153,8 +155,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     ChannelNoise cn;
     cn.fit = fits[ch];
     const NoiseParams& np = cn.fit.params;
-    const double nominal = p.channels[ch].nominal_sigma;
-    const double qv = np.s2 / (nominal * nominal);
+    const double qv = np.s2 / p.channels[ch].nominal_var();
     // effective sample size of the variance estimate under Gauss-Markov correlation
     const auto& t = d.times[ch];
     const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
@@ -166,7 +167,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     const double lr = n_eff * (qv - 1 - std::log(qv));
     cn.log10_p_scale = std::min(0.0, (log_chi2_sf(lr, 1) + std::log(m)) / std::log(10.0));
     cn.scale_named = cn.log10_p_scale < std::log10(o.alpha);
-    cn.correlated_named = cn.fit.correlated;
+    cn.correlated_named = cn.fit.departs_nominal;
     res.noise.push_back(cn);
   }
 

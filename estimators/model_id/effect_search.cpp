@@ -32,61 +32,127 @@ void check_options(const SearchOptions& o) {
   if (o.max_effects < 1 || o.max_rounds < 1) throw std::invalid_argument("effect search: max_effects, max_rounds >= 1");
 }
 
-// Each channel's noise, identified with the nuisance, the chosen effects and every non-scanned
-// catalogue entry (restricted to the channel) as fixed effects: a physical effect in the data,
-// chosen yet or not, is then not taken for correlated noise (REML keeps the cost of the extra
-// columns in its log-determinant).
-std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no) {
-  const Problem& p = *d.pb;
+// The chosen effects plus every non-scanned catalogue entry not chosen (grid point 0).
+Chosen with_non_scanned(const Problem& p, const Chosen& chosen) {
   Chosen fixed = chosen;
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
     if (!p.catalogue[e].scanned() &&
         std::none_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; }))
       fixed.push_back({e, 0});
-  const Eigen::MatrixXd X = search_detail::raw_model_matrix(d, fixed);
-  std::vector<NoiseFit> out;
-  for (std::size_t c = 0; c < d.rows.size(); ++c) {
-    const auto m = static_cast<Eigen::Index>(d.rows[c].size());
-    Eigen::VectorXd e(m);
-    Eigen::MatrixXd Xc(m, X.cols());
-    for (Eigen::Index r = 0; r < m; ++r) {
-      const auto i = d.rows[c][static_cast<std::size_t>(r)];
-      e(r) = p.y[i];
-      Xc.row(r) = X.row(static_cast<Eigen::Index>(i));
-    }
-    // keep only the columns that touch this channel
-    std::vector<Eigen::Index> keep;
-    for (Eigen::Index j = 0; j < Xc.cols(); ++j)
-      if (!Xc.col(j).isZero(0)) keep.push_back(j);
-    Eigen::MatrixXd Xk(m, static_cast<Eigen::Index>(keep.size()));
-    for (std::size_t j = 0; j < keep.size(); ++j) Xk.col(static_cast<Eigen::Index>(j)) = Xc.col(keep[j]);
-    out.push_back(identify_noise(d.times[c], e, Xk, no));
+  return fixed;
+}
+
+// Channel c's rows of the raw columns X, only the columns that touch the channel.
+Eigen::MatrixXd channel_columns(const Design& d, const Eigen::MatrixXd& X, std::size_t c) {
+  const auto m = static_cast<Eigen::Index>(d.rows[c].size());
+  Eigen::MatrixXd Xc(m, X.cols());
+  for (Eigen::Index r = 0; r < m; ++r) Xc.row(r) = X.row(static_cast<Eigen::Index>(d.rows[c][static_cast<std::size_t>(r)]));
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < Xc.cols(); ++j)
+    if (!Xc.col(j).isZero(0)) keep.push_back(j);
+  Eigen::MatrixXd Xk(m, static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t j = 0; j < keep.size(); ++j) Xk.col(static_cast<Eigen::Index>(j)) = Xc.col(keep[j]);
+  return Xk;
+}
+
+Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
+  Eigen::VectorXd e(static_cast<Eigen::Index>(d.rows[c].size()));
+  for (std::size_t r = 0; r < d.rows[c].size(); ++r) e(static_cast<Eigen::Index>(r)) = d.pb->y[d.rows[c][r]];
+  return e;
+}
+
+NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no) {
+  NoiseIdOptions nc = no;
+  const Channel& ch = p.channels[c];
+  if (ch.nominal_corr_sigma > 0) {
+    nc.nominal_lambda = std::min(0.999, ch.nominal_corr_sigma * ch.nominal_corr_sigma / ch.nominal_var());
+    nc.nominal_tau_s = ch.nominal_corr_tau_s;
   }
+  return nc;
+}
+
+// Each channel's noise, identified with the nuisance, the chosen effects and every non-scanned
+// catalogue entry (restricted to the channel) as fixed effects: a physical effect in the data,
+// chosen yet or not, is then not taken for correlated noise (REML keeps the cost of the extra
+// columns in its log-determinant).
+std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no) {
+  const Eigen::MatrixXd X = search_detail::raw_model_matrix(d, with_non_scanned(*d.pb, chosen));
+  std::vector<NoiseFit> out;
+  for (std::size_t c = 0; c < d.rows.size(); ++c)
+    out.push_back(identify_noise(d.times[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
   return out;
 }
 
+// A scanned effect (a step, a manoeuvre, a period) is slow where correlated noise is slow, so
+// the noise identified without it may have absorbed it. Its test is therefore the profile
+// likelihood ratio: the noise re-identified with and without its columns (same frames kept
+// out), 2 sum_c [l_ML(with) - l_ML(without)] over the channels it touches.
+class ProfileLr {
+ public:
+  ProfileLr(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no)
+      : d_(d), fits_(fits), no_(no), X0_(search_detail::raw_model_matrix(d, with_non_scanned(*d.pb, chosen))),
+        base_(d.rows.size(), std::nan("")) {}
+  double operator()(std::size_t e, std::size_t v) {
+    const Eigen::MatrixXd C = d_.raw_columns(e, v);
+    double lr = 0;
+    for (std::size_t c = 0; c < d_.rows.size(); ++c) {
+      Eigen::MatrixXd XC(X0_.rows(), X0_.cols() + C.cols());
+      XC << X0_, C;
+      const Eigen::MatrixXd Xc = channel_columns(d_, XC, c), X0c = channel_columns(d_, X0_, c);
+      if (Xc.cols() == X0c.cols()) continue;  // the entry does not touch this channel
+      const Eigen::VectorXd y = channel_y(d_, c);
+      const NoiseIdOptions nc = channel_options(*d_.pb, c, no_);
+      if (std::isnan(base_[c])) base_[c] = identify_noise(d_.times[c], y, X0c, nc, &fits_[c].outlier).loglik_ml;
+      lr += 2 * (identify_noise(d_.times[c], y, Xc, nc, &fits_[c].outlier).loglik_ml - base_[c]);
+    }
+    return lr;
+  }
+
+ private:
+  const Design& d_;
+  const std::vector<NoiseFit>& fits_;
+  NoiseIdOptions no_;
+  Eigen::MatrixXd X0_;
+  std::vector<double> base_;
+};
+
 // Forward selection under the design's current noise: the entry with the smallest adjusted
-// log p enters while it is below log alpha.
-Chosen forward_select(const Design& d, const SearchOptions& o, double m_family) {
+// log p enters while it is below log alpha. A scanned entry's best grid point is tested by its
+// profile likelihood ratio (ProfileLr).
+Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, const std::vector<NoiseFit>& fits) {
   const Problem& p = *d.pb;
   Chosen chosen;
   std::vector<char> taken(p.catalogue.size(), 0);
   const double log_alpha = std::log(o.alpha);
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);
+    ProfileLr profile(d, chosen, fits, o.noise);
     double best = 0;
     std::pair<std::size_t, std::size_t> arg{0, 0};
     bool any = false;
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
       if (taken[e]) continue;
       const double k = static_cast<double>(p.catalogue[e].params.size());
-      for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
-        const double lr = P.lr(d.Cw[e][v]);
-        if (lr <= 0) continue;
-        // Bonferroni: alpha / m per entry, split over the entry's grid.
-        const double lp = log_chi2_sf(lr, k) + std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
-        if (!any || lp < best) best = lp, arg = {e, v}, any = true;
+      // Bonferroni: alpha / m per entry, split over the entry's grid.
+      const double cost = std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
+      if (p.catalogue[e].scanned()) {
+        double lr_v = 0;
+        std::size_t v_best = 0;
+        for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
+          const double lr = P.lr(d.Cw[e][v]);
+          if (lr > lr_v) lr_v = lr, v_best = v;
+        }
+        if (lr_v <= 0) continue;
+        const double lr = profile(e, v_best);
+        if (!(lr > 0)) continue;
+        const double lp = log_chi2_sf(lr, k) + cost;
+        if (!any || lp < best) best = lp, arg = {e, v_best}, any = true;
+        continue;
       }
+      const double lr = P.lr(d.Cw[e][0]);
+      if (lr <= 0) continue;
+      const double lp = log_chi2_sf(lr, k) + cost;
+      if (!any || lp < best) best = lp, arg = {e, 0}, any = true;
     }
     if (!any || best >= log_alpha) break;
     chosen.push_back(arg);
@@ -123,7 +189,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
       sk.push_back(f.outlier);
     }
     d.set_noise(np, sk);
-    const Chosen next = forward_select(d, o, res.family_size);
+    const Chosen next = forward_select(d, o, res.family_size, fits);
     const bool settled = next == chosen;
     chosen = next;
     if (settled && round > 0) break;

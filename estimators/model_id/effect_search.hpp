@@ -48,6 +48,13 @@ struct Channel {
   std::string sensor, target; ///< scope keys (may be empty)
   std::string unit;           ///< unit of y, e.g. "m", "rad"
   double nominal_sigma = 1;   ///< the nominal model's white noise sigma [unit], > 0
+  /// The nominal model's own correlated noise, if it has one (e.g. a navigation solution's
+  /// Gauss-Markov error seen through the measurement): sigma [unit] (0: none, >= 0) and its
+  /// correlation time [s] (> 0 when sigma > 0). correlated_noise is then named only where the
+  /// data depart from it, and noise_scale compares against the nominal total variance.
+  double nominal_corr_sigma = 0;
+  double nominal_corr_tau_s = 0;
+  double nominal_var() const { return nominal_sigma * nominal_sigma + nominal_corr_sigma * nominal_corr_sigma; }
 };
 
 struct Candidate {
@@ -94,6 +101,9 @@ struct SearchOptions {
   /// Score the held-out frames: the named effects refitted on the estimation frames alone
   /// (those the window does not determine, |estimate / SE| < 2 there, left out) predict the rest.
   bool score_holdout = true;
+  /// An effect whose largest |estimate / SE| on the estimation frames is below this is left out
+  /// of the held-out prediction (the window does not determine it), >= 0.
+  double holdout_min_z = 1;
 };
 
 struct FoundEffect {
@@ -147,8 +157,12 @@ struct SearchResult {
   std::vector<FoundEffect> effects;
   std::vector<ChannelNoise> noise;              ///< per channel
   Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit
-  Eigen::VectorXd nuisance_beta;                ///< the nuisance's estimate (full data)
+  Eigen::VectorXd nuisance_beta, nuisance_se;  ///< the nuisance's estimate and SE (full data)
   Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: fitted on the estimation frames only
+  /// The held-out fits' coefficients: nominal = the nuisance's; extended = the nuisance's, then
+  /// each kept effect's columns in the order of holdout_entries.
+  Eigen::VectorXd nominal_oos_beta, extended_oos_beta;
+  std::vector<std::pair<std::size_t, std::size_t>> holdout_entries;  ///< (catalogue entry, grid point) kept
   std::vector<std::string> holdout_effects;     ///< the named effects the estimation frames determine ("name@scope")
   std::vector<SeriesGain> gain;                ///< per channel
   std::map<std::string, std::map<std::string, double>> detection_limits;  ///< "name@scope" -> param -> size

@@ -13,6 +13,7 @@ namespace {
 struct Reml {
   double ll = -INFINITY;
   double s2 = 1;
+  double ml = -INFINITY;  ///< the ordinary (ML) log-likelihood at these noise parameters, s^2 profiled
 };
 
 // REML log-likelihood at (lambda, tau) with s^2 profiled; [X | e] whitened with s^2 = 1.
@@ -43,6 +44,7 @@ Reml reml(const std::vector<double>& t, const Eigen::MatrixXd& Xe, double lambda
   Reml out;
   out.s2 = rss / nprime;
   out.ll = -0.5 * (nprime * std::log(out.s2) + logS.sum() + logdet + nprime * (1 + std::log(2 * M_PI)));
+  out.ml = -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
   return out;
 }
 
@@ -61,7 +63,7 @@ double golden_max(F f, double a, double b, int iters) {
 }  // namespace
 
 NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
-                        const NoiseIdOptions& o) {
+                        const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
   const auto n = static_cast<Eigen::Index>(t.size());
   if (e.size() != n || (X.size() > 0 && X.rows() != n)) throw std::invalid_argument("identify_noise: sizes differ");
   if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
@@ -75,11 +77,35 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
   }
   if (X.cols() > 0) Xe.middleCols(3, X.cols()) = X;
   Xe.col(Xe.cols() - 1) = e;
+  {
+    // Keep an independent set of fixed-effect columns, decided once on the unit-norm columns:
+    // a rank decided per (lambda, tau) would make log|X~' X~| jump between models (e.g. a
+    // caller's constant next to the trend's).
+    const Eigen::Index k = Xe.cols() - 1;
+    Eigen::MatrixXd U = Xe.leftCols(k);
+    for (Eigen::Index j = 0; j < k; ++j)
+      if (U.col(j).norm() > 0) U.col(j).normalize();
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(U);
+    qr.setThreshold(1e-8);
+    if (qr.rank() < k) {
+      std::vector<Eigen::Index> keep;
+      for (Eigen::Index j = 0; j < qr.rank(); ++j) keep.push_back(qr.colsPermutation().indices()(j));
+      std::sort(keep.begin(), keep.end());
+      Eigen::MatrixXd R(n, static_cast<Eigen::Index>(keep.size()) + 1);
+      for (std::size_t j = 0; j < keep.size(); ++j) R.col(static_cast<Eigen::Index>(j)) = Xe.col(keep[j]);
+      R.col(R.cols() - 1) = e;
+      Xe = R;
+    }
+  }
 
   const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
   const double ltau_lo = std::log(o.tau_min_s), ltau_hi = std::log(tau_hi);
   NoiseFit fit;
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
+  if (fixed_skip) {
+    if (fixed_skip->size() != t.size()) throw std::invalid_argument("identify_noise: skip mask of the wrong size");
+    skip = *fixed_skip;
+  }
   for (int round = 0; round < 5; ++round) {
     const Reml white = reml(t, Xe, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
@@ -108,9 +134,20 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     const Reml corr = reml(t, Xe, best_lam, std::exp(best_lt), skip);
     fit.loglik_white = white.ll;
     fit.loglik_correlated = corr.ll;
-    fit.correlated = 2 * (corr.ll - white.ll) > 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile = -2 log alpha
+    const double q2 = 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile at alpha = -2 log alpha
+    fit.correlated = 2 * (corr.ll - white.ll) > q2;
+    const Reml nominal = o.nominal_lambda > 0 ? reml(t, Xe, o.nominal_lambda, o.nominal_tau_s, skip) : white;
+    fit.loglik_nominal = nominal.ll;
+    fit.departs_nominal = fit.correlated && 2 * (corr.ll - std::max(nominal.ll, white.ll)) > q2;
     fit.params = NoiseParams{};
-    if (fit.correlated) {
+    if (o.nominal_lambda > 0 && !fit.departs_nominal) {
+      // the nominal correlated model stands (its scale fitted)
+      fit.correlated = true;
+      fit.params.s2 = nominal.s2;
+      fit.params.lambda = o.nominal_lambda;
+      fit.params.tau_s = o.nominal_tau_s;
+      fit.se_tau_s = 0;
+    } else if (fit.correlated) {
       fit.params.s2 = corr.s2;
       fit.params.lambda = best_lam;
       fit.params.tau_s = std::exp(best_lt);
@@ -125,7 +162,8 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
       fit.params.lambda = 0;
       fit.params.tau_s = 1;
     }
-    if (!o.flag_outliers) break;
+    fit.loglik_ml = reml(t, Xe, fit.params.lambda, fit.params.tau_s, skip).ml;
+    if (!o.flag_outliers || fixed_skip) break;
     // flag: standardized innovations of the GLS residual under the chosen model
     Eigen::MatrixXd W = Xe;
     whiten(t, fit.params, skip, W);

@@ -8,7 +8,8 @@
 // n' = n - rank(X), S~ the innovation variances for s^2 = 1. Search: a log grid of tau in
 // [tau_min_s, min(tau_max_s, span / tau_span_divisor)] by a grid of lambda, then coordinate
 // golden-section refinement. White noise is the model lambda = 0; the correlated model is kept
-// when 2 (l_corr - l_white) exceeds the chi-square(2) quantile at alpha_correlated.
+// when 2 (l_corr - l_white) exceeds the chi-square(2) quantile at alpha_correlated; it departs
+// from the nominal model (white, or a stated Gauss-Markov share) when 2 (l_corr - l_nominal) does.
 // Outliers: frames whose standardized innovation exceeds z_outlier are flagged and the model is
 // refitted without them (they do not update the state), until the flags settle.
 #pragma once
@@ -28,6 +29,10 @@ struct NoiseIdOptions {
   double alpha_correlated = 0.01; ///< level of the white-vs-correlated test, (0, 0.5)
   bool flag_outliers = true;      ///< flag and refit (the caller decides whether to keep the mixture)
   double expected_false_flags = 0.05;  ///< expected number of Gaussian frames flagged per channel
+  /// The nominal noise model the correlation test is against: white when nominal_lambda is 0,
+  /// else Gauss-Markov share nominal_lambda, [0, 0.999], with correlation time nominal_tau_s [s].
+  double nominal_lambda = 0;
+  double nominal_tau_s = 1;
 };
 
 struct NoiseFit {
@@ -35,15 +40,18 @@ struct NoiseFit {
   std::vector<char> outlier;      ///< frames flagged (size n; all 0 when flag_outliers is false)
   double loglik_white = 0;        ///< REML log-likelihood of the white model
   double loglik_correlated = 0;   ///< REML log-likelihood of the best correlated model
-  bool correlated = false;        ///< correlated model kept
+  bool correlated = false;        ///< a correlated model is used (the nominal one, or one significantly better than white)
+  double loglik_nominal = 0;      ///< REML log-likelihood of the nominal noise model (= white when that is white)
+  bool departs_nominal = false;   ///< the best correlated model is significantly better than the nominal one
   double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
   double z_outlier = 0;           ///< the flag threshold used
   int n = 0;                      ///< frames used (not flagged)
+  double loglik_ml = 0;           ///< ML log-likelihood (scale profiled) under the chosen model, frames used
 };
 
 /// t: frame times [s] (non-decreasing); e: residuals; X: fixed-effect columns (n x k, may be
-/// empty: a quadratic trend is always added).
+/// empty: a quadratic trend is always added). fixed_skip: frames kept out, given (no flagging).
 NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
-                        const NoiseIdOptions& o);
+                        const NoiseIdOptions& o, const std::vector<char>* fixed_skip = nullptr);
 
 }  // namespace rnav

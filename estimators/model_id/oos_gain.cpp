@@ -1,6 +1,6 @@
 // Out-of-sample gain: the nominal model (nuisance only, the nominal white sigma) and the
-// extended one (nuisance + the named effects, the noise model identified on the estimation
-// frames' residuals) are fitted on the estimation frames and scored on the held-out frames:
+// extended one (nuisance + the named effects; its noise the nominal one unless a noise finding
+// was named, then identified on the estimation frames' residuals) are fitted on the estimation frames and scored on the held-out frames:
 // residual RMS, and the one-step-ahead predictive log-likelihood (every frame conditions the
 // later ones; only held-out frames are summed). The outlier mixture is kept for a channel only
 // if it raises that held-out likelihood.
@@ -22,10 +22,12 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   const Eigen::Index q = p.nuisance.cols();
   // nominal: nuisance only
   Eigen::VectorXd pred0 = Eigen::VectorXd::Zero(n);
+  res.nominal_oos_beta = Eigen::VectorXd::Zero(q);
   if (q > 0) {
     const Ols f0 = ols(d.Nw, d.yw, est, true);
-    if (f0.ok) pred0 = p.nuisance * f0.beta;
+    if (f0.ok) pred0 = p.nuisance * f0.beta, res.nominal_oos_beta = f0.beta;
   }
+  res.extended_oos_beta = res.nominal_oos_beta;
   // extended: the chosen effects refitted on the window; an effect the window does not
   // determine (max |estimate / SE| < 2 there, e.g. a step after the split or one nearly
   // collinear with another inside the window) is left out, the rest refitted.
@@ -43,7 +45,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     if (Mw.cols() == 0) break;
     const Ols f1 = ols(Mw, d.yw, est);
     std::size_t weakest = kept.size();
-    double weakest_z = 2.0;
+    double weakest_z = o.holdout_min_z;
     Eigen::Index col = q;
     for (std::size_t s = 0; s < kept.size(); ++s) {
       const auto k = static_cast<Eigen::Index>(p.catalogue[kept[s].first].params.size());
@@ -57,6 +59,8 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     }
     if (f1.ok && weakest == kept.size()) {
       pred1 = raw_model_matrix(d, kept) * f1.beta;
+      res.extended_oos_beta = f1.beta;
+      res.holdout_entries = kept;
       for (const auto& k : kept)
         res.holdout_effects.push_back(p.catalogue[k.first].name + "@" + p.catalogue[k.first].scope.label());
       break;
@@ -86,15 +90,26 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     g.nominal_rms = std::sqrt(a / g.n);
     g.extended_rms = std::sqrt(b / g.n);
     NoiseParams nom;
-    nom.s2 = p.channels[c].nominal_sigma * p.channels[c].nominal_sigma;
+    nom.s2 = p.channels[c].nominal_var();
+    if (p.channels[c].nominal_corr_sigma > 0) {
+      nom.lambda = std::min(0.999, p.channels[c].nominal_corr_sigma * p.channels[c].nominal_corr_sigma / nom.s2);
+      nom.tau_s = p.channels[c].nominal_corr_tau_s;
+    }
     g.nominal_loglik = predictive_loglik(t, r0, nom, score);
-    // the extended noise: identified on the estimation frames' extended residuals
+    // The extended model's noise: the nominal one, unless the search named a noise finding for
+    // this channel (noise_scale or correlated_noise): then the model identified on the
+    // estimation frames' extended residuals. An outlier mixture (flags on those frames) on top.
+    NoiseIdOptions nc = no;
+    nc.nominal_lambda = nom.lambda, nc.nominal_tau_s = nom.tau_s;
     const NoiseFit nf = identify_noise(t_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
-                                       Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), no);
-    NoiseParams gauss = nf.params;
+                                       Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), nc);
+    const bool noise_named = res.noise[c].scale_named || res.noise[c].correlated_named;
+    NoiseParams gauss = noise_named ? nf.params : nom;
     gauss.p_out = 0, gauss.s_out2 = 0;
+    NoiseParams mix = gauss;
+    mix.p_out = nf.params.p_out, mix.s_out2 = nf.params.s_out2;
     const double l_gauss = predictive_loglik(t, r1, gauss, score);
-    const double l_mix = nf.params.p_out > 0 ? predictive_loglik(t, r1, nf.params, score) : l_gauss;
+    const double l_mix = mix.p_out > 0 ? predictive_loglik(t, r1, mix, score) : l_gauss;
     res.noise[c].outlier_gain = l_mix - l_gauss;
     g.extended_loglik = std::max(l_gauss, l_mix);
   }

@@ -67,6 +67,10 @@ Design::Design(const Problem& p) : pb(&p) {
   for (std::size_t c = 0; c < rows.size(); ++c) {
     if (!(p.channels[c].nominal_sigma > 0))
       throw std::invalid_argument("effect search: channel " + p.channels[c].name + " needs a nominal sigma > 0");
+    const Channel& ch = p.channels[c];
+    if (!(ch.nominal_corr_sigma >= 0) || (ch.nominal_corr_sigma > 0 && !(ch.nominal_corr_tau_s > 0)))
+      throw std::invalid_argument("effect search: channel " + ch.name +
+                                  ": nominal correlated sigma must be >= 0, with a correlation time > 0");
     if (rows[c].size() < 10)
       throw std::invalid_argument("effect search: channel " + p.channels[c].name + " has fewer than 10 observations");
   }

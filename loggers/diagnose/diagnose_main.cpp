@@ -23,7 +23,7 @@ const char* kUsage =
     "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
     "         [--split-fraction F] [--ignore-truth] [--seed N]\n"
     "         [--realization R] [--scenario FILE] [--set key=value]...\n"
-    "  prl: --split-time, --nav-sigma, --nav-tau; uav: --gate-deg, --sigma-deg, --split-fraction,\n"
+    "  prl: --split-time (default 400 s), --nav-sigma (default 1.9 m), --nav-tau (default 120 s); uav: --gate-deg, --sigma-deg, --split-fraction,\n"
     "  --ignore-truth (diagnose on a track fitted to the bearings; truth only scores the gain),\n"
     "  --seed (of that fit's initialisation)\n"
     "  multi: a multi-sensor folder (observer.csv, detections.csv, truth.csv); --gate-deg (bearing\n"
@@ -92,13 +92,13 @@ int main(int argc, char** argv) {
       };
       if (a == "--json") json = value();
       else if (a == "--split-time") o.split_time_s = number(a, value());
-      else if (a == "--alpha") o.alpha = uo.alpha = mo.search.alpha = number(a, value());
+      else if (a == "--alpha") o.search.alpha = uo.search.alpha = mo.search.alpha = number(a, value());
       else if (a == "--gate-deg") uo.gate_deg = mo.association.gate_bearing_deg = number(a, value());
       else if (a == "--gate-m") mo.association.gate_position_m = number(a, value());
       else if (a == "--sigma-deg") uo.sigma_deg = mo.sigma_bearing_deg = number(a, value());
       else if (a == "--sigma-range-m") mo.sigma_range_m = number(a, value());
       else if (a == "--residuals") residuals = value();
-      else if (a == "--confound-corr") o.confound_corr = uo.confound_corr = mo.search.confound_corr = number(a, value());
+      else if (a == "--confound-corr") o.search.confound_corr = uo.search.confound_corr = mo.search.confound_corr = number(a, value());
       else if (a == "--split-fraction") uo.split_fraction = mo.split_fraction = number(a, value());
       else if (a == "--ignore-truth") uo.ignore_truth = true;
       else if (a == "--seed") uo.seed = static_cast<std::uint64_t>(integer(a, value()));

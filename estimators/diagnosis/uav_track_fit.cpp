@@ -1,7 +1,7 @@
 #include "uav_track_fit.hpp"
 
 #include "config.hpp"
-#include "prl_diagnose.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>

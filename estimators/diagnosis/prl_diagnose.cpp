@@ -1,0 +1,241 @@
+#include "prl_diagnose.hpp"
+
+#include "config.hpp"
+#include "stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace rnav {
+
+namespace {
+
+enum PrlChannel { kRange = 0, kCourse = 1, kGlide = 2, kChannels = 3 };
+const char* const kChannelName[kChannels] = {"range", "course", "glide"};
+const char* const kChannelUnit[kChannels] = {"m", "rad", "rad"};
+const char* const kStepParam[kChannels] = {"range_m", "course_rad", "glide_rad"};
+const char* const kDriftParam[kChannels] = {"range_mps", "course_radps", "glide_radps"};
+
+// One radar plot with the nav solution around it.
+struct Plot {
+  double t = 0;
+  Eigen::Vector3d y;               // meas - nav [m, rad, rad]
+  Eigen::Vector3d meas;            // measured polar
+  double D = 0, Ek = 0, Eg = 0;    // nav polar
+  Eigen::Matrix3d J;               // d(D, Ek, Eg)/dp at the nav position
+  Eigen::Vector3d rate;            // d(D, Ek, Eg)/dt from the nav velocity
+};
+using Plots = std::shared_ptr<const std::vector<Plot>>;
+
+// Columns laid out channel-major (observation c n + k is plot k's channel c): row block of
+// plot k is f(plot) (3 x k).
+template <class F>
+std::function<Eigen::MatrixXd(std::size_t)> columns(const Plots& p, int k, F f) {
+  return [p, k, f](std::size_t v) {
+    const auto n = static_cast<Eigen::Index>(p->size());
+    Eigen::MatrixXd C(kChannels * n, k);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::MatrixXd B = f((*p)[static_cast<std::size_t>(i)], v);
+      for (int c = 0; c < kChannels; ++c) C.row(c * n + i) = B.row(c);
+    }
+    return C;
+  };
+}
+
+// A 3 x 1 block with x in channel c.
+Eigen::MatrixXd in_channel(int c, double x) {
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(kChannels, 1);
+  m(c, 0) = x;
+  return m;
+}
+
+std::vector<Plot> plots_with_nav(const PrlFlightData& data, const DiagnoseOptions& o, int& dropped) {
+  const LocalLevelFrame R = data.radar_frame();
+  std::vector<Eigen::Vector3d> nav_R;
+  for (const auto& s : data.nav) nav_R.push_back(R.from_geodetic(s.g));
+  std::vector<Plot> out;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < data.plots.size(); ++i) {
+    const double t = data.t_s[i];
+    while (j + 1 < data.nav.size() && data.nav[j + 1].t_s < t) ++j;
+    if (j + 1 >= data.nav.size() || data.nav[j].t_s > t || data.nav[j + 1].t_s - data.nav[j].t_s > o.max_nav_gap_s) {
+      ++dropped;
+      continue;
+    }
+    // p(t) = (1 - a) p_j + a p_(j+1), v = (p_(j+1) - p_j) / (t_(j+1) - t_j)
+    const double t0 = data.nav[j].t_s, t1 = data.nav[j + 1].t_s, a = (t - t0) / (t1 - t0);
+    const Eigen::Vector3d p = (1 - a) * nav_R[j] + a * nav_R[j + 1];
+    const Eigen::Vector3d v = (nav_R[j + 1] - nav_R[j]) / (t1 - t0);
+    const Polar q = polar_from_cartesian(p);
+    Plot pl;
+    pl.t = t;
+    pl.D = q.range_m, pl.Ek = q.course_rad, pl.Eg = q.glide_rad;
+    pl.J = polar_jacobian(p);
+    pl.rate = pl.J * v;
+    const Polar& m = data.plots[i];
+    pl.meas << m.range_m, m.course_rad, m.glide_rad;
+    pl.y << m.range_m - q.range_m, wrap_pi(m.course_rad - q.course_rad), m.glide_rad - q.glide_rad;
+    out.push_back(pl);
+  }
+  return out;
+}
+
+Problem prl_problem(const Plots& P, const PrlFlightData& data, const DiagnoseOptions& o) {
+  const std::vector<Plot>& pl = *P;
+  const auto n = static_cast<Eigen::Index>(pl.size());
+  Problem pb;
+  const double sig[kChannels] = {o.sigma_range_m, o.sigma_course_deg * kDegToRad, o.sigma_glide_deg * kDegToRad};
+  for (int c = 0; c < kChannels; ++c) {
+    // the nav error seen by channel c: sigma_nav g_c, g = (1, 1 / (D cos Eg), 1 / D), RMS over the plots
+    double g2 = 0;
+    for (const auto& x : pl) {
+      const double g[kChannels] = {1.0, 1.0 / (x.D * std::cos(x.Eg)), 1.0 / x.D};
+      g2 += g[c] * g[c] / static_cast<double>(pl.size());
+    }
+    Channel ch{kChannelName[c], "", "", kChannelUnit[c], sig[c]};
+    ch.nominal_corr_sigma = o.nav_sigma_m * std::sqrt(g2);
+    ch.nominal_corr_tau_s = o.nav_tau_s;
+    pb.channels.push_back(ch);
+  }
+  pb.nuisance = Eigen::MatrixXd::Zero(kChannels * n, kChannels);
+  pb.nuisance_names = {"range_bias", "azimuth_bias", "elevation_bias"};
+  for (int c = 0; c < kChannels; ++c)
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const Plot& x = pl[static_cast<std::size_t>(k)];
+      pb.channel.push_back(c);
+      pb.t_s.push_back(x.t);
+      pb.y.push_back(x.y(c));
+      pb.estimation.push_back(x.t < o.split_time_s);
+      pb.nuisance(c * n + k, c) = 1;
+    }
+  const double t_lo = pl.front().t, t_hi = pl.back().t, span = t_hi - t_lo;
+  // R_R_ENU: (east, north, up) -> the radar frame R (x along the azimuth reference, y up, z right)
+  const double b = data.azimuth_reference_deg * kDegToRad;
+  Eigen::Matrix3d R_R_ENU;
+  R_R_ENU << std::sin(b), std::cos(b), 0, 0, 0, 1, std::cos(b), -std::sin(b), 0;
+  using V = std::size_t;
+  auto col3 = [](double a, double bb, double c) { return Eigen::Vector3d(a, bb, c); };
+  const std::string rate = "the measurement rates (range rate, azimuth and elevation rates)";
+  pb.catalogue.push_back({"range_gain", {}, {"g"}, "the slant range", "", {},
+                          columns(P, 1, [col3](const Plot& x, V) -> Eigen::MatrixXd { return col3(x.D, 0, 0); })});
+  pb.catalogue.push_back({"time_offset", {}, {"tau_s"}, rate, "", {},
+                          columns(P, 1, [](const Plot& x, V) -> Eigen::MatrixXd { return -x.rate; })});
+  pb.catalogue.push_back({"elevation_refraction", {}, {"k_rad"}, "cot(elevation)", "", {},
+                          columns(P, 1, [](const Plot& x, V) { return in_channel(kGlide, 1.0 / std::tan(x.Eg)); })});
+  pb.catalogue.push_back({"azimuth_elevation_coupling", {}, {"c_rad"}, "tan(elevation) on the azimuth", "", {},
+                          columns(P, 1, [](const Plot& x, V) { return in_channel(kCourse, std::tan(x.Eg)); })});
+  pb.catalogue.push_back({"site_offset", {}, {"east_m", "north_m", "up_m"}, "the geometry's Jacobian (a shifted site)", "", {},
+                          columns(P, 3, [R_R_ENU](const Plot& x, V) -> Eigen::MatrixXd { return x.J * R_R_ENU; })});
+  for (int c = 0; c < kChannels; ++c)
+    pb.catalogue.push_back({"bias_drift", {}, {kDriftParam[c]}, std::string("time on the ") + kChannelName[c], "", {},
+                            columns(P, 1, [c, t_lo](const Plot& x, V) { return in_channel(c, x.t - t_lo); })});
+  std::vector<double> steps, periods;
+  for (int k = 0; k < o.step_grid; ++k) steps.push_back(t_lo + span * (0.1 + 0.8 * k / (o.step_grid - 1)));
+  for (double T = 4; T <= span / 3; T *= 1.05) periods.push_back(T);
+  for (int c = 0; c < kChannels; ++c) {
+    pb.catalogue.push_back({"bias_step", {}, {kStepParam[c]}, std::string("a jump in the ") + kChannelName[c], "t_s", steps,
+                            columns(P, 1, [c, steps](const Plot& x, V v) { return in_channel(c, x.t >= steps[v] ? 1.0 : 0.0); })});
+    if (periods.empty()) continue;
+    pb.catalogue.push_back(
+        {"periodic", {}, {std::string("sin_") + kStepParam[c], std::string("cos_") + kStepParam[c]},
+         std::string("an oscillation in the ") + kChannelName[c], "period_s", periods,
+         columns(P, 2, [c, periods](const Plot& x, V v) -> Eigen::MatrixXd {
+           Eigen::MatrixXd m = Eigen::MatrixXd::Zero(kChannels, 2);
+           m(c, 0) = std::sin(2 * M_PI * x.t / periods[v]);
+           m(c, 1) = std::cos(2 * M_PI * x.t / periods[v]);
+           return m;
+         })});
+  }
+  // covariates for what stays unexplained (the same per channel)
+  const char* const names[] = {"time", "slant range", "elevation", "azimuth", "range rate", "cot(elevation)"};
+  for (int v = 0; v < 6; ++v) {
+    std::vector<double> x;
+    for (int c = 0; c < kChannels; ++c)
+      for (const auto& q : pl) {
+        const double val[] = {q.t, q.D, q.Eg, q.Ek, q.rate(0), 1 / std::tan(q.Eg)};
+        x.push_back(val[v]);
+      }
+    pb.covariates.push_back({names[v], x});
+  }
+  return pb;
+}
+
+// The compensated plot (measured minus the model's predicted error) against truth after the split.
+void truth_gain(const PrlFlightData& data, const std::vector<Plot>& pl, const SearchResult& r, double split,
+                DiagnoseReport& rep) {
+  if (data.truth.size() < 2) return;
+  const LocalLevelFrame R = data.radar_frame();
+  std::vector<Eigen::Vector3d> tr_R;
+  for (const auto& s : data.truth) tr_R.push_back(R.from_geodetic(s.g));
+  const auto n = static_cast<Eigen::Index>(pl.size());
+  ChannelGain g;
+  double a = 0, b = 0;
+  std::size_t k = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Plot& x = pl[static_cast<std::size_t>(i)];
+    if (x.t < split) continue;
+    while (k + 1 < data.truth.size() && data.truth[k + 1].t_s < x.t) ++k;
+    if (k + 1 >= data.truth.size() || data.truth[k].t_s > x.t) continue;
+    const double w = (x.t - data.truth[k].t_s) / (data.truth[k + 1].t_s - data.truth[k].t_s);
+    const Eigen::Vector3d pt = (1 - w) * tr_R[k] + w * tr_R[k + 1];
+    auto err = [&](const Eigen::VectorXd& pred) {
+      const Polar q{x.meas(0) - pred(i), wrap_pi(x.meas(1) - pred(n + i)), x.meas(2) - pred(2 * n + i)};
+      return (cartesian_from_polar(q) - pt).squaredNorm();
+    };
+    a += err(r.nominal_oos);
+    b += err(r.extended_oos);
+    ++g.n;
+  }
+  if (g.n == 0) return;
+  g.nominal_rms = std::sqrt(a / g.n);
+  g.extended_rms = std::sqrt(b / g.n);
+  rep.gain["truth_position_m"] = g;
+}
+
+}  // namespace
+
+DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o) {
+  if (!(o.sigma_range_m > 0 && o.sigma_course_deg > 0 && o.sigma_glide_deg > 0))
+    throw ConfigError("diagnose prl: nominal sigmas must be > 0");
+  if (!(o.max_nav_gap_s > 0)) throw ConfigError("diagnose prl: max nav gap must be > 0 s");
+  if (o.step_grid < 2) throw ConfigError("diagnose prl: step grid must be >= 2");
+  if (!(o.nav_sigma_m >= 0) || !(o.nav_tau_s > 0)) throw ConfigError("diagnose prl: nav sigma must be >= 0 m and nav tau > 0 s");
+  DiagnoseReport rep;
+  rep.split_time_s = o.split_time_s;
+  auto plots = std::make_shared<std::vector<Plot>>(plots_with_nav(data, o, rep.plots_dropped));
+  rep.plots_used = static_cast<int>(plots->size());
+  if (plots->size() < 30) throw ConfigError("diagnose prl: fewer than 30 plots with a nav solution around them");
+  const Problem pb = prl_problem(plots, data, o);
+  const SearchResult r = search_effects(pb, o.search);
+
+  for (int c = 0; c < kChannels; ++c) {
+    EffectResult e;
+    e.name = pb.nuisance_names[static_cast<std::size_t>(c)];
+    e.nominal = true;
+    e.params = {kChannelUnit[c]};
+    e.estimate = {r.nuisance_beta(c)};
+    e.stderr_ = {r.nuisance_se(c)};
+    e.note = "nominal parameter (the paper's constant bias)";
+    rep.effects.push_back(e);
+  }
+  add_search_findings(pb, r, rep);
+  truth_gain(data, *plots, r, o.split_time_s, rep);
+
+  const auto n = static_cast<Eigen::Index>(plots->size());
+  const std::vector<char> flags = outlier_flags(pb, r);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    DiagnoseReport::Row row{(*plots)[static_cast<std::size_t>(i)].t, {}, {}, {}, false};
+    for (int c = 0; c < kChannels; ++c) {
+      const Eigen::Index j = c * n + i;
+      row.y[static_cast<std::size_t>(c)] = pb.y[static_cast<std::size_t>(j)];
+      row.nominal[static_cast<std::size_t>(c)] = r.nuisance_fit(j);
+      row.extended[static_cast<std::size_t>(c)] = r.nuisance_fit(j) + r.effect_fit(j);
+      row.outlier = row.outlier || flags[static_cast<std::size_t>(j)];
+    }
+    rep.rows.push_back(row);
+  }
+  return rep;
+}
+
+}  // namespace rnav
