@@ -4,6 +4,7 @@
 // Gauss-Markov process, preference of a physical cause over a scanned one, and outliers.
 #include "effect_search.hpp"
 #include "noise_id.hpp"
+#include "coloured_noise.hpp"
 #include "stats.hpp"
 
 #include <catch2/catch.hpp>
@@ -12,6 +13,8 @@
 #include <random>
 
 using namespace rnav;
+using rnav::test::CascadeNoise;
+using rnav::test::cascade_norm;
 
 TEST_CASE("stats: reference values") {
   CHECK(chi2_sf(3.841458820694124, 1) == Approx(0.05).epsilon(1e-10));
@@ -55,35 +58,6 @@ TEST_CASE("noise model: the innovations form is generalised least squares") {
 }
 
 namespace {
-// Coloured noise that is NOT first-order Gauss-Markov: white driving noise on a 0.01 s grid
-// through two cascaded first-order low-pass filters of time constant tau / 2 each (a second-
-// order spectrum; autocorrelation (1 + 2|t|/tau) exp(-2|t|/tau)), scaled to unit variance.
-struct CascadeNoise {
-  double tau, f1 = 0, f2 = 0, t = 0, a, norm;
-  explicit CascadeNoise(double tau_s) : tau(tau_s), a(std::exp(-0.01 / (tau_s / 2))) {
-    // stationary variance of f2 for unit-variance f1 (AR(1) with coefficient a) through
-    // f2 <- a f2 + (1 - a) f1: (1 - a)^2 (1 + a^2) / ((1 - a^2)^2) ... computed numerically
-    norm = 1;
-  }
-  double at(double tt, std::mt19937_64& rng) {
-    std::normal_distribution<double> N(0, 1);
-    while (t < tt) {
-      f1 = a * f1 + std::sqrt(1 - a * a) * N(rng);
-      f2 = a * f2 + (1 - a) * f1;
-      t += 0.01;
-    }
-    return f2 / norm;
-  }
-};
-double cascade_norm(double tau) {
-  std::mt19937_64 rng(99);
-  CascadeNoise c(tau);
-  double s = 0;
-  int n = 0;
-  for (double t = 10 * tau; t < 4000 * tau; t += tau / 2, ++n) s += std::pow(c.at(t, rng), 2);
-  return std::sqrt(s / n);
-}
-
 // One radar-like channel over 200 s with irregular frames and a gap: y = effects + noise.
 struct Synthetic {
   Problem pb;

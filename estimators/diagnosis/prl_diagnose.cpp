@@ -229,7 +229,7 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
     for (int c = 0; c < kChannels; ++c) {
       const Eigen::Index j = c * n + i;
       row.y[static_cast<std::size_t>(c)] = pb.y[static_cast<std::size_t>(j)];
-      row.nominal[static_cast<std::size_t>(c)] = r.nuisance_fit(j);
+      row.nominal[static_cast<std::size_t>(c)] = r.nominal_fit(j);
       row.extended[static_cast<std::size_t>(c)] = r.nuisance_fit(j) + r.effect_fit(j);
       row.outlier = row.outlier || flags[static_cast<std::size_t>(j)];
     }

@@ -100,6 +100,11 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   res.nuisance_se = cov.diagonal().head(q).cwiseSqrt();
   res.nuisance_fit = q > 0 ? Eigen::VectorXd(R.leftCols(q) * fin.beta.head(q)) : Eigen::VectorXd::Zero(R.rows());
   res.effect_fit = R.rightCols(R.cols() - q) * fin.beta.tail(R.cols() - q);
+  res.nominal_fit = Eigen::VectorXd::Zero(R.rows());
+  if (q > 0) {
+    const Ols f0 = ols(d.Nw, d.yw, d.used, true);
+    if (f0.ok) res.nominal_fit = p.nuisance * f0.beta;
+  }
 
   // ---- the chosen effects ----
   Eigen::Index col = q;

@@ -156,7 +156,8 @@ struct ScopeAnswer {
 struct SearchResult {
   std::vector<FoundEffect> effects;
   std::vector<ChannelNoise> noise;              ///< per channel
-  Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit
+  Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit (the extended model's two parts)
+  Eigen::VectorXd nominal_fit;                  ///< per observation, the nominal model (nuisance alone) fitted to all data
   Eigen::VectorXd nuisance_beta, nuisance_se;  ///< the nuisance's estimate and SE (full data)
   Eigen::VectorXd nominal_oos, extended_oos;    ///< per observation: fitted on the estimation frames only
   /// The held-out fits' coefficients: nominal = the nuisance's; extended = the nuisance's, then

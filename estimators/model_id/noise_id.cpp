@@ -134,13 +134,17 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     const Reml corr = reml(t, Xe, best_lam, std::exp(best_lt), skip);
     fit.loglik_white = white.ll;
     fit.loglik_correlated = corr.ll;
-    const double q2 = 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile at alpha = -2 log alpha
-    fit.correlated = 2 * (corr.ll - white.ll) > q2;
+    // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the
+    // correlated model to whiten takes only Akaike's 2 per parameter: under-modelled slow noise
+    // would let slow mean effects through, an unneeded correlated model only costs a little power.
+    const double q_name = 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile at alpha = -2 log alpha
     const Reml nominal = o.nominal_lambda > 0 ? reml(t, Xe, o.nominal_lambda, o.nominal_tau_s, skip) : white;
     fit.loglik_nominal = nominal.ll;
-    fit.departs_nominal = fit.correlated && 2 * (corr.ll - std::max(nominal.ll, white.ll)) > q2;
+    const double lr_null = 2 * (corr.ll - std::max(nominal.ll, white.ll));
+    fit.departs_nominal = lr_null > q_name;
+    fit.correlated = lr_null > o.use_correlated_lr;
     fit.params = NoiseParams{};
-    if (o.nominal_lambda > 0 && !fit.departs_nominal) {
+    if (o.nominal_lambda > 0 && !fit.correlated) {
       // the nominal correlated model stands (its scale fitted)
       fit.correlated = true;
       fit.params.s2 = nominal.s2;

@@ -33,6 +33,9 @@ struct NoiseIdOptions {
   /// else Gauss-Markov share nominal_lambda, [0, 0.999], with correlation time nominal_tau_s [s].
   double nominal_lambda = 0;
   double nominal_tau_s = 1;
+  /// 2 log LR above which the best correlated model whitens the data (AIC: 2 per extra
+  /// parameter), > 0; naming it (departs_nominal) takes alpha_correlated.
+  double use_correlated_lr = 4;
 };
 
 struct NoiseFit {
@@ -40,7 +43,7 @@ struct NoiseFit {
   std::vector<char> outlier;      ///< frames flagged (size n; all 0 when flag_outliers is false)
   double loglik_white = 0;        ///< REML log-likelihood of the white model
   double loglik_correlated = 0;   ///< REML log-likelihood of the best correlated model
-  bool correlated = false;        ///< a correlated model is used (the nominal one, or one significantly better than white)
+  bool correlated = false;        ///< a correlated model is used (the nominal one, or the best one when it beats the null by use_correlated_lr)
   double loglik_nominal = 0;      ///< REML log-likelihood of the nominal noise model (= white when that is white)
   bool departs_nominal = false;   ///< the best correlated model is significantly better than the nominal one
   double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
