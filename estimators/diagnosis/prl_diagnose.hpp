@@ -29,7 +29,15 @@ namespace rnav {
 
 struct DiagnoseOptions {
   double split_time_s = 400;       ///< [s] estimation window before, scored window after (paper's switch)
-  SearchOptions search;            ///< alpha (familywise, default 0.01), power, confound_corr, ...
+  /// alpha (familywise, default 0.01), power, confound_corr, ...; holdout_min_z defaults to 1
+  /// here (the radar's effects are constants of the installation whose signature grows towards
+  /// the threshold, e.g. a site offset ~ 1/D: a 1-SE estimate from the far window is the honest
+  /// extrapolation), where the engine's default is 2.
+  SearchOptions search = [] {
+    SearchOptions s;
+    s.holdout_min_z = 1;
+    return s;
+  }();
   double sigma_range_m = 12;       ///< [m] nominal radar noise, 1 sigma (Table 1: 24 m at 2 sigma), > 0
   double sigma_course_deg = 0.25;  ///< [deg] idem, > 0
   double sigma_glide_deg = 0.3;    ///< [deg] idem, > 0

@@ -103,7 +103,7 @@ struct SearchOptions {
   bool score_holdout = true;
   /// An effect whose largest |estimate / SE| on the estimation frames is below this is left out
   /// of the held-out prediction (the window does not determine it), >= 0.
-  double holdout_min_z = 1;
+  double holdout_min_z = 2;
 };
 
 struct FoundEffect {
