@@ -90,19 +90,22 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
 class ProfileLr {
  public:
   ProfileLr(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no)
-      : d_(d), fits_(fits), no_(no), X0_(search_detail::raw_model_matrix(d, with_non_scanned(*d.pb, chosen))),
-        base_(d.rows.size(), std::nan("")) {}
+      : d_(d), fits_(fits), no_(no), base_(d.rows.size(), std::nan("")) {
+    // the fixed effects without the entry, per channel (the same for every entry tested)
+    const Eigen::MatrixXd X0 = search_detail::raw_model_matrix(d, with_non_scanned(*d.pb, chosen));
+    for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, X0, c));
+  }
   double operator()(std::size_t e, std::size_t v) {
     const Eigen::MatrixXd C = d_.raw_columns(e, v);
     double lr = 0;
     for (std::size_t c = 0; c < d_.rows.size(); ++c) {
-      Eigen::MatrixXd XC(X0_.rows(), X0_.cols() + C.cols());
-      XC << X0_, C;
-      const Eigen::MatrixXd Xc = channel_columns(d_, XC, c), X0c = channel_columns(d_, X0_, c);
-      if (Xc.cols() == X0c.cols()) continue;  // the entry does not touch this channel
+      const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
+      if (Cc.cols() == 0) continue;  // the entry does not touch this channel
+      Eigen::MatrixXd Xc(Cc.rows(), X0c_[c].cols() + Cc.cols());
+      Xc << X0c_[c], Cc;
       const Eigen::VectorXd y = channel_y(d_, c);
       const NoiseIdOptions nc = channel_options(*d_.pb, c, no_);
-      if (std::isnan(base_[c])) base_[c] = identify_noise(d_.times[c], y, X0c, nc, &fits_[c].outlier).loglik_ml;
+      if (std::isnan(base_[c])) base_[c] = identify_noise(d_.times[c], y, X0c_[c], nc, &fits_[c].outlier).loglik_ml;
       lr += 2 * (identify_noise(d_.times[c], y, Xc, nc, &fits_[c].outlier).loglik_ml - base_[c]);
     }
     return lr;
@@ -112,8 +115,8 @@ class ProfileLr {
   const Design& d_;
   const std::vector<NoiseFit>& fits_;
   NoiseIdOptions no_;
-  Eigen::MatrixXd X0_;
-  std::vector<double> base_;
+  std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns
+  std::vector<double> base_;          ///< per channel: l_ML without the entry (computed when first needed)
 };
 
 // Forward selection under the design's current noise: the entry with the smallest adjusted
