@@ -50,11 +50,47 @@ TEST_CASE("noise model: the innovations form is generalised least squares") {
   Eigen::MatrixXd W(n, 3);
   W << X, y;
   Eigen::VectorXd logS;
-  whiten(t, p, {}, W, &logS);
+  whiten(t, {}, p, {}, W, &logS);
   const Eigen::VectorXd beta_w = W.leftCols(2).colPivHouseholderQr().solve(W.col(2));
   CHECK((beta_w - beta_gls).norm() < 1e-10 * beta_gls.norm());
   // log det C = sum log S
   CHECK(logS.sum() == Approx(std::log(C.determinant())).epsilon(1e-10));
+}
+
+TEST_CASE("noise model: a nominal component seen with a per-frame gain plus a further Gauss-Markov part is GLS") {
+  // e_i = h_i a(t_i) + g(t_i) + w_i (noise_model.hpp); dense covariance
+  // C_ij = mu s2 h_i h_j exp(-|dt| / tau0) + (1 - mu) lambda s2 exp(-|dt| / tau) + delta_ij (1 - mu)(1 - lambda) s2
+  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 7.5};
+  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.0, 2.5};  // e.g. 1 / range
+  NoiseParams p;
+  p.s2 = 1.7, p.lambda = 0.6, p.tau_s = 0.8, p.nom_share = 0.35, p.nom_tau_s = 5.0;
+  const auto n = static_cast<Eigen::Index>(t.size());
+  Eigen::MatrixXd C(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double dt = std::abs(t[i] - t[j]);
+      C(i, j) = p.nom_share * p.s2 * h[i] * h[j] * std::exp(-dt / p.nom_tau_s) +
+                (1 - p.nom_share) * p.lambda * p.s2 * std::exp(-dt / p.tau_s) +
+                (i == j ? (1 - p.nom_share) * (1 - p.lambda) * p.s2 : 0.0);
+    }
+  Eigen::MatrixXd X(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) X(i, 0) = 1, X(i, 1) = t[i], y(i) = std::cos(t[i]) + 0.2 * i;
+  const Eigen::MatrixXd Ci = C.inverse();
+  const Eigen::VectorXd beta_gls = (X.transpose() * Ci * X).ldlt().solve(X.transpose() * Ci * y);
+  Eigen::MatrixXd W(n, 3);
+  W << X, y;
+  Eigen::VectorXd logS;
+  whiten(t, h, p, {}, W, &logS);
+  const Eigen::VectorXd beta_w = W.leftCols(2).colPivHouseholderQr().solve(W.col(2));
+  CHECK((beta_w - beta_gls).norm() < 1e-10 * beta_gls.norm());
+  CHECK(logS.sum() == Approx(std::log(C.determinant())).epsilon(1e-10));
+  // the predictive log-likelihood is the Gaussian density of y under C
+  const std::vector<double> e(y.data(), y.data() + n);
+  const double ll_dense = -0.5 * (y.dot(Ci * y) + std::log(C.determinant()) + static_cast<double>(n) * std::log(2 * M_PI));
+  CHECK(predictive_loglik(t, h, e, p) == Approx(ll_dense).epsilon(1e-10));
+  // a gain profile of the wrong length is refused
+  CHECK_THROWS_AS(whiten(t, {1.0, 2.0}, p, {}, W), std::invalid_argument);
 }
 
 namespace {
@@ -176,12 +212,12 @@ TEST_CASE("noise identification: Gauss-Markov tau recovered, white stays white")
     t.push_back(ti);
     e(i) = g + 0.3 * N(rng);
   }
-  const NoiseFit f = identify_noise(t, e, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
+  const NoiseFit f = identify_noise(t, {}, e, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
   CHECK(f.correlated);
   CHECK(std::abs(f.params.tau_s - 8.0) < 3 * f.se_tau_s);
   Eigen::VectorXd w(1500);
   for (int i = 0; i < 1500; ++i) w(i) = N(rng);
-  const NoiseFit fw = identify_noise(t, w, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
+  const NoiseFit fw = identify_noise(t, {}, w, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
   CHECK_FALSE(fw.correlated);
 }
 

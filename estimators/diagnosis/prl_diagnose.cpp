@@ -86,18 +86,26 @@ Problem prl_problem(const Plots& P, const PrlFlightData& data, const DiagnoseOpt
   const auto n = static_cast<Eigen::Index>(pl.size());
   Problem pb;
   const double sig[kChannels] = {o.sigma_range_m, o.sigma_course_deg * kDegToRad, o.sigma_glide_deg * kDegToRad};
+  // The nav error (Gauss-Markov, sigma_nav per axis) seen by channel c of plot k: sigma_nav g_c(k),
+  // g = |row c of the polar Jacobian| = (1, 1 / (D cos Eg), 1 / D): on the angles it grows as
+  // 1 / D towards the threshold. The channel's nominal component: sigma_nav RMS_k g_c, seen with
+  // the gain g_c(k) / RMS g_c.
+  std::vector<double> gain(kChannels * pl.size());
   for (int c = 0; c < kChannels; ++c) {
-    // the nav error seen by channel c: sigma_nav g_c, g = (1, 1 / (D cos Eg), 1 / D), RMS over the plots
     double g2 = 0;
-    for (const auto& x : pl) {
+    for (std::size_t k = 0; k < pl.size(); ++k) {
+      const Plot& x = pl[k];
       const double g[kChannels] = {1.0, 1.0 / (x.D * std::cos(x.Eg)), 1.0 / x.D};
+      gain[static_cast<std::size_t>(c) * pl.size() + k] = g[c];
       g2 += g[c] * g[c] / static_cast<double>(pl.size());
     }
+    for (std::size_t k = 0; k < pl.size(); ++k) gain[static_cast<std::size_t>(c) * pl.size() + k] /= std::sqrt(g2);
     Channel ch{kChannelName[c], "", "", kChannelUnit[c], sig[c]};
     ch.nominal_corr_sigma = o.nav_sigma_m * std::sqrt(g2);
     ch.nominal_corr_tau_s = o.nav_tau_s;
     pb.channels.push_back(ch);
   }
+  if (o.nav_sigma_m > 0) pb.nominal_corr_gain = gain;
   pb.nuisance = Eigen::MatrixXd::Zero(kChannels * n, kChannels);
   pb.nuisance_names = {"range_bias", "azimuth_bias", "elevation_bias"};
   for (int c = 0; c < kChannels; ++c)

@@ -164,8 +164,9 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     // effective sample size of the variance estimate under Gauss-Markov correlation
     const auto& t = d.times[ch];
     const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
-    const double phi = cn.fit.correlated ? std::exp(-dt / np.tau_s) : 0.0;
-    const double rho1 = np.lambda * phi;
+    const double phi = np.lambda > 0 ? std::exp(-dt / np.tau_s) : 0.0;
+    const double phi0 = np.nom_share > 0 ? std::exp(-dt / np.nom_tau_s) : 0.0;
+    const double rho1 = (1 - np.nom_share) * np.lambda * phi + np.nom_share * phi0;
     const double n_eff = std::max(2.0, cn.fit.n * (1 - rho1) / (1 + rho1));
     cn.noise_scale = std::sqrt(qv);
     cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);

@@ -65,7 +65,7 @@ NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOpt
   NoiseIdOptions nc = no;
   const Channel& ch = p.channels[c];
   if (ch.nominal_corr_sigma > 0) {
-    nc.nominal_lambda = std::min(0.999, ch.nominal_corr_sigma * ch.nominal_corr_sigma / ch.nominal_var());
+    nc.nominal_share = std::min(0.999, ch.nominal_corr_sigma * ch.nominal_corr_sigma / ch.nominal_var());
     nc.nominal_tau_s = ch.nominal_corr_tau_s;
   }
   return nc;
@@ -79,7 +79,7 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
   const Eigen::MatrixXd X = search_detail::raw_model_matrix(d, with_non_scanned(*d.pb, chosen));
   std::vector<NoiseFit> out;
   for (std::size_t c = 0; c < d.rows.size(); ++c)
-    out.push_back(identify_noise(d.times[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
+    out.push_back(identify_noise(d.times[c], d.gains[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
   return out;
 }
 
@@ -105,8 +105,8 @@ class ProfileLr {
       Xc << X0c_[c], Cc;
       const Eigen::VectorXd y = channel_y(d_, c);
       const NoiseIdOptions nc = channel_options(*d_.pb, c, no_);
-      if (std::isnan(base_[c])) base_[c] = identify_noise(d_.times[c], y, X0c_[c], nc, &fits_[c].outlier).loglik_ml;
-      lr += 2 * (identify_noise(d_.times[c], y, Xc, nc, &fits_[c].outlier).loglik_ml - base_[c]);
+      if (std::isnan(base_[c])) base_[c] = identify_noise(d_.times[c], d_.gains[c], y, X0c_[c], nc, &fits_[c].outlier).loglik_ml;
+      lr += 2 * (identify_noise(d_.times[c], d_.gains[c], y, Xc, nc, &fits_[c].outlier).loglik_ml - base_[c]);
     }
     return lr;
   }
@@ -160,6 +160,28 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
     if (!any || best >= log_alpha) break;
     chosen.push_back(arg);
     taken[arg.first] = 1;
+  }
+  // Backward check: an entry that entered early may no longer be needed once later ones are in
+  // (e.g. a site offset that stood in for a drift and a time offset together). The least
+  // significant entry, tested against the model without it as it was when it entered, leaves
+  // while its adjusted log p is at or above log alpha.
+  while (chosen.size() > 1) {
+    double worst = -INFINITY;
+    std::size_t wi = 0;
+    for (std::size_t i = 0; i < chosen.size(); ++i) {
+      Chosen rest = chosen;
+      rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
+      const auto [e, v] = chosen[i];
+      const double k = static_cast<double>(p.catalogue[e].params.size());
+      const double cost = std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
+      const double lr = p.catalogue[e].scanned()
+                            ? ProfileLr(d, rest, fits, o.noise)(e, v)
+                            : search_detail::Projector(search_detail::model_matrix(d, rest), d.yw, d.n_used).lr(d.Cw[e][v]);
+      const double lp = log_chi2_sf(std::max(lr, 0.0), k) + cost;
+      if (lp > worst) worst = lp, wi = i;
+    }
+    if (worst < log_alpha) break;
+    chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(wi));
   }
   return chosen;
 }

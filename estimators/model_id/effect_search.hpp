@@ -51,7 +51,9 @@ struct Channel {
   /// The nominal model's own correlated noise, if it has one (e.g. a navigation solution's
   /// Gauss-Markov error seen through the measurement): sigma [unit] (0: none, >= 0) and its
   /// correlation time [s] (> 0 when sigma > 0). correlated_noise is then named only where the
-  /// data depart from it, and noise_scale compares against the nominal total variance.
+  /// data depart from it, and noise_scale compares against the nominal total variance. The
+  /// sigma is the RMS over the channel's observations when Problem::nominal_corr_gain gives the
+  /// component a gain per observation (its projection changes along the geometry).
   double nominal_corr_sigma = 0;
   double nominal_corr_tau_s = 0;
   double nominal_var() const { return nominal_sigma * nominal_sigma + nominal_corr_sigma * nominal_corr_sigma; }
@@ -83,6 +85,10 @@ struct Problem {
   std::vector<double> t_s;         ///< per observation: time [s]; per channel non-decreasing
   std::vector<double> y;           ///< per observation: residual [channel unit]
   std::vector<char> estimation;    ///< per observation: 1 = estimation window, 0 = scored (held out)
+  /// Per observation (empty: 1 everywhere): the gain with which its channel's nominal correlated
+  /// component is seen, RMS 1 over each channel's observations, >= 0 (e.g. a position error
+  /// seen as an angle: proportional to 1 / range).
+  std::vector<double> nominal_corr_gain;
   Eigen::MatrixXd nuisance;        ///< n_obs x q nominal-model parameters (may have 0 columns)
   std::vector<std::string> nuisance_names;
   std::vector<Candidate> catalogue;

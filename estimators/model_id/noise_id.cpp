@@ -16,15 +16,27 @@ struct Reml {
   double ml = -INFINITY;  ///< the ordinary (ML) log-likelihood at these noise parameters, s^2 profiled
 };
 
-// REML log-likelihood at (lambda, tau) with s^2 profiled; [X | e] whitened with s^2 = 1.
-Reml reml(const std::vector<double>& t, const Eigen::MatrixXd& Xe, double lambda, double tau,
-          const std::vector<char>& skip) {
+// The frames of one channel and what stays fixed while the noise model is searched.
+struct Series {
+  const std::vector<double>& t;
+  const std::vector<double>& h;  ///< nominal component's gains (empty: 1)
+  const Eigen::MatrixXd& Xe;     ///< [X | e]
+  double mu, tau0;               ///< the nominal component's share and correlation time
+};
+
+// REML log-likelihood at (lambda, tau) (and the nominal component's share mu) with s^2
+// profiled; [X | e] whitened with s^2 = 1.
+Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vector<char>& skip) {
+  const std::vector<double>& t = sr.t;
+  const Eigen::MatrixXd& Xe = sr.Xe;
   NoiseParams p;
   p.lambda = lambda;
   p.tau_s = tau;
+  p.nom_share = mu;
+  p.nom_tau_s = sr.tau0;
   Eigen::MatrixXd W = Xe;
   Eigen::VectorXd logS;
-  whiten(t, p, skip, W, &logS);
+  whiten(t, sr.h, p, skip, W, &logS);
   const Eigen::Index k = Xe.cols() - 1;
   const Eigen::MatrixXd X = W.leftCols(k);
   const Eigen::VectorXd e = W.col(k);
@@ -62,10 +74,13 @@ double golden_max(F f, double a, double b, int iters) {
 
 }  // namespace
 
-NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
-                        const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
   const auto n = static_cast<Eigen::Index>(t.size());
-  if (e.size() != n || (X.size() > 0 && X.rows() != n)) throw std::invalid_argument("identify_noise: sizes differ");
+  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()))
+    throw std::invalid_argument("identify_noise: sizes differ");
+  if (!(o.nominal_share >= 0 && o.nominal_share < 1) || (o.nominal_share > 0 && !(o.nominal_tau_s > 0)))
+    throw std::invalid_argument("identify_noise: nominal share must be in [0, 1) and its tau > 0");
   if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
   const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
   // Fixed effects: 1, (t - tm) / span, ((t - tm) / span)^2, then X; and e last.
@@ -98,6 +113,8 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     }
   }
 
+  const double mu = o.nominal_share;
+  const Series sr{t, h, Xe, mu, mu > 0 ? o.nominal_tau_s : 1.0};
   const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
   const double ltau_lo = std::log(o.tau_min_s), ltau_hi = std::log(tau_hi);
   NoiseFit fit;
@@ -107,7 +124,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     skip = *fixed_skip;
   }
   for (int round = 0; round < 5; ++round) {
-    const Reml white = reml(t, Xe, 0.0, 1.0, skip);
+    const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
     // grid
     const double lambdas[] = {0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995};
@@ -116,7 +133,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     for (int i = 0; i < n_tau; ++i) {
       const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
       for (double lam : lambdas) {
-        const double ll = reml(t, Xe, lam, std::exp(lt), skip).ll;
+        const double ll = reml(sr, mu, lam, std::exp(lt), skip).ll;
         if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
       }
     }
@@ -125,52 +142,51 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     auto logit = [](double x) { return std::log(x / (1 - x)); };
     auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
     for (int it = 0; it < 2; ++it) {
-      best_lt = golden_max([&](double lt) { return reml(t, Xe, best_lam, std::exp(lt), skip).ll; },
+      best_lt = golden_max([&](double lt) { return reml(sr, mu, best_lam, std::exp(lt), skip).ll; },
                            std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
-      const double z = golden_max([&](double z) { return reml(t, Xe, expit(z), std::exp(best_lt), skip).ll; },
+      const double z = golden_max([&](double z) { return reml(sr, mu, expit(z), std::exp(best_lt), skip).ll; },
                                   logit(0.01), logit(0.999), 40);
       best_lam = expit(z);
     }
-    const Reml corr = reml(t, Xe, best_lam, std::exp(best_lt), skip);
+    const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
     fit.loglik_white = white.ll;
     fit.loglik_correlated = corr.ll;
     // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the
     // correlated model to whiten takes only Akaike's 2 per parameter: under-modelled slow noise
     // would let slow mean effects through, an unneeded correlated model only costs a little power.
     const double q_name = 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile at alpha = -2 log alpha
-    const Reml nominal = o.nominal_lambda > 0 ? reml(t, Xe, o.nominal_lambda, o.nominal_tau_s, skip) : white;
+    const Reml nominal = mu > 0 ? reml(sr, mu, 0.0, 1.0, skip) : white;
     fit.loglik_nominal = nominal.ll;
     const double lr_null = 2 * (corr.ll - std::max(nominal.ll, white.ll));
     fit.departs_nominal = lr_null > q_name;
     fit.correlated = lr_null > o.use_correlated_lr;
     fit.params = NoiseParams{};
-    if (o.nominal_lambda > 0 && !fit.correlated) {
+    if (mu > 0) fit.params.nom_share = mu, fit.params.nom_tau_s = sr.tau0;
+    if (mu > 0 && !fit.correlated) {
       // the nominal correlated model stands (its scale fitted)
       fit.correlated = true;
       fit.params.s2 = nominal.s2;
-      fit.params.lambda = o.nominal_lambda;
-      fit.params.tau_s = o.nominal_tau_s;
       fit.se_tau_s = 0;
     } else if (fit.correlated) {
       fit.params.s2 = corr.s2;
       fit.params.lambda = best_lam;
       fit.params.tau_s = std::exp(best_lt);
       // SE of log tau from the profile curvature (second difference over +-0.1 in log tau)
-      const double h = 0.1;
-      const double lp = reml(t, Xe, best_lam, std::exp(best_lt + h), skip).ll,
-                   lm = reml(t, Xe, best_lam, std::exp(best_lt - h), skip).ll;
-      const double curv = -(lp - 2 * corr.ll + lm) / (h * h);
+      const double dh = 0.1;
+      const double lp = reml(sr, mu, best_lam, std::exp(best_lt + dh), skip).ll,
+                   lm = reml(sr, mu, best_lam, std::exp(best_lt - dh), skip).ll;
+      const double curv = -(lp - 2 * corr.ll + lm) / (dh * dh);
       fit.se_tau_s = curv > 0 ? fit.params.tau_s / std::sqrt(curv) : fit.params.tau_s;
     } else {
       fit.params.s2 = white.s2;
       fit.params.lambda = 0;
       fit.params.tau_s = 1;
     }
-    fit.loglik_ml = reml(t, Xe, fit.params.lambda, fit.params.tau_s, skip).ml;
+    fit.loglik_ml = reml(sr, fit.params.nom_share, fit.params.lambda, fit.params.tau_s, skip).ml;
     if (!o.flag_outliers || fixed_skip) break;
     // flag: standardized innovations of the GLS residual under the chosen model
     Eigen::MatrixXd W = Xe;
-    whiten(t, fit.params, skip, W);
+    whiten(t, h, fit.params, skip, W);
     const Eigen::Index k = Xe.cols() - 1;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(k));
     const Eigen::VectorXd beta = qr.solve(W.col(k));
@@ -181,26 +197,17 @@ NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, 
     // innovations conditioned on the non-flagged past (a flagged frame does not update the state)
     std::vector<char> next(static_cast<std::size_t>(n), 0);
     {
-      const double q = pr.lambda * pr.s2, r = (1 - pr.lambda) * pr.s2;
-      double g = 0, P = q, t_prev = 0;
-      bool started = false;
+      NoiseFilter f(pr, h, 1);
       for (Eigen::Index i = 0; i < n; ++i) {
-        double gm = g, Pm = P;
-        if (started && q > 0) {
-          const double phi = std::exp(-(t[static_cast<std::size_t>(i)] - t_prev) / pr.tau_s);
-          gm = phi * g;
-          Pm = phi * phi * P + q * (1 - phi * phi);
-        }
-        const double S = Pm + r, nu = raw(i) - gm;
+        const auto ui = static_cast<std::size_t>(i);
+        NoiseFilter trial = f;
+        const double S = trial.predict(ui, t[ui]), nu = raw(i) - trial.mean()(0);
         if (std::abs(nu) / std::sqrt(S) > fit.z_outlier) {
-          next[static_cast<std::size_t>(i)] = 1;
+          next[ui] = 1;
           continue;
         }
-        const double K = q > 0 ? Pm / S : 0.0;
-        g = gm + K * nu;
-        P = (1 - K) * Pm;
-        t_prev = t[static_cast<std::size_t>(i)];
-        started = true;
+        trial.update(Eigen::RowVectorXd::Constant(1, nu));
+        f = trial;
       }
     }
     if (next == skip) break;

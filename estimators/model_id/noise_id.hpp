@@ -29,9 +29,11 @@ struct NoiseIdOptions {
   double alpha_correlated = 0.01; ///< level of the white-vs-correlated test, (0, 0.5)
   bool flag_outliers = true;      ///< flag and refit (the caller decides whether to keep the mixture)
   double expected_false_flags = 0.05;  ///< expected number of Gaussian frames flagged per channel
-  /// The nominal noise model the correlation test is against: white when nominal_lambda is 0,
-  /// else Gauss-Markov share nominal_lambda, [0, 0.999], with correlation time nominal_tau_s [s].
-  double nominal_lambda = 0;
+  /// The nominal noise model the correlation test is against: white when nominal_share is 0,
+  /// else a Gauss-Markov component with share nominal_share (mu of noise_model.hpp, [0, 0.999])
+  /// and correlation time nominal_tau_s [s], seen with the caller's per-frame gains, plus white.
+  /// The correlated alternatives add a further Gauss-Markov part to it.
+  double nominal_share = 0;
   double nominal_tau_s = 1;
   /// 2 log LR above which the best correlated model whitens the data (AIC: 2 per extra
   /// parameter), > 0; naming it (departs_nominal) takes alpha_correlated.
@@ -43,7 +45,7 @@ struct NoiseFit {
   std::vector<char> outlier;      ///< frames flagged (size n; all 0 when flag_outliers is false)
   double loglik_white = 0;        ///< REML log-likelihood of the white model
   double loglik_correlated = 0;   ///< REML log-likelihood of the best correlated model
-  bool correlated = false;        ///< a correlated model is used (the nominal one, or the best one when it beats the null by use_correlated_lr)
+  bool correlated = false;        ///< a correlated model is used (the nominal one, or nominal + a further part when that beats the null by use_correlated_lr)
   double loglik_nominal = 0;      ///< REML log-likelihood of the nominal noise model (= white when that is white)
   bool departs_nominal = false;   ///< the best correlated model is significantly better than the nominal one
   double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
@@ -52,9 +54,11 @@ struct NoiseFit {
   double loglik_ml = 0;           ///< ML log-likelihood (scale profiled) under the chosen model, frames used
 };
 
-/// t: frame times [s] (non-decreasing); e: residuals; X: fixed-effect columns (n x k, may be
-/// empty: a quadratic trend is always added). fixed_skip: frames kept out, given (no flagging).
-NoiseFit identify_noise(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+/// t: frame times [s] (non-decreasing); h: the nominal component's gain per frame (empty: 1);
+/// e: residuals; X: fixed-effect columns (n x k, may be empty: a quadratic trend is always
+/// added). fixed_skip: frames kept out, given (no flagging).
+NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X,
                         const NoiseIdOptions& o, const std::vector<char>* fixed_skip = nullptr);
 
 }  // namespace rnav

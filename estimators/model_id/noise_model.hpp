@@ -1,21 +1,27 @@
 // The noise model of one channel (a time series of residuals) and its innovations form.
 //
-// Model: e(t) = g(t) + w(t) with
-//   g  Gauss-Markov (first-order, stationary): E g(t) g(t') = lambda s^2 exp(-|t - t'| / tau),
-//   w  white:                                  E w^2 = (1 - lambda) s^2,
-// so s^2 is the marginal variance, lambda in [0, 1) the correlated share (0: white; near 1:
-// AR(1) sampled at the frame times) and tau [s] the correlation time. Irregular sampling and
-// gaps are exact: between frames i-1 and i, phi_i = exp(-(t_i - t_(i-1)) / tau).
+// Model: e_i = h_i a(t_i) + g(t_i) + w_i with three independent parts,
+//   a  the nominal correlated component (e.g. a navigation solution's Gauss-Markov error seen
+//      through the measurement geometry): stationary Gauss-Markov, E a(t) a(t') =
+//      mu s^2 exp(-|t - t'| / tau0), seen with a known per-frame gain h_i (RMS 1 over the
+//      channel; h = 1 when no profile is given) - the part the nominal model already has;
+//   g  a further Gauss-Markov part: E g(t) g(t') = (1 - mu) lambda s^2 exp(-|t - t'| / tau);
+//   w  white: E w^2 = (1 - mu) (1 - lambda) s^2,
+// so s^2 is the (gain-RMS) marginal variance, mu the nominal component's share (0: none),
+// lambda the share of the rest that is correlated (0: white; near 1: AR(1) sampled at the frame
+// times) and tau [s] its correlation time. Irregular sampling and gaps are exact: between frames
+// the transitions are phi = exp(-(t_i - t_(i-1)) / tau) and phi0 likewise with tau0.
 // Heavy tails: with probability p_out a frame is an outlier ~ N(0, S_i + s_out^2) instead
-// (a contaminated normal: the outlier does not update the state g).
+// (a contaminated normal: the outlier does not update the state).
 //
-// Innovations form (the scalar Kalman filter of g):
-//   g-_i = phi_i g+_(i-1),  P-_i = phi_i^2 P+_(i-1) + lambda s^2 (1 - phi_i^2),
-//   nu_i = e_i - g-_i,      S_i  = P-_i + (1 - lambda) s^2,
-//   g+_i = g-_i + K_i nu_i, P+_i = (1 - K_i) P-_i,  K_i = P-_i / S_i.
-// The map e -> nu / sqrt(S) is linear with gains that depend only on the times, so applying it
-// to the regressor columns as well turns generalised least squares into ordinary least squares
-// (whiten()). The log-likelihood is -1/2 sum (nu^2 / S + log(2 pi S)).
+// Innovations form (the Kalman filter of x = (a, g), H_i = (h_i, 1)):
+//   x-_i = Phi_i x+_(i-1),      P-_i = Phi_i P+ Phi_i + diag(q0 (1 - phi0^2), q (1 - phi^2)),
+//   nu_i = e_i - H_i x-_i,      S_i  = H_i P-_i H_i' + r,
+//   K_i  = P-_i H_i' / S_i,     x+_i = x-_i + K_i nu_i,   P+_i = (I - K_i H_i) P-_i,
+// q0 = mu s^2, q = (1 - mu) lambda s^2, r = (1 - mu) (1 - lambda) s^2. The map e -> nu / sqrt(S)
+// is linear with gains that depend only on the times and h, so applying it to the regressor
+// columns as well turns generalised least squares into ordinary least squares (whiten()). The
+// log-likelihood is -1/2 sum (nu^2 / S + log(2 pi S)).
 #pragma once
 
 #include <Eigen/Dense>
@@ -27,25 +33,50 @@ namespace rnav {
 
 struct NoiseParams {
   double s2 = 1;         ///< marginal variance s^2 [unit^2], > 0
-  double lambda = 0;     ///< correlated (Gauss-Markov) share of s^2, [0, 0.999]
-  double tau_s = 1;      ///< correlation time [s], > 0 (unused when lambda = 0)
+  double lambda = 0;     ///< correlated (Gauss-Markov) share of the non-nominal part, [0, 0.999]
+  double tau_s = 1;      ///< its correlation time [s], > 0 (unused when lambda = 0)
+  double nom_share = 0;  ///< mu: the nominal correlated component's share of s^2, [0, 0.999]
+  double nom_tau_s = 1;  ///< tau0: its correlation time [s], > 0 (unused when mu = 0)
   double p_out = 0;      ///< outlier probability, [0, 0.5)
   double s_out2 = 0;     ///< outlier extra variance [unit^2], >= 0
-  /// "white", "gauss_markov" (lambda > 0.95) or "gauss_markov_plus_white".
+  /// Of the further part: "white", "gauss_markov" (lambda > 0.95) or "gauss_markov_plus_white".
   std::string kind() const;
 };
 
-/// Whiten the rows of M (rows = frames of one channel in time order at times t) in place:
-/// row i becomes (M_i - predicted from rows before) / sqrt(S_i). Rows with skip[i] (outliers,
-/// empty when none) become zero and do not update the state. logS (if given) receives log S_i
-/// (0 for skipped rows).
-void whiten(const std::vector<double>& t, const NoiseParams& p, const std::vector<char>& skip,
-            Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS = nullptr);
+/// The innovations filter of one channel (see the model above) for k columns at once.
+/// gain: h_i per frame (empty: 1); it must outlive the filter.
+class NoiseFilter {
+ public:
+  NoiseFilter(const NoiseParams& p, const std::vector<double>& gain, Eigen::Index k);
+  /// Predict to frame i at time t [s] (frames in time order; skipped frames simply not
+  /// predicted); returns the innovation variance S_i.
+  double predict(std::size_t i, double t);
+  /// The predicted mean H_i x-_i of each column (after predict()).
+  Eigen::RowVectorXd mean() const;
+  /// Update with the innovation nu (one per column) of the frame just predicted.
+  void update(const Eigen::RowVectorXd& nu);
 
-/// Sequential (one-step-ahead predictive) log-likelihood of residuals e at times t under p,
-/// summed over frames with score[i] (all when empty); every frame conditions the later ones
-/// except those the mixture judges outliers (posterior outlier probability > 1/2).
-double predictive_loglik(const std::vector<double>& t, const std::vector<double>& e, const NoiseParams& p,
-                         const std::vector<char>& score = {});
+ private:
+  double q0_, q_, r_, tau0_, tau_;
+  const std::vector<double>* gain_;
+  Eigen::Matrix<double, 2, Eigen::Dynamic> x_;  ///< state (a, g) per column
+  Eigen::Matrix2d P_;
+  Eigen::RowVector2d H_;
+  double S_ = 1, t_prev_ = 0;
+  bool started_ = false;
+};
+
+/// Whiten the rows of M (rows = frames of one channel in time order at times t, nominal
+/// component gains h, empty: 1) in place: row i becomes (M_i - predicted from rows before) /
+/// sqrt(S_i). Rows with skip[i] (outliers, empty when none) become zero and do not update the
+/// state. logS (if given) receives log S_i (0 for skipped rows).
+void whiten(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
+            const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS = nullptr);
+
+/// Sequential (one-step-ahead predictive) log-likelihood of residuals e at times t (gains h,
+/// empty: 1) under p, summed over frames with score[i] (all when empty); every frame conditions
+/// the later ones except those the mixture judges outliers (posterior outlier probability > 1/2).
+double predictive_loglik(const std::vector<double>& t, const std::vector<double>& h, const std::vector<double>& e,
+                         const NoiseParams& p, const std::vector<char>& score = {});
 
 }  // namespace rnav

@@ -72,7 +72,8 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   res.gain.assign(d.rows.size(), SeriesGain{});
   for (std::size_t c = 0; c < d.rows.size(); ++c) {
     const auto& rows = d.rows[c];
-    std::vector<double> r0, r1, t, r1_est, t_est;
+    std::vector<double> r0, r1, t, r1_est, t_est, h_est;
+    const std::vector<double>& h = d.gains[c];
     std::vector<char> score;
     for (auto i : rows) {
       const auto ii = static_cast<Eigen::Index>(i);
@@ -80,7 +81,10 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
       r1.push_back(y(ii) - pred1(ii));
       t.push_back(p.t_s[i]);
       score.push_back(!p.estimation[i]);
-      if (p.estimation[i]) r1_est.push_back(r1.back()), t_est.push_back(p.t_s[i]);
+      if (p.estimation[i]) {
+        r1_est.push_back(r1.back()), t_est.push_back(p.t_s[i]);
+        if (!h.empty()) h_est.push_back(h[t.size() - 1]);
+      }
     }
     SeriesGain& g = res.gain[c];
     double a = 0, b = 0;
@@ -92,24 +96,24 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     NoiseParams nom;
     nom.s2 = p.channels[c].nominal_var();
     if (p.channels[c].nominal_corr_sigma > 0) {
-      nom.lambda = std::min(0.999, p.channels[c].nominal_corr_sigma * p.channels[c].nominal_corr_sigma / nom.s2);
-      nom.tau_s = p.channels[c].nominal_corr_tau_s;
+      nom.nom_share = std::min(0.999, p.channels[c].nominal_corr_sigma * p.channels[c].nominal_corr_sigma / nom.s2);
+      nom.nom_tau_s = p.channels[c].nominal_corr_tau_s;
     }
-    g.nominal_loglik = predictive_loglik(t, r0, nom, score);
+    g.nominal_loglik = predictive_loglik(t, h, r0, nom, score);
     // The extended model's noise: the nominal one, unless the search named a noise finding for
     // this channel (noise_scale or correlated_noise): then the model identified on the
     // estimation frames' extended residuals. An outlier mixture (flags on those frames) on top.
     NoiseIdOptions nc = no;
-    nc.nominal_lambda = nom.lambda, nc.nominal_tau_s = nom.tau_s;
-    const NoiseFit nf = identify_noise(t_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
+    nc.nominal_share = nom.nom_share, nc.nominal_tau_s = nom.nom_tau_s;
+    const NoiseFit nf = identify_noise(t_est, h_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
                                        Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), nc);
     const bool noise_named = res.noise[c].scale_named || res.noise[c].correlated_named;
     NoiseParams gauss = noise_named ? nf.params : nom;
     gauss.p_out = 0, gauss.s_out2 = 0;
     NoiseParams mix = gauss;
     mix.p_out = nf.params.p_out, mix.s_out2 = nf.params.s_out2;
-    const double l_gauss = predictive_loglik(t, r1, gauss, score);
-    const double l_mix = mix.p_out > 0 ? predictive_loglik(t, r1, mix, score) : l_gauss;
+    const double l_gauss = predictive_loglik(t, h, r1, gauss, score);
+    const double l_mix = mix.p_out > 0 ? predictive_loglik(t, h, r1, mix, score) : l_gauss;
     res.noise[c].outlier_gain = l_mix - l_gauss;
     g.extended_loglik = std::max(l_gauss, l_mix);
   }

@@ -46,10 +46,13 @@ Design::Design(const Problem& p) : pb(&p) {
   const std::size_t n = p.size();
   if (p.channel.size() != n || p.t_s.size() != n || p.estimation.size() != n)
     throw std::invalid_argument("effect search: channel, t_s, y and estimation must have one entry per observation");
+  if (!p.nominal_corr_gain.empty() && p.nominal_corr_gain.size() != n)
+    throw std::invalid_argument("effect search: nominal_corr_gain must be empty or have one entry per observation");
   if (p.nuisance.rows() != static_cast<Eigen::Index>(n) && p.nuisance.cols() > 0)
     throw std::invalid_argument("effect search: nuisance must have one row per observation");
   rows.assign(p.channels.size(), {});
   times.assign(p.channels.size(), {});
+  gains.assign(p.channels.size(), {});
   for (std::size_t i = 0; i < n; ++i) {
     const int c = p.channel[i];
     if (c < 0 || static_cast<std::size_t>(c) >= p.channels.size())
@@ -63,6 +66,12 @@ Design::Design(const Problem& p) : pb(&p) {
                                   " is not in time order at observation " + std::to_string(i));
     rows[static_cast<std::size_t>(c)].push_back(i);
     tc.push_back(p.t_s[i]);
+    if (!p.nominal_corr_gain.empty()) {
+      if (!(p.nominal_corr_gain[i] >= 0) || !std::isfinite(p.nominal_corr_gain[i]))
+        throw std::invalid_argument("effect search: nominal_corr_gain of observation " + std::to_string(i) +
+                                    " must be finite and >= 0");
+      gains[static_cast<std::size_t>(c)].push_back(p.nominal_corr_gain[i]);
+    }
   }
   for (std::size_t c = 0; c < rows.size(); ++c) {
     if (!(p.channels[c].nominal_sigma > 0))
@@ -95,7 +104,7 @@ Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const {
     Eigen::MatrixXd B(m, raw.cols());
     for (Eigen::Index r = 0; r < m; ++r) B.row(r) = raw.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)]));
     if (B.isZero(0)) continue;
-    rnav::whiten(times[c], noise[c], skip[c], B);
+    rnav::whiten(times[c], gains[c], noise[c], skip[c], B);
     for (Eigen::Index r = 0; r < m; ++r) out.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)])) = B.row(r);
   }
   return out;
@@ -151,15 +160,22 @@ Eigen::MatrixXd raw_model_matrix(const Design& d, const std::vector<std::pair<st
 
 namespace {
 // Orthonormal basis of the columns of A after projecting out span(Q) (Q orthonormal); empty if
-// nothing is left (relative singular value below 1e-6).
+// nothing is left. The columns are scaled to unit norm first (the span is the same), so the
+// rank decision (singular value below 1e-6) does not depend on their units: a whitened drift
+// column (time / sigma, ~1e5 per row) must not push a constant's column (~0.1) below the
+// threshold and out of the basis.
 Eigen::MatrixXd residual_basis(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
-  Eigen::MatrixXd R = Q.cols() > 0 ? Eigen::MatrixXd(A - Q * (Q.transpose() * A)) : A;
+  Eigen::MatrixXd U = A;
+  for (Eigen::Index j = 0; j < U.cols(); ++j) {
+    const double nj = U.col(j).norm();
+    if (nj > 0) U.col(j) /= nj;
+  }
+  const Eigen::MatrixXd R = Q.cols() > 0 ? Eigen::MatrixXd(U - Q * (Q.transpose() * U)) : U;
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeThinU);
   const auto& s = svd.singularValues();
-  const double ref = A.norm();
   Eigen::Index rank = 0;
   for (Eigen::Index i = 0; i < s.size(); ++i)
-    if (s(i) > 1e-6 * ref && s(i) > 0) ++rank;
+    if (s(i) > 1e-6) ++rank;
   return svd.matrixU().leftCols(rank);
 }
 Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {

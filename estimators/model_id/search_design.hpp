@@ -23,6 +23,7 @@ struct Design {
   const Problem* pb = nullptr;
   std::vector<std::vector<std::size_t>> rows;   ///< per channel: observation indices in time order
   std::vector<std::vector<double>> times;       ///< per channel: their times
+  std::vector<std::vector<double>> gains;       ///< per channel: the nominal component's gains (empty: 1)
   std::vector<NoiseParams> noise;               ///< per channel
   std::vector<std::vector<char>> skip;          ///< per channel: frames kept out (outliers)
   Eigen::VectorXd yw;                           ///< whitened residuals
