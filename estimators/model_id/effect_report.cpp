@@ -160,14 +160,16 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     ChannelNoise cn;
     cn.fit = fits[ch];
     const NoiseParams& np = cn.fit.params;
-    const double qv = np.s2 / p.channels[ch].nominal_var();
-    // effective sample size of the variance estimate under Gauss-Markov correlation
+    // The scale of the nominal model's structure (its white and nominal correlated parts) against
+    // the nominal variance: 2 log LR = n' (q - 1 - log q), exact when the structure holds (the
+    // whitened residuals are then independent). The chosen model's marginal s^2 is not used: a
+    // slow component the AIC rule admits has a poorly determined variance. Where a further
+    // correlated part was chosen, n' shrinks to the effective size under its lag-one correlation.
+    const double qv = cn.fit.s2_nominal / p.channels[ch].nominal_var();
     const auto& t = d.times[ch];
     const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
-    const double phi = np.lambda > 0 ? std::exp(-dt / np.tau_s) : 0.0;
-    const double phi0 = np.nom_share > 0 ? std::exp(-dt / np.nom_tau_s) : 0.0;
-    const double rho1 = (1 - np.nom_share) * np.lambda * phi + np.nom_share * phi0;
-    const double n_eff = std::max(2.0, cn.fit.n * (1 - rho1) / (1 + rho1));
+    const double rho1 = np.lambda > 0 ? (1 - np.nom_share) * np.lambda * std::exp(-dt / np.tau_s) : 0.0;
+    const double n_eff = std::max(2.0, cn.fit.dof_nominal * (1 - rho1) / (1 + rho1));
     cn.noise_scale = std::sqrt(qv);
     cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);
     const double lr = n_eff * (qv - 1 - std::log(qv));

@@ -14,6 +14,7 @@ struct Reml {
   double ll = -INFINITY;
   double s2 = 1;
   double ml = -INFINITY;  ///< the ordinary (ML) log-likelihood at these noise parameters, s^2 profiled
+  double dof = 0;         ///< n - rank(X): the residual degrees of freedom of s^2
 };
 
 // The frames of one channel and what stays fixed while the noise model is searched.
@@ -55,6 +56,7 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
   for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
   Reml out;
   out.s2 = rss / nprime;
+  out.dof = nprime;
   out.ll = -0.5 * (nprime * std::log(out.s2) + logS.sum() + logdet + nprime * (1 + std::log(2 * M_PI)));
   out.ml = -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
   return out;
@@ -154,9 +156,14 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the
     // correlated model to whiten takes only Akaike's 2 per parameter: under-modelled slow noise
     // would let slow mean effects through, an unneeded correlated model only costs a little power.
-    const double q_name = 2 * -std::log(o.alpha_correlated);  // chi2(2) quantile at alpha = -2 log alpha
+    // The correlated model's tau is scanned (it does not exist under the null), so like a scanned
+    // mean effect the test pays for its scan: alpha split over the tau grid (Bonferroni; the
+    // chi2(2) quantile at alpha is -2 log alpha).
+    const double q_name = 2 * -std::log(o.alpha_correlated / n_tau);
     const Reml nominal = mu > 0 ? reml(sr, mu, 0.0, 1.0, skip) : white;
     fit.loglik_nominal = nominal.ll;
+    fit.s2_nominal = nominal.s2;
+    fit.dof_nominal = nominal.dof;
     const double lr_null = 2 * (corr.ll - std::max(nominal.ll, white.ll));
     fit.departs_nominal = lr_null > q_name;
     fit.correlated = lr_null > o.use_correlated_lr;

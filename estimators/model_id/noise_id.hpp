@@ -47,6 +47,8 @@ struct NoiseFit {
   double loglik_correlated = 0;   ///< REML log-likelihood of the best correlated model
   bool correlated = false;        ///< a correlated model is used (the nominal one, or nominal + a further part when that beats the null by use_correlated_lr)
   double loglik_nominal = 0;      ///< REML log-likelihood of the nominal noise model (= white when that is white)
+  double s2_nominal = 0;          ///< REML s^2 under the nominal model's structure (its scale is what noise_scale tests)
+  double dof_nominal = 0;         ///< its residual degrees of freedom (frames used minus fixed-effect rank)
   bool departs_nominal = false;   ///< the best correlated model is significantly better than the nominal one
   double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
   double z_outlier = 0;           ///< the flag threshold used
