@@ -175,6 +175,12 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     if (!col.empty()) CHECK(e.find("column '" + col + "'") != std::string::npos);
     CHECK(!e.empty());
   };
+  // file gets content; the read error must name where and (if given) the column
+  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
+                       const std::string& col) {
+    std::ofstream(dir / file) << content;
+    expect(where, col);
+  };
   SECTION("non-numeric cell") {
     det("1,radar,10,20\n2,radar,abc,20\n");
     expect("detections.csv:3", "range_m");
@@ -200,8 +206,7 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     expect("detections.csv:3", "bearing_deg");
   }
   SECTION("elevation out of range") {
-    std::ofstream(dir / "detections.csv") << "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n";
-    expect("detections.csv:3", "elevation_deg");
+    expect_in("detections.csv", "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n", "detections.csv:3", "elevation_deg");
   }
   SECTION("time going backwards within a sensor; two sensors interleaving is fine") {
     det("1,radar,10,20\n0.5,eo,,20\n1,radar,12,21\n2,radar,10,20\n1.5,eo,,20\n");
@@ -220,30 +225,21 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     expect("detections.csv", "");
   }
   SECTION("missing column") {
-    std::ofstream(dir / "detections.csv") << "t_s,sensor,bearing_deg\n1,radar,20\n";
-    expect("detections.csv:1", "range_m");
+    expect_in("detections.csv", "t_s,sensor,bearing_deg\n1,radar,20\n", "detections.csv:1", "range_m");
   }
   SECTION("observer: time order, latitude, heading, fewer than 2 rows") {
-    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n";
-    expect("observer.csv:3", "t_s");
-    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n";
-    expect("observer.csv:3", "lat_deg");
-    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,-181,0\n";
-    expect("observer.csv:3", "lon_deg");
-    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n";
-    expect("observer.csv:3", "heading_deg");
-    std::ofstream(dir / "observer.csv") << "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n";
-    expect("observer.csv", "");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n", "observer.csv:3", "t_s");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n", "observer.csv:3", "lat_deg");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,-181,0\n", "observer.csv:3", "lon_deg");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n", "observer.csv:3", "heading_deg");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n", "observer.csv", "");
   }
   SECTION("truth: time order per target, target name; missing truth.csv is fine") {
     std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n2,1,63,10\n";
     CHECK(read_error(dir).empty());
-    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n";
-    expect("truth.csv:4", "t_s");
-    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n";
-    expect("truth.csv:3", "target");
-    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg,h_m\n1,1,63,10,\n2,1,63,10,x\n";
-    expect("truth.csv:3", "h_m");
+    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n", "truth.csv:4", "t_s");
+    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n", "truth.csv:3", "target");
+    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg,h_m\n1,1,63,10,\n2,1,63,10,x\n", "truth.csv:3", "h_m");
     fs::remove(dir / "truth.csv");
     CHECK(read_error(dir).empty());
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
