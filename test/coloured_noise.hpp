@@ -12,6 +12,7 @@ namespace rnav::test {
 // order spectrum; autocorrelation (1 + 2|t|/tau) exp(-2|t|/tau)), scaled to unit variance.
 struct CascadeNoise {
   double tau, f1 = 0, f2 = 0, t = 0, a, norm;
+  bool started = false;
   explicit CascadeNoise(double tau_s) : tau(tau_s), a(std::exp(-0.01 / (tau_s / 2))) {
     // stationary variance of f2 for unit-variance f1 (AR(1) with coefficient a) through
     // f2 <- a f2 + (1 - a) f1: (1 - a)^2 (1 + a^2) / ((1 - a^2)^2) ... computed numerically
@@ -19,6 +20,7 @@ struct CascadeNoise {
   }
   double at(double tt, std::mt19937_64& rng) {
     std::normal_distribution<double> N(0, 1);
+    if (!started) t = tt - 20 * tau, started = true;  // stationary by the first sample
     while (t < tt) {
       f1 = a * f1 + std::sqrt(1 - a * a) * N(rng);
       f2 = a * f2 + (1 - a) * f1;

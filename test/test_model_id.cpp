@@ -215,6 +215,48 @@ TEST_CASE("noise identification: Gauss-Markov tau recovered, white stays white")
   CHECK_FALSE(fw.correlated);
 }
 
+TEST_CASE("noise identification: the profile likelihood ratio of a step is chi-square sized under Gauss-Markov noise") {
+  // profile_ml: the ML likelihood maximised over the noise family, without the REML trend. A
+  // step column (t >= 120 s) added to a constant: nested, so the maximised likelihood cannot
+  // fall (up to the optimiser's tolerance, a grid and golden sections in log tau and logit
+  // lambda: 0.01 in log-likelihood); with no step in the data, 2 log LR ~ chi2(1) (mean
+  // 1, SD sqrt 2): the mean over 30 series within 3 SE of 1 (1 + 3 sqrt(2 / 30) = 1.78); a real
+  // step of 4 x its GLS standard error gives far more.
+  NoiseIdOptions o;
+  o.profile_ml = true;
+  o.flag_outliers = false;
+  double sum_lr = 0;
+  double lr_step = 0;
+  const int n_series = 30;
+  for (int k = 0; k <= n_series; ++k) {
+    std::mt19937_64 rng(700 + static_cast<std::uint64_t>(k));
+    std::normal_distribution<double> N(0, 1);
+    std::vector<double> t;
+    Eigen::VectorXd e(600);
+    Eigen::MatrixXd X0 = Eigen::MatrixXd::Ones(600, 1), X1(600, 2);
+    double g = 0, tp = 0;
+    for (int i = 0; i < 600; ++i) {
+      const double ti = i * 0.4;
+      const double phi = std::exp(-(ti - tp) / 6.0);
+      g = phi * g + std::sqrt(1 - phi * phi) * N(rng);
+      tp = ti;
+      t.push_back(ti);
+      // the last series carries a step of 1.0 (about 4 GLS SE under this noise)
+      e(i) = g + 0.5 * N(rng) + (k == n_series && ti >= 120 ? 1.0 : 0.0);
+      X1(i, 0) = 1, X1(i, 1) = ti >= 120;
+    }
+    const double l0 = identify_noise(t, {}, e, X0, o).loglik_ml, l1 = identify_noise(t, {}, e, X1, o).loglik_ml;
+    CHECK(l1 >= l0 - 0.01);
+    if (k < n_series) sum_lr += 2 * (l1 - l0);
+    else lr_step = 2 * (l1 - l0);
+  }
+  const double mean = sum_lr / n_series;
+  INFO("mean 2 log LR without a step " << mean << ", with one " << lr_step);
+  CHECK(mean < 1 + 3 * std::sqrt(2.0 / n_series));
+  CHECK(mean > 1 - 3 * std::sqrt(2.0 / n_series));
+  CHECK(lr_step > 9);
+}
+
 TEST_CASE("effect search: bad problems are named") {
   Synthetic s = make(1, 0, 0, 0, 0, 0.5);
   s.pb.y[5] = NAN;

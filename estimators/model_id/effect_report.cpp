@@ -63,6 +63,8 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
       cf.scope = p.catalogue[f].scope;
       cf.corr = corr;
       cf.dlr = lr_self - lr_f;
+      cf.entry = f;
+      cf.params = p.catalogue[f].params;
       fe.confounded_with.push_back(cf);
     }
   }
@@ -71,14 +73,12 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
   if (fe.confounded_with.size() > 4) fe.confounded_with.resize(4);
   if (!fe.confounded_with.empty()) {
     const auto& c = fe.confounded_with.front();
-    const Candidate* other = nullptr;
-    for (const auto& cd : p.catalogue)
-      if (cd.name == c.name && cd.scope.sensor == c.scope.sensor && cd.scope.target == c.scope.target) other = &cd;
+    const Candidate& other = p.catalogue[c.entry];
     const Candidate& self = p.catalogue[e];
     fe.note += (fe.note.empty() ? "" : "; ") + std::string("explains the same residual here as ") + c.name + " (" +
                c.scope.label() + "; canonical correlation " + short_num(c.corr) + ", 2 log LR difference " +
                short_num(c.dlr) + ")" + (self.scanned() ? "" : "; named as the physical one-parameter cause") +
-               ". Data in which " + self.signature + " and " + (other ? other->signature : c.name) +
+               ". Data in which " + self.signature + " and " + other.signature +
                " vary differently would separate them";
   }
 }

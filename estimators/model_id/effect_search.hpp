@@ -127,6 +127,8 @@ struct FoundEffect {
     Scope scope;
     double corr = 0;   ///< canonical correlation given the rest of the model
     double dlr = 0;    ///< 2 log LR of this effect minus that of the other in its place
+    std::size_t entry = 0;  ///< the other's catalogue entry (name and scope do not tell per-channel entries apart)
+    std::vector<std::string> params;  ///< its parameters (e.g. which channel's drift)
   };
   std::vector<Confound> confounded_with;
   std::string note;

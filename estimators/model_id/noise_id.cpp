@@ -41,19 +41,22 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
   const Eigen::Index k = Xe.cols() - 1;
   const Eigen::MatrixXd X = W.leftCols(k);
   const Eigen::VectorXd e = W.col(k);
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
-  qr.setThreshold(1e-10);
-  const Eigen::Index rank = qr.rank();
   double n = 0;
   for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
+  Eigen::Index rank = 0;
+  Eigen::VectorXd r = e;
+  double logdet = 0;  // log|X~' X~| over the rank-revealing R's diagonal
+  if (k > 0) {        // (Eigen's QR of an n x 0 matrix is not defined)
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+    qr.setThreshold(1e-10);
+    rank = qr.rank();
+    r = e - X * qr.solve(e);
+    for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
+  }
   const double nprime = n - static_cast<double>(rank);
   if (nprime < 5) return {};
-  const Eigen::VectorXd r = e - X * qr.solve(e);
   const double rss = r.squaredNorm();
   if (!(rss > 0)) return {};
-  // log|X~' X~| over the rank-revealing R's diagonal
-  double logdet = 0;
-  for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
   Reml out;
   out.s2 = rss / nprime;
   out.dof = nprime;
@@ -85,16 +88,18 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     throw std::invalid_argument("identify_noise: nominal share must be in [0, 1) and its tau > 0");
   if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
   const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
-  // Fixed effects: 1, (t - tm) / span, ((t - tm) / span)^2, then X; and e last.
+  // Fixed effects: 1, (t - tm) / span, ((t - tm) / span)^2 (not in profile_ml mode), then X;
+  // and e last.
   const double tm = t0 + span / 2;
-  Eigen::MatrixXd Xe(n, 3 + X.cols() + 1);
-  for (Eigen::Index i = 0; i < n; ++i) {
+  const Eigen::Index n_trend = o.profile_ml ? 0 : 3;
+  Eigen::MatrixXd Xe(n, n_trend + X.cols() + 1);
+  for (Eigen::Index i = 0; i < n && n_trend > 0; ++i) {
     const double u = (t[static_cast<std::size_t>(i)] - tm) / span;
     Xe(i, 0) = 1, Xe(i, 1) = u, Xe(i, 2) = u * u;
   }
-  if (X.cols() > 0) Xe.middleCols(3, X.cols()) = X;
+  if (X.cols() > 0) Xe.middleCols(n_trend, X.cols()) = X;
   Xe.col(Xe.cols() - 1) = e;
-  {
+  if (Xe.cols() > 1) {
     // Keep an independent set of fixed-effect columns, decided once on the unit-norm columns:
     // a rank decided per (lambda, tau) would make log|X~' X~| jump between models (e.g. a
     // caller's constant next to the trend's).
@@ -125,6 +130,11 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     if (fixed_skip->size() != t.size()) throw std::invalid_argument("identify_noise: skip mask of the wrong size");
     skip = *fixed_skip;
   }
+  // the criterion maximised: REML, or the ML likelihood in profile_ml mode
+  auto crit = [&](double m, double lam, double tau) {
+    const Reml r = reml(sr, m, lam, tau, skip);
+    return o.profile_ml ? r.ml : r.ll;
+  };
   for (int round = 0; round < 5; ++round) {
     const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
@@ -135,7 +145,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     for (int i = 0; i < n_tau; ++i) {
       const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
       for (double lam : lambdas) {
-        const double ll = reml(sr, mu, lam, std::exp(lt), skip).ll;
+        const double ll = crit(mu, lam, std::exp(lt));
         if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
       }
     }
@@ -144,13 +154,25 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     auto logit = [](double x) { return std::log(x / (1 - x)); };
     auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
     for (int it = 0; it < 2; ++it) {
-      best_lt = golden_max([&](double lt) { return reml(sr, mu, best_lam, std::exp(lt), skip).ll; },
+      best_lt = golden_max([&](double lt) { return crit(mu, best_lam, std::exp(lt)); },
                            std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
-      const double z = golden_max([&](double z) { return reml(sr, mu, expit(z), std::exp(best_lt), skip).ll; },
+      const double z = golden_max([&](double z) { return crit(mu, expit(z), std::exp(best_lt)); },
                                   logit(0.01), logit(0.999), 40);
       best_lam = expit(z);
     }
     const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
+    if (o.profile_ml) {
+      // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
+      const Reml nom = mu > 0 ? reml(sr, mu, 0.0, 1.0, skip) : white;
+      fit.params = NoiseParams{};
+      fit.params.nom_share = mu, fit.params.nom_tau_s = sr.tau0;
+      fit.correlated = corr.ml > nom.ml;
+      fit.params.s2 = fit.correlated ? corr.s2 : nom.s2;
+      if (fit.correlated) fit.params.lambda = best_lam, fit.params.tau_s = std::exp(best_lt);
+      fit.loglik_ml = std::max(corr.ml, nom.ml);
+      fit.loglik_white = white.ml, fit.loglik_correlated = corr.ml, fit.loglik_nominal = nom.ml;
+      break;
+    }
     fit.loglik_white = white.ll;
     fit.loglik_correlated = corr.ll;
     // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the

@@ -38,6 +38,12 @@ struct NoiseIdOptions {
   /// 2 log LR above which the best correlated model whitens the data (AIC: 2 per extra
   /// parameter), > 0; naming it (departs_nominal) takes alpha_correlated.
   double use_correlated_lr = 4;
+  /// Likelihood-ratio mode: maximise the ordinary (ML) likelihood instead of REML, with the
+  /// fixed effects exactly X (no trend added), and keep the better of the nominal and the
+  /// correlated model without a threshold, so that loglik_ml is the profile log-likelihood of
+  /// the fixed effects X over the noise family: 2 (loglik_ml(X, C) - loglik_ml(X)) is the
+  /// likelihood ratio of columns C with the noise re-estimated under both hypotheses.
+  bool profile_ml = false;
 };
 
 struct NoiseFit {

@@ -97,14 +97,17 @@ Eigen::MatrixXd Design::raw_columns(std::size_t e, std::size_t v) const {
   return C;
 }
 
-Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const {
+Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const { return whiten_with(raw, noise); }
+
+Eigen::MatrixXd Design::whiten_with(const Eigen::MatrixXd& raw, const std::vector<NoiseParams>& np) const {
+  if (np.size() != rows.size()) throw std::logic_error("effect search: one noise model per channel expected");
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
   for (std::size_t c = 0; c < rows.size(); ++c) {
     const auto m = static_cast<Eigen::Index>(rows[c].size());
     Eigen::MatrixXd B(m, raw.cols());
     for (Eigen::Index r = 0; r < m; ++r) B.row(r) = raw.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)]));
     if (B.isZero(0)) continue;
-    rnav::whiten(times[c], gains[c], noise[c], skip[c], B);
+    rnav::whiten(times[c], gains[c], np[c], skip[c], B);
     for (Eigen::Index r = 0; r < m; ++r) out.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)])) = B.row(r);
   }
   return out;

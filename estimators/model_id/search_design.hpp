@@ -38,6 +38,8 @@ struct Design {
   void set_noise(const std::vector<NoiseParams>& np, const std::vector<std::vector<char>>& sk);
   /// A raw n_obs x k matrix whitened channel by channel.
   Eigen::MatrixXd whiten(const Eigen::MatrixXd& raw) const;
+  /// The same under other noise models (one per channel; the design's outlier flags).
+  Eigen::MatrixXd whiten_with(const Eigen::MatrixXd& raw, const std::vector<NoiseParams>& np) const;
   /// Raw columns of entry e at grid point v (checked shape).
   Eigen::MatrixXd raw_columns(std::size_t e, std::size_t v) const;
 };

@@ -35,7 +35,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
     x["evidence"] = {{"lr", e.lr}, {"log10_p_adjusted", e.log10_p}, {"delta_bic", e.delta_bic}};
     x["confounded_with"] = nlohmann::ordered_json::array();
     for (const auto& c : e.confounded_with)
-      x["confounded_with"].push_back({{"name", c.name}, {"scope", scope_json(c.scope)}, {"canonical_corr", c.corr},
+      x["confounded_with"].push_back({{"name", c.name}, {"scope", scope_json(c.scope)}, {"params", c.params}, {"canonical_corr", c.corr},
                                       {"lr_difference", c.dlr}});
     if (!e.note.empty()) x["note"] = e.note;
     j["effects"].push_back(x);
