@@ -379,6 +379,7 @@ TEST_CASE("lcm log azimuth-only: the log gives exactly what the simulation publi
   a.write_folder((d / "csv").string());
   const auto r1 = diagnose_uav(a, UavDiagnoseOptions{});
   const auto r2 = diagnose_uav(AzimuthData::read_folder((d / "csv").string()), UavDiagnoseOptions{});
+  INFO("r1\n" << r1.text() << "\nr2\n" << r2.text());
   REQUIRE(r1.effects.size() == r2.effects.size());
   for (std::size_t i = 0; i < r1.effects.size(); ++i) CHECK(r1.effects[i].name == r2.effects[i].name);
   // A UAV log read as radar data: the scenario kind is named.

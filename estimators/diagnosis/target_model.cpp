@@ -9,10 +9,27 @@
 
 namespace rnav {
 
+namespace {
+// RMS about the least-squares straight line, the larger over the two axes [m].
+double line_rms(const std::vector<std::pair<double, Eigen::Vector2d>>& s) {
+  const auto n = static_cast<Eigen::Index>(s.size());
+  Eigen::MatrixXd A(n, 2);
+  Eigen::MatrixXd Y(n, 2);
+  const double t0 = s.front().first;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    A(i, 0) = 1, A(i, 1) = s[static_cast<std::size_t>(i)].first - t0;
+    Y.row(i) = s[static_cast<std::size_t>(i)].second.transpose();
+  }
+  const Eigen::MatrixXd R = Y - A * A.colPivHouseholderQr().solve(Y);
+  return std::sqrt(R.colwise().squaredNorm().maxCoeff() / static_cast<double>(n));
+}
+}  // namespace
+
 TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoSample>>& truth,
                                     const LocalLevelFrame& F, const TargetModelOptions& o) {
-  if (!(o.min_spacing_s > 0) || !(o.nominal_sigma_m > 0) || o.grid < 2 || o.max_maneuvers < 1)
-    throw ConfigError("target model: min_spacing_s, nominal_sigma_m > 0, grid >= 2, max_maneuvers >= 1");
+  if (!(o.min_spacing_s > 0) || !(o.nominal_sigma_m > 0) || !(o.resolution_m > 0) || o.grid < 2 || o.max_maneuvers < 1)
+    throw ConfigError("target model: min_spacing_s, nominal_sigma_m, resolution_m > 0, grid >= 2, max_maneuvers >= 1");
+  TargetModelResult res;
   Problem p;
   std::vector<std::string> names;
   struct Row {
@@ -30,6 +47,11 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
       s.push_back({g.t_s, Eigen::Vector2d(q.x(), q.z())});
     }
     if (s.size() < 20) continue;
+    if (line_rms(s) < o.resolution_m) {
+      res.notes.push_back(name + ": the reference track is constant velocity to " + short_num(o.resolution_m) +
+                          " m RMS (exact to its written precision): not searched for manoeuvres");
+      continue;
+    }
     const int ti = static_cast<int>(names.size());
     names.push_back(name);
     spans.push_back({s.front().first, s.back().first});
@@ -44,7 +66,6 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
       }
     }
   }
-  TargetModelResult res;
   if (names.empty()) return res;
   const auto n = static_cast<Eigen::Index>(p.y.size());
   // nuisance: per target and axis, position and velocity about the span's middle

@@ -21,6 +21,11 @@ struct TargetModelOptions {
   double nominal_sigma_m = 0.1;   ///< [m] nominal reference (GNSS) noise, > 0
   int grid = 30;                  ///< manoeuvre-time grid (10 % to 90 % of the span), >= 2
   int max_maneuvers = 3;          ///< per target, >= 1
+  /// [m] a reference track within this RMS of a straight constant-velocity line on both axes is
+  /// constant velocity to the precision it was written with (a simulated track: round-off of
+  /// ~1e-9 m in memory, ~1e-6 m through a CSV) and is not searched: the noise model's scale is
+  /// profiled, so round-off structure would otherwise pass for a manoeuvre of 1e-10 m/s; > 0
+  double resolution_m = 1e-3;
 };
 
 struct TargetModelResult {
