@@ -82,70 +82,74 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
 // 2 sum_c [l(with) - l(without)] over the channels it touches. (Testing it under the noise
 // re-identified with it alone gave a glide step 2 log LR 61 where the null noise gave 8;
 // comparing ML likelihoods at REML-chosen noise parameters, as before, gave 20 where both GLS
-// tests gave 5: neither is a likelihood ratio.) Non-scanned entries: fixed_lr below.
-class ScannedLr {
+// tests gave 5: neither is a likelihood ratio.)
+//
+// A non-scanned entry's test (fixed): the GLS 2 log LR of its columns given the chosen ones,
+// every channel it touches whitened by its noise re-identified (REML, with the trend) with the
+// entry's columns added to the null's fixed effects (a Wald-type test: the noise estimated
+// under the alternative, so a physical effect the null noise took for a long correlation is
+// not lost). Measured on 300 nominal white-noise flights: 1 alarm (0.33 %); the profile
+// likelihood ratio used here instead gave 7 (2.3 %: its single further Gauss-Markov part goes
+// to the short correlation and leaves slow misfit to the site offset).
+class EntryTests {
  public:
-  ScannedLr(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no)
-      : d_(d), fits_(fits), no_(no), base_(d.rows.size(), std::nan("")) {
-    no_.profile_ml = true;
-    const Eigen::MatrixXd X0 = search_detail::raw_model_matrix(d, chosen);
-    for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, X0, c));
+  EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no)
+      : d_(d), fits_(fits), no_(no), raw_(search_detail::raw_model_matrix(d, chosen)), base_(d.rows.size(), std::nan("")) {
+    for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, raw_, c));
   }
-  double operator()(std::size_t e, std::size_t v) {
+  /// The profile likelihood ratio of scanned entry e at grid point v.
+  double scanned(std::size_t e, std::size_t v) {
+    NoiseIdOptions pm = no_;
+    pm.profile_ml = true;
+    auto profile = [&](std::size_t c, const Eigen::MatrixXd& X) {
+      return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
+          .loglik_ml;
+    };
     const Eigen::MatrixXd C = d_.raw_columns(e, v);
     double lr = 0;
     for (std::size_t c = 0; c < d_.rows.size(); ++c) {
       const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
       if (Cc.cols() == 0) continue;  // the entry does not touch this channel
-      Eigen::MatrixXd Xc(Cc.rows(), X0c_[c].cols() + Cc.cols());
-      Xc << X0c_[c], Cc;
       if (std::isnan(base_[c])) base_[c] = profile(c, X0c_[c]);
-      lr += 2 * (profile(c, Xc) - base_[c]);
+      lr += 2 * (profile(c, with(c, Cc)) - base_[c]);
     }
     return lr;
   }
+  /// The Wald-type GLS test of non-scanned entry e.
+  double fixed(std::size_t e) const {
+    const Eigen::MatrixXd C = d_.raw_columns(e, 0);
+    std::vector<NoiseParams> np = d_.noise;
+    for (std::size_t c = 0; c < d_.rows.size(); ++c) {
+      const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
+      if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
+      NoiseParams q = identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
+                                     &fits_[c].outlier)
+                          .params;
+      q.p_out = 0, q.s_out2 = 0;
+      np[c] = q;
+    }
+    const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(d_.pb->y.data(), static_cast<Eigen::Index>(d_.pb->size()));
+    return search_detail::Projector(d_.whiten_with(raw_, np), d_.whiten_with(y, np), d_.n_used).lr(d_.whiten_with(C, np));
+  }
 
  private:
-  double profile(std::size_t c, const Eigen::MatrixXd& X) const {
-    return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, no_), &fits_[c].outlier)
-        .loglik_ml;
+  // channel c's fixed effects with the entry's columns Cc appended
+  Eigen::MatrixXd with(std::size_t c, const Eigen::MatrixXd& Cc) const {
+    Eigen::MatrixXd Xc(Cc.rows(), X0c_[c].cols() + Cc.cols());
+    Xc << X0c_[c], Cc;
+    return Xc;
   }
   const Design& d_;
   const std::vector<NoiseFit>& fits_;
   NoiseIdOptions no_;
-  std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns (nuisance, chosen)
+  Eigen::MatrixXd raw_;               ///< nuisance and chosen columns, raw
+  std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns
   std::vector<double> base_;          ///< per channel: profile l without the entry (when first needed)
 };
 
-// A non-scanned entry's test: the GLS 2 log LR of its columns given the chosen ones, every
-// channel it touches whitened by its noise re-identified (REML, with the trend) with the
-// entry's columns added to the null's fixed effects (a Wald-type test: the noise estimated
-// under the alternative, so a physical effect the null noise took for a long correlation is
-// not lost). Measured on 300 nominal white-noise flights: 1 alarm (0.33 %); the profile
-// likelihood ratio of ScannedLr used here instead gave 7 (2.3 %: its single further
-// Gauss-Markov part goes to the short correlation and leaves slow misfit to the site offset).
-double fixed_lr(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no,
-                std::size_t e) {
-  const Eigen::MatrixXd raw = search_detail::raw_model_matrix(d, chosen);
-  const Eigen::MatrixXd C = d.raw_columns(e, 0);
-  std::vector<NoiseParams> np = d.noise;
-  for (std::size_t c = 0; c < d.rows.size(); ++c) {
-    const Eigen::MatrixXd Cc = channel_columns(d, C, c);
-    if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
-    const Eigen::MatrixXd X0c = channel_columns(d, raw, c);
-    Eigen::MatrixXd Xc(Cc.rows(), X0c.cols() + Cc.cols());
-    Xc << X0c, Cc;
-    NoiseParams q = identify_noise(d.times[c], d.gains[c], channel_y(d, c), Xc, channel_options(*d.pb, c, no), &fits[c].outlier).params;
-    q.p_out = 0, q.s_out2 = 0;
-    np[c] = q;
-  }
-  const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(d.pb->y.data(), static_cast<Eigen::Index>(d.pb->size()));
-  return search_detail::Projector(d.whiten_with(raw, np), d.whiten_with(y, np), d.n_used).lr(d.whiten_with(C, np));
-}
-
 // Forward selection: the entry with the smallest adjusted log p enters while it is below log
-// alpha; a non-scanned entry tested by fixed_lr, a scanned one at its best grid point (by GLS
-// under the null noise) by ScannedLr.
+// alpha; each tested by EntryTests (a scanned entry at its best grid point by GLS under the
+// null noise).
 Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, const std::vector<NoiseFit>& fits) {
   const Problem& p = *d.pb;
   Chosen chosen;
@@ -153,7 +157,7 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
   const double log_alpha = std::log(o.alpha);
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);
-    ScannedLr scanned_lr(d, chosen, fits, o.noise);
+    EntryTests tests(d, chosen, fits, o.noise);
     double best = 0;
     std::pair<std::size_t, std::size_t> arg{0, 0};
     bool any = false;
@@ -169,7 +173,7 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
         if (lr > lr_v) lr_v = lr, v_best = v;
       }
       if (lr_v <= 0) continue;  // nothing to test (no gain, or inside the model)
-      const double lr = p.catalogue[e].scanned() ? scanned_lr(e, v_best) : fixed_lr(d, chosen, fits, o.noise, e);
+      const double lr = p.catalogue[e].scanned() ? tests.scanned(e, v_best) : tests.fixed(e);
       if (!(lr > 0)) continue;
       const double lp = log_chi2_sf(lr, k) + cost;
       if (!any || lp < best) best = lp, arg = {e, v_best}, any = true;
@@ -191,9 +195,8 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
       const auto [e, v] = chosen[i];
       const double k = static_cast<double>(p.catalogue[e].params.size());
       const double cost = std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
-      const double lr = p.catalogue[e].scanned()
-                            ? ScannedLr(d, rest, fits, o.noise)(e, v)
-                            : fixed_lr(d, rest, fits, o.noise, e);
+      EntryTests tests(d, rest, fits, o.noise);
+      const double lr = p.catalogue[e].scanned() ? tests.scanned(e, v) : tests.fixed(e);
       const double lp = log_chi2_sf(std::max(lr, 0.0), k) + cost;
       if (lp > worst) worst = lp, wi = i;
     }
