@@ -55,7 +55,7 @@ NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOpt
   NoiseIdOptions nc = no;
   const Channel& ch = p.channels[c];
   if (ch.nominal_corr_sigma > 0) {
-    nc.nominal_share = std::min(0.999, ch.nominal_corr_sigma * ch.nominal_corr_sigma / ch.nominal_var());
+    nc.nominal_share = ch.nominal_share();
     nc.nominal_tau_s = ch.nominal_corr_tau_s;
   }
   return nc;
@@ -155,6 +155,11 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
   Chosen chosen;
   std::vector<char> taken(p.catalogue.size(), 0);
   const double log_alpha = std::log(o.alpha);
+  // the Bonferroni-adjusted log p of entry e's 2 log LR: alpha / m per entry, split over its grid
+  auto adjusted_log_p = [&](std::size_t e, double lr) {
+    const double k = static_cast<double>(p.catalogue[e].params.size());
+    return log_chi2_sf(lr, k) + std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
+  };
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);
     EntryTests tests(d, chosen, fits, o.noise);
@@ -163,9 +168,6 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
     bool any = false;
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
       if (taken[e]) continue;
-      const double k = static_cast<double>(p.catalogue[e].params.size());
-      // Bonferroni: alpha / m per entry, split over the entry's grid.
-      const double cost = std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
       double lr_v = 0;
       std::size_t v_best = 0;
       for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
@@ -175,7 +177,7 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
       if (lr_v <= 0) continue;  // nothing to test (no gain, or inside the model)
       const double lr = p.catalogue[e].scanned() ? tests.scanned(e, v_best) : tests.fixed(e);
       if (!(lr > 0)) continue;
-      const double lp = log_chi2_sf(lr, k) + cost;
+      const double lp = adjusted_log_p(e, lr);
       if (!any || lp < best) best = lp, arg = {e, v_best}, any = true;
     }
     if (!any || best >= log_alpha) break;
@@ -193,11 +195,9 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
       Chosen rest = chosen;
       rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
       const auto [e, v] = chosen[i];
-      const double k = static_cast<double>(p.catalogue[e].params.size());
-      const double cost = std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
       EntryTests tests(d, rest, fits, o.noise);
       const double lr = p.catalogue[e].scanned() ? tests.scanned(e, v) : tests.fixed(e);
-      const double lp = log_chi2_sf(std::max(lr, 0.0), k) + cost;
+      const double lp = adjusted_log_p(e, std::max(lr, 0.0));
       if (lp > worst) worst = lp, wi = i;
     }
     if (worst < log_alpha) break;

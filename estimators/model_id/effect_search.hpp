@@ -30,6 +30,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <string>
@@ -57,6 +58,8 @@ struct Channel {
   double nominal_corr_sigma = 0;
   double nominal_corr_tau_s = 0;
   double nominal_var() const { return nominal_sigma * nominal_sigma + nominal_corr_sigma * nominal_corr_sigma; }
+  /// The nominal correlated component's share of nominal_var(), capped at 0.999 (noise_model.hpp's mu).
+  double nominal_share() const { return std::min(0.999, nominal_corr_sigma * nominal_corr_sigma / nominal_var()); }
 };
 
 struct Candidate {

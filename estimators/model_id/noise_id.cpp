@@ -22,7 +22,7 @@ struct Series {
   const std::vector<double>& t;
   const std::vector<double>& h;  ///< nominal component's gains (empty: 1)
   const Eigen::MatrixXd& Xe;     ///< [X | e]
-  double mu, tau0;               ///< the nominal component's share and correlation time
+  double tau0;                   ///< the nominal component's correlation time
 };
 
 // REML log-likelihood at (lambda, tau) (and the nominal component's share mu) with s^2
@@ -121,7 +121,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
   }
 
   const double mu = o.nominal_share;
-  const Series sr{t, h, Xe, mu, mu > 0 ? o.nominal_tau_s : 1.0};
+  const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
   const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
   const double ltau_lo = std::log(o.tau_min_s), ltau_hi = std::log(tau_hi);
   NoiseFit fit;
@@ -131,8 +131,8 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     skip = *fixed_skip;
   }
   // the criterion maximised: REML, or the ML likelihood in profile_ml mode
-  auto crit = [&](double m, double lam, double tau) {
-    const Reml r = reml(sr, m, lam, tau, skip);
+  auto crit = [&](double lam, double tau) {
+    const Reml r = reml(sr, mu, lam, tau, skip);
     return o.profile_ml ? r.ml : r.ll;
   };
   for (int round = 0; round < 5; ++round) {
@@ -145,7 +145,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     for (int i = 0; i < n_tau; ++i) {
       const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
       for (double lam : lambdas) {
-        const double ll = crit(mu, lam, std::exp(lt));
+        const double ll = crit(lam, std::exp(lt));
         if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
       }
     }
@@ -154,9 +154,9 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     auto logit = [](double x) { return std::log(x / (1 - x)); };
     auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
     for (int it = 0; it < 2; ++it) {
-      best_lt = golden_max([&](double lt) { return crit(mu, best_lam, std::exp(lt)); },
+      best_lt = golden_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
                            std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
-      const double z = golden_max([&](double z) { return crit(mu, expit(z), std::exp(best_lt)); },
+      const double z = golden_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
                                   logit(0.01), logit(0.999), 40);
       best_lam = expit(z);
     }

@@ -96,7 +96,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     NoiseParams nom;
     nom.s2 = p.channels[c].nominal_var();
     if (p.channels[c].nominal_corr_sigma > 0) {
-      nom.nom_share = std::min(0.999, p.channels[c].nominal_corr_sigma * p.channels[c].nominal_corr_sigma / nom.s2);
+      nom.nom_share = p.channels[c].nominal_share();
       nom.nom_tau_s = p.channels[c].nominal_corr_tau_s;
     }
     g.nominal_loglik = predictive_loglik(t, h, r0, nom, score);
