@@ -79,6 +79,8 @@ void Conductor::next_window() {
 
 void Conductor::retry(const std::string& reason) {
   retries_.push_back({r_, a_, reason});
+  loss_reasons_.clear();
+  loss_deadline_s_ = -1;
   window_open_ = false;
   if (a_ + 1 >= runner_.max_attempts) {
     std::string all;
@@ -118,7 +120,10 @@ void Conductor::on_ack(const node_ack_t& a) {
     return;
   }
   if (a.status == node_ack_t::LOSS) {
-    if (window_open_ || a.window <= w_) retry(a.detail);
+    if (window_open_ || a.window <= w_) {
+      loss_reasons_ += (loss_reasons_.empty() ? "" : "; ") + a.detail;
+      if (loss_deadline_s_ < 0) loss_deadline_s_ = now_s_ + runner_.stall_timeout_s / 2;
+    }
     return;
   }
   if (a.status == node_ack_t::OK && window_open_ && a.window == w_) {
@@ -151,7 +156,9 @@ void Conductor::poll(double wall_now_s) {
       break;
     }
     case State::kRunning:
-      if (window_open_ && now_s_ - window_wall_s_ > runner_.ack_timeout_s) {
+      if (loss_deadline_s_ >= 0 && now_s_ >= loss_deadline_s_) {
+        retry(loss_reasons_);
+      } else if (window_open_ && now_s_ - window_wall_s_ > runner_.ack_timeout_s) {
         std::string missing;
         for (const auto& n : o_.nodes)
           if (!acked_.count(n)) missing += " " + n;

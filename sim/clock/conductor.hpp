@@ -73,6 +73,11 @@ class Conductor {
   double now_s_ = 0, start_wall_s_ = -1, window_wall_s_ = 0, realization_wall_s_ = 0,
          finish_sent_s_ = -1, last_finish_s_ = -1;
   bool window_open_ = false;
+  /// Loss reports of the current attempt, joined: a lost message upstream stalls every node
+  /// below it, each reporting its own missing input after its stall timeout; the retry waits
+  /// half a stall timeout after the first report so the upstream cause is named with them.
+  std::string loss_reasons_;
+  double loss_deadline_s_ = -1;  ///< [s wall] when the collected losses are acted on (< 0: none)
   std::vector<RetryEvent> retries_;
   std::string failure_;
   int exit_code_ = 0;
