@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 using namespace rnav;
 using rnav::test::CascadeNoise;
@@ -179,6 +180,34 @@ TEST_CASE("effect search: a real step is found at its time") {
   CHECK(r.effects[0].name == "bias_step");
   CHECK(std::abs(r.effects[0].estimate[0] - 3.0) < 3 * r.effects[0].stderr_[0]);
   CHECK(std::abs(r.effects[0].scan_value - 120) < 3 * r.effects[0].scan_se + 4);  // grid step 4 s
+}
+
+TEST_CASE("effect search: an effect the window cannot separate from one kept before it is left out of the held-out fit") {
+  // Two real range-like effects: A = range, B = range plus a 7 s wiggle of 300 m inside the
+  // window (canonical correlation with A 1000 / sqrt(1000^2 + 300^2) = 0.96 > 0.9), plus a ramp
+  // after it. The full data separate them (both named); the window cannot, so the held-out fit
+  // keeps only the first named, instead of extrapolating a difference of two large estimates.
+  Synthetic s = make(21, 3e-3, 0, 0, 0, 0.5);
+  Problem& pb = s.pb;
+  const auto n = static_cast<Eigen::Index>(pb.y.size());
+  std::vector<double> b(pb.y.size());
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const double t = pb.t_s[i];
+    b[i] = s.range[i] + 300 * std::sin(2 * M_PI * t / 7) + (t >= 130 ? 3000 * (t - 130) / 70 : 0.0);
+    pb.y[i] += 3e-3 * b[i];
+  }
+  pb.catalogue.push_back({"range_gain_b", {"radar", ""}, {"1"}, "range b", "", {}, [b, n](std::size_t) {
+                            Eigen::MatrixXd C(n, 1);
+                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = b[static_cast<std::size_t>(i)];
+                            return C;
+                          }});
+  const SearchResult r = search_effects(pb, SearchOptions{});
+  std::set<std::string> named;
+  for (const auto& e : r.effects) named.insert(e.name);
+  CHECK(named.count("range_gain") == 1);
+  CHECK(named.count("range_gain_b") == 1);
+  REQUIRE(r.holdout_effects.size() == 1);
+  CHECK(r.holdout_effects[0] == r.effects[0].name + "@sensor radar");
 }
 
 TEST_CASE("effect search: outliers are named only when the mixture predicts better") {

@@ -10,6 +10,18 @@
 
 namespace rnav::search_detail {
 
+namespace {
+// The rows of M where mask is set.
+Eigen::MatrixXd rows_where(const Eigen::MatrixXd& M, const std::vector<char>& mask) {
+  Eigen::Index n = 0;
+  for (char m : mask) n += m != 0;
+  Eigen::MatrixXd out(n, M.cols());
+  for (Eigen::Index i = 0, r = 0; i < M.rows(); ++i)
+    if (mask[static_cast<std::size_t>(i)]) out.row(r++) = M.row(i);
+  return out;
+}
+}  // namespace
+
 void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   const Problem& p = *d.pb;
   const NoiseIdOptions& no = o.noise;
@@ -28,16 +40,35 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     if (f0.ok) pred0 = p.nuisance * f0.beta, res.nominal_oos_beta = f0.beta;
   }
   res.extended_oos_beta = res.nominal_oos_beta;
-  // extended: the chosen effects refitted on the window; an effect the window does not
-  // determine (max |estimate / SE| < 2 there, e.g. a step after the split or one nearly
-  // collinear with another inside the window) is left out, the rest refitted.
+  // extended: the chosen effects refitted on the window, taken in the order they were named.
+  // An effect is left out when the window does not determine it: absent from the window (a step
+  // after the split), its columns confounded there with those kept before it (canonical
+  // correlation above confound_corr given the nuisance and them: a pair the window cannot
+  // separate, e.g. an along-hull offset and a clock offset on one straight leg, would be
+  // extrapolated as a large difference of two large estimates), or max |estimate / SE| below
+  // holdout_min_z given them. The kept set is then refitted (dropping any that fell below).
+  const Eigen::MatrixXd Nw_est = rows_where(d.Nw, est);
   std::vector<std::pair<std::size_t, std::size_t>> kept;
-  for (const auto& c : chosen) {  // absent from the window
+  for (const auto& c : chosen) {
     const Eigen::MatrixXd& C = d.Cw[c.first][c.second];
     double in = 0;
     for (Eigen::Index i = 0; i < C.rows(); ++i)
       if (est[static_cast<std::size_t>(i)]) in += C.row(i).squaredNorm();
-    if (in > 1e-12 * C.squaredNorm()) kept.push_back(c);
+    if (!(in > 1e-12 * C.squaredNorm())) continue;  // absent from the window
+    if (!kept.empty()) {
+      const Eigen::MatrixXd K = rows_where(model_matrix(d, kept).rightCols(model_matrix(d, kept).cols() - q), est);
+      if (canonical_corr(Nw_est, rows_where(C, est), K) > o.confound_corr) continue;
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> trial = kept;
+    trial.push_back(c);
+    const Ols f = ols(model_matrix(d, trial), d.yw, est);
+    if (!f.ok) continue;
+    const auto k = static_cast<Eigen::Index>(p.catalogue[c.first].params.size());
+    const auto col0 = f.beta.size() - k;
+    const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size()));
+    double z = 0;
+    for (Eigen::Index j = col0; j < col0 + k; ++j) z = std::max(z, std::abs(f.beta(j)) / std::sqrt(f.cov_unscaled(j, j) * scale));
+    if (z >= o.holdout_min_z) kept = trial;
   }
   Eigen::VectorXd pred1 = pred0;
   for (std::size_t pass = 0; pass <= chosen.size(); ++pass) {
