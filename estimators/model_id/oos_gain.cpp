@@ -20,6 +20,14 @@ Eigen::MatrixXd rows_where(const Eigen::MatrixXd& M, const std::vector<char>& ma
     if (mask[static_cast<std::size_t>(i)]) out.row(r++) = M.row(i);
   return out;
 }
+
+// The largest |estimate / SE| of the k coefficients from col of a successful fit.
+double max_z(const Ols& f, Eigen::Index col, Eigen::Index k) {
+  const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size()));
+  double z = 0;
+  for (Eigen::Index j = col; j < col + k; ++j) z = std::max(z, std::abs(f.beta(j)) / std::sqrt(f.cov_unscaled(j, j) * scale));
+  return z;
+}
 }  // namespace
 
 void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
@@ -56,19 +64,15 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
       if (est[static_cast<std::size_t>(i)]) in += C.row(i).squaredNorm();
     if (!(in > 1e-12 * C.squaredNorm())) continue;  // absent from the window
     if (!kept.empty()) {
-      const Eigen::MatrixXd K = rows_where(model_matrix(d, kept).rightCols(model_matrix(d, kept).cols() - q), est);
-      if (canonical_corr(Nw_est, rows_where(C, est), K) > o.confound_corr) continue;
+      const Eigen::MatrixXd Mk = model_matrix(d, kept);
+      if (canonical_corr(Nw_est, rows_where(C, est), rows_where(Mk.rightCols(Mk.cols() - q), est)) > o.confound_corr) continue;
     }
     std::vector<std::pair<std::size_t, std::size_t>> trial = kept;
     trial.push_back(c);
     const Ols f = ols(model_matrix(d, trial), d.yw, est);
     if (!f.ok) continue;
     const auto k = static_cast<Eigen::Index>(p.catalogue[c.first].params.size());
-    const auto col0 = f.beta.size() - k;
-    const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size()));
-    double z = 0;
-    for (Eigen::Index j = col0; j < col0 + k; ++j) z = std::max(z, std::abs(f.beta(j)) / std::sqrt(f.cov_unscaled(j, j) * scale));
-    if (z >= o.holdout_min_z) kept = trial;
+    if (max_z(f, f.beta.size() - k, k) >= o.holdout_min_z) kept = trial;
   }
   Eigen::VectorXd pred1 = pred0;
   for (std::size_t pass = 0; pass <= chosen.size(); ++pass) {
@@ -80,11 +84,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     Eigen::Index col = q;
     for (std::size_t s = 0; s < kept.size(); ++s) {
       const auto k = static_cast<Eigen::Index>(p.catalogue[kept[s].first].params.size());
-      double z = 0;
-      for (Eigen::Index j = col; j < col + k && f1.ok; ++j) {
-        const double scale = f1.rss / std::max(1.0, f1.n - static_cast<double>(Mw.cols()));
-        z = std::max(z, std::abs(f1.beta(j)) / std::sqrt(f1.cov_unscaled(j, j) * scale));
-      }
+      const double z = f1.ok ? max_z(f1, col, k) : 0.0;
       if (z < weakest_z || !f1.ok) weakest_z = z, weakest = s;  // singular: drop the latest chosen
       col += k;
     }
