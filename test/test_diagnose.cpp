@@ -300,4 +300,3 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   const CsvTable t = CsvTable::read((d / "nav_extra.csv").string(), {"t_s", "lat_deg"});
   CHECK(t.col("lat_deg").at(0) == 48.1);
 }
-

@@ -63,13 +63,13 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     for (Eigen::Index i = 0; i < C.rows(); ++i)
       if (est[static_cast<std::size_t>(i)]) in += C.row(i).squaredNorm();
     if (!(in > 1e-12 * C.squaredNorm())) continue;  // absent from the window
-    if (!kept.empty()) {
-      const Eigen::MatrixXd Mk = model_matrix(d, kept);
-      if (canonical_corr(Nw_est, rows_where(C, est), rows_where(Mk.rightCols(Mk.cols() - q), est)) > o.confound_corr) continue;
-    }
     std::vector<std::pair<std::size_t, std::size_t>> trial = kept;
     trial.push_back(c);
-    const Ols f = ols(model_matrix(d, trial), d.yw, est);
+    const Eigen::MatrixXd Mt = model_matrix(d, trial);  // [Nw | kept | C]
+    if (!kept.empty() &&
+        canonical_corr(Nw_est, rows_where(C, est), rows_where(Mt.middleCols(q, Mt.cols() - q - C.cols()), est)) > o.confound_corr)
+      continue;
+    const Ols f = ols(Mt, d.yw, est);
     if (!f.ok) continue;
     const auto k = static_cast<Eigen::Index>(p.catalogue[c.first].params.size());
     if (max_z(f, f.beta.size() - k, k) >= o.holdout_min_z) kept = trial;
