@@ -244,6 +244,48 @@ TEST_CASE("noise identification: Gauss-Markov tau recovered, white stays white")
   CHECK_FALSE(fw.correlated);
 }
 
+TEST_CASE("noise identification: the confidence set covers the true noise at its stated level") {
+  // 200 series of Gauss-Markov (tau 5 s, share 0.8) plus white noise, 600 frames at 0.5 s, a
+  // constant as the fixed effect. The set {2 (l_best - l) <= q}, q = 4, is asymptotically a
+  // chi-square(2) region: coverage 1 - exp(-2) = 0.865. The truth counts as covered when the
+  // set holds a grid model within one grid step of it (log tau within 0.3, lambda within
+  // 0.1). The lower bound is 0.865 minus 3 binomial standard errors of 200 series (0.072);
+  // the set must also be informative: white noise outside it in nearly every series (the
+  // white model's 2 log LR is about 600 here), and the set a minority of the 197 grid models.
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> N(0, 1);
+  const int n = 600, series = 200;
+  const double tau = 5, share = 0.8, q = 4;
+  std::vector<double> t(n);
+  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = 0.5 * i;
+  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(n, 1);
+  int covered = 0, white_in = 0;
+  double size = 0;
+  for (int k = 0; k < series; ++k) {
+    Eigen::VectorXd e(n);
+    const double phi = std::exp(-0.5 / tau);
+    double g = std::sqrt(share) * N(rng);
+    for (int i = 0; i < n; ++i) {
+      if (i > 0) g = phi * g + std::sqrt(share * (1 - phi * phi)) * N(rng);
+      e(i) = g + std::sqrt(1 - share) * N(rng);
+    }
+    const auto set = noise_confidence_set(t, {}, e, X, NoiseIdOptions{}, {}, q);
+    REQUIRE(!set.empty());
+    bool hit = false;
+    for (const auto& p : set) {
+      hit = hit || (std::abs(std::log(p.tau_s / tau)) <= 0.3 && std::abs(p.lambda - share) <= 0.1);
+      white_in += p.lambda == 0;
+    }
+    covered += hit;
+    size += static_cast<double>(set.size()) / series;
+  }
+  const double nominal = 1 - std::exp(-q / 2), se = std::sqrt(nominal * (1 - nominal) / series);
+  INFO("covered " << covered << " of " << series << ", mean set size " << size << ", white inside " << white_in);
+  CHECK(covered >= (nominal - 3 * se) * series);
+  CHECK(white_in <= series / 100);
+  CHECK(size < 197 / 4.0);
+}
+
 TEST_CASE("noise identification: the profile likelihood ratio of a step is chi-square sized under Gauss-Markov noise") {
   // profile_ml: the ML likelihood maximised over the noise family, without the REML trend. A
   // step column (t >= 120 s) added to a constant: nested, so the maximised likelihood cannot

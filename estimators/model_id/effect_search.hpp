@@ -14,7 +14,11 @@
 //      (m = catalogue size + the noise tests) and a scanned entry splits its share over its grid
 //      (look-elsewhere), so under the nominal model P(any effect named) <= alpha; a scanned entry
 //      thus pays for its scan and a physical entry that explains the same residual wins;
-//   3. re-identifies the noise with the chosen effects and repeats until the choice settles;
+//   3. checks each chosen effect given the others under every noise model the data allow (the
+//      least 2 log LR over the channels' noise confidence sets: a slow correlation is poorly
+//      determined in a short record, and a plug-in noise estimate lets slow noise pass as an
+//      effect), drops those that no longer pass, re-identifies the noise with the rest and
+//      repeats until the choice settles;
 //   4. reports each effect's estimate and SE (GLS, scale from the whitened residuals), its
 //      evidence (2 log LR without it, adjusted p, delta BIC), what it is confounded with (the
 //      canonical correlation of its whitened columns with another entry's given the rest of the
@@ -107,6 +111,12 @@ struct SearchOptions {
   int max_effects = 8;          ///< most effects named, >= 1
   int max_rounds = 3;           ///< noise/effect re-identification rounds, >= 1
   NoiseIdOptions noise;         ///< noise identification (alpha_correlated is set from alpha)
+  /// The noise parameters' uncertainty in the test: a selected effect stays only while its
+  /// 2 log LR, minimised over each touched channel's noise confidence set (noise_id.hpp's
+  /// noise_confidence_set: REML within noise_set_q / 2 of the best), still passes; 0: the
+  /// plug-in tests alone. >= 0. The default 4 (about an 86 % set for the two noise parameters)
+  /// is chosen by measurement (README: false alarms under tau = 30 s noise and the power table).
+  double noise_set_q = 4;
   /// Score the held-out frames: the named effects refitted on the estimation frames alone
   /// (those the window does not determine, |estimate / SE| < 2 there, left out) predict the rest.
   bool score_holdout = true;

@@ -77,19 +77,22 @@ double golden_max(F f, double a, double b, int iters) {
   return fc > fd ? c : d;
 }
 
-}  // namespace
+// The (lambda, tau) search grid: n_tau log-spaced correlation times by these shares.
+constexpr double grid_lambdas[] = {0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995};
+constexpr int n_tau = 28;
 
-NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
-                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+// The searched range of log tau [s] for a series spanning span seconds.
+std::pair<double, double> log_tau_range(const NoiseIdOptions& o, double span) {
+  const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
+  return {std::log(o.tau_min_s), std::log(tau_hi)};
+}
+
+// [trend | X | e] with an independent set of fixed-effect columns. Fixed effects: 1,
+// (t - tm) / span, ((t - tm) / span)^2 (not in profile_ml mode), then X; and e last.
+Eigen::MatrixXd fixed_effects(const std::vector<double>& t, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                              const NoiseIdOptions& o) {
   const auto n = static_cast<Eigen::Index>(t.size());
-  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()))
-    throw std::invalid_argument("identify_noise: sizes differ");
-  if (!(o.nominal_share >= 0 && o.nominal_share < 1) || (o.nominal_share > 0 && !(o.nominal_tau_s > 0)))
-    throw std::invalid_argument("identify_noise: nominal share must be in [0, 1) and its tau > 0");
-  if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
   const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
-  // Fixed effects: 1, (t - tm) / span, ((t - tm) / span)^2 (not in profile_ml mode), then X;
-  // and e last.
   const double tm = t0 + span / 2;
   const Eigen::Index n_trend = o.profile_ml ? 0 : 3;
   Eigen::MatrixXd Xe(n, n_trend + X.cols() + 1);
@@ -119,11 +122,24 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
       Xe = R;
     }
   }
+  return Xe;
+}
 
+}  // namespace
+
+NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()))
+    throw std::invalid_argument("identify_noise: sizes differ");
+  if (!(o.nominal_share >= 0 && o.nominal_share < 1) || (o.nominal_share > 0 && !(o.nominal_tau_s > 0)))
+    throw std::invalid_argument("identify_noise: nominal share must be in [0, 1) and its tau > 0");
+  if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
+  const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
+  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, o);
   const double mu = o.nominal_share;
   const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
-  const double tau_hi = std::max(o.tau_min_s * 1.0001, std::min(o.tau_max_s, span / o.tau_span_divisor));
-  const double ltau_lo = std::log(o.tau_min_s), ltau_hi = std::log(tau_hi);
+  const auto [ltau_lo, ltau_hi] = log_tau_range(o, span);
   NoiseFit fit;
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
   if (fixed_skip) {
@@ -139,12 +155,10 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
     // grid
-    const double lambdas[] = {0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995};
     double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
-    const int n_tau = 28;
     for (int i = 0; i < n_tau; ++i) {
       const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
-      for (double lam : lambdas) {
+      for (double lam : grid_lambdas) {
         const double ll = crit(lam, std::exp(lt));
         if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
       }
@@ -257,6 +271,43 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     fit.params.s_out2 = std::max(ss / static_cast<double>(r.size()), 4 * fit.params.s2);
   }
   return fit;
+}
+
+std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, const std::vector<double>& h,
+                                              const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                              const std::vector<char>& skip, double q) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()) ||
+      (!skip.empty() && skip.size() != t.size()))
+    throw std::invalid_argument("noise_confidence_set: sizes differ");
+  if (!(q > 0)) throw std::invalid_argument("noise_confidence_set: q must be > 0");
+  if (n < 10) throw std::invalid_argument("noise_confidence_set: fewer than 10 frames");
+  NoiseIdOptions ro = o;
+  ro.profile_ml = true;  // fixed effects exactly X (no trend): those of the test the set serves
+  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, ro);
+  const double mu = o.nominal_share;
+  const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
+  const auto [ltau_lo, ltau_hi] = log_tau_range(o, std::max(t.back() - t.front(), 1e-6));
+  // every grid model with its REML log-likelihood; the null model (nominal or white) first
+  std::vector<std::pair<double, NoiseParams>> all;
+  auto add = [&](double lam, double tau) {
+    const Reml r = reml(sr, mu, lam, tau, skip);
+    if (!std::isfinite(r.ll)) return;
+    NoiseParams p;
+    p.s2 = r.s2, p.lambda = lam, p.tau_s = tau, p.nom_share = mu, p.nom_tau_s = sr.tau0;
+    all.emplace_back(r.ll, p);
+  };
+  add(0.0, 1.0);
+  for (int i = 0; i < n_tau; ++i)
+    for (double lam : grid_lambdas) add(lam, std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1)));
+  if (all.empty()) throw std::invalid_argument("noise_confidence_set: degenerate residuals (no spread)");
+  double best = -INFINITY;
+  for (const auto& a : all) best = std::max(best, a.first);
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<NoiseParams> out;
+  for (const auto& a : all)
+    if (2 * (best - a.first) <= q) out.push_back(a.second);
+  return out;
 }
 
 }  // namespace rnav

@@ -69,4 +69,14 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
                         const Eigen::MatrixXd& X,
                         const NoiseIdOptions& o, const std::vector<char>* fixed_skip = nullptr);
 
+/// A likelihood confidence set for the noise model: the models of identify_noise's search grid
+/// (white or nominal, and each (lambda, tau) grid point, the scale s^2 profiled at each) whose
+/// REML log-likelihood, fixed effects X and the trend, frames skip kept out (empty: none), lies
+/// within q / 2 of the grid's best. With q the chi-square(2) quantile at beta it covers the
+/// true (lambda, tau) with probability about 1 - beta (asymptotically; the grid's best is a
+/// little below the maximum, so the set is a little larger). Never empty; the most likely first.
+std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, const std::vector<double>& h,
+                                              const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                              const std::vector<char>& skip, double q);
+
 }  // namespace rnav

@@ -21,11 +21,14 @@ namespace {
 const char* kUsage =
     "usage: rnav_diagnose prl|uav|multi INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
     "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
-    "         [--split-fraction F] [--ignore-truth] [--seed N]\n"
+    "         [--split-fraction F] [--ignore-truth] [--seed N] [--noise-set-q Q]\n"
     "         [--realization R] [--scenario FILE] [--set key=value]...\n"
     "  prl: --split-time (default 400 s), --nav-sigma (default 1.9 m), --nav-tau (default 120 s); uav: --gate-deg, --sigma-deg, --split-fraction,\n"
     "  --ignore-truth (diagnose on a track fitted to the bearings; truth only scores the gain),\n"
     "  --seed (of that fit's initialisation)\n"
+    "  --noise-set-q: an effect stays named only if its 2 log LR, least over each channel's noise\n"
+    "  models within Q / 2 of the best REML log-likelihood, still passes (default 4; 0: plug-in\n"
+    "  noise estimate only)\n"
     "  multi: a multi-sensor folder (observer.csv, detections.csv, truth.csv); --gate-deg (bearing\n"
     "  gate, default 3), --gate-m (range sensors' position gate, default 20), --sigma-deg (nominal\n"
     "  bearing sigma, default 0.5), --sigma-range-m (default 1), --split-fraction (default 0.6)\n"
@@ -98,6 +101,7 @@ int main(int argc, char** argv) {
       else if (a == "--sigma-deg") uo.sigma_deg = mo.sigma_bearing_deg = number(a, value());
       else if (a == "--sigma-range-m") mo.sigma_range_m = number(a, value());
       else if (a == "--residuals") residuals = value();
+      else if (a == "--noise-set-q") o.search.noise_set_q = uo.search.noise_set_q = mo.search.noise_set_q = number(a, value());
       else if (a == "--confound-corr") o.search.confound_corr = uo.search.confound_corr = mo.search.confound_corr = number(a, value());
       else if (a == "--split-fraction") uo.split_fraction = mo.split_fraction = number(a, value());
       else if (a == "--ignore-truth") uo.ignore_truth = true;

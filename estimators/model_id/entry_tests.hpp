@@ -1,0 +1,42 @@
+// Internal to the effect search: each channel's noise identified under the null of the next
+// test, and the tests of one catalogue entry against the model chosen so far.
+#pragma once
+
+#include "search_design.hpp"
+
+#include <utility>
+#include <vector>
+
+namespace rnav::search_detail {
+
+using Chosen = std::vector<std::pair<std::size_t, std::size_t>>;  ///< (catalogue entry, grid point)
+
+/// Each channel's noise, identified (REML, noise_id.hpp) with the nuisance and the chosen
+/// effects, restricted to the channel, as fixed effects.
+std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no);
+
+/// The tests of one entry against the model `chosen` (fits: the channels' noise under it).
+class EntryTests {
+ public:
+  EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no);
+  /// 2 log LR of scanned entry e at grid point v: the profile likelihood ratio over the noise family.
+  double scanned(std::size_t e, std::size_t v);
+  /// 2 log LR of non-scanned entry e: Wald-type GLS under the noise re-identified with its columns.
+  double fixed(std::size_t e) const;
+  /// The least GLS 2 log LR of entry e at grid point v over the noise models the data allow:
+  /// each channel it touches ranges over its noise confidence set (noise_confidence_set at q,
+  /// the fixed effects with the entry's columns), by coordinate descent from the channels'
+  /// most likely. q > 0.
+  double least_over_noise(std::size_t e, std::size_t v, double q) const;
+
+ private:
+  Eigen::MatrixXd with(std::size_t c, const Eigen::MatrixXd& Cc) const;  ///< channel c's fixed effects and Cc
+  const Design& d_;
+  const std::vector<NoiseFit>& fits_;
+  NoiseIdOptions no_;
+  Eigen::MatrixXd raw_;               ///< nuisance and chosen columns, raw
+  std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns
+  std::vector<double> base_;          ///< per channel: profile l without the entry (when first needed)
+};
+
+}  // namespace rnav::search_detail
