@@ -65,8 +65,7 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
         if (lr > lr_v) lr_v = lr, v_best = v;
       }
       if (lr_v <= 0) continue;  // nothing to test (no gain, or inside the model)
-      double lr = p.catalogue[e].scanned() ? tests.scanned(e, v_best) : tests.fixed(e);
-      if (!(lr > 0)) continue;
+      const double lr = p.catalogue[e].scanned() ? tests.scanned(e, v_best) : tests.fixed(e);
       if (!(lr > 0)) continue;
       const double lp = adjusted_log_p(e, lr);
       if (!any || lp < best) best = lp, arg = {e, v_best}, any = true;

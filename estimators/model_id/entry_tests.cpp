@@ -9,17 +9,31 @@ namespace rnav::search_detail {
 
 namespace {
 
+// Channel c's rows of the columns `keep` of X.
+Eigen::MatrixXd channel_rows(const Design& d, const Eigen::MatrixXd& X, std::size_t c, const std::vector<Eigen::Index>& keep) {
+  const auto m = static_cast<Eigen::Index>(d.rows[c].size());
+  Eigen::MatrixXd Xk(m, static_cast<Eigen::Index>(keep.size()));
+  for (Eigen::Index r = 0; r < m; ++r)
+    for (std::size_t j = 0; j < keep.size(); ++j)
+      Xk(r, static_cast<Eigen::Index>(j)) = X(static_cast<Eigen::Index>(d.rows[c][static_cast<std::size_t>(r)]), keep[j]);
+  return Xk;
+}
+
+// The columns of X that touch channel c (not zero on all its rows).
+std::vector<Eigen::Index> touching(const Design& d, const Eigen::MatrixXd& X, std::size_t c) {
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < X.cols(); ++j)
+    for (std::size_t r : d.rows[c])
+      if (X(static_cast<Eigen::Index>(r), j) != 0) {
+        keep.push_back(j);
+        break;
+      }
+  return keep;
+}
+
 // Channel c's rows of the raw columns X, only the columns that touch the channel.
 Eigen::MatrixXd channel_columns(const Design& d, const Eigen::MatrixXd& X, std::size_t c) {
-  const auto m = static_cast<Eigen::Index>(d.rows[c].size());
-  Eigen::MatrixXd Xc(m, X.cols());
-  for (Eigen::Index r = 0; r < m; ++r) Xc.row(r) = X.row(static_cast<Eigen::Index>(d.rows[c][static_cast<std::size_t>(r)]));
-  std::vector<Eigen::Index> keep;
-  for (Eigen::Index j = 0; j < Xc.cols(); ++j)
-    if (!Xc.col(j).isZero(0)) keep.push_back(j);
-  Eigen::MatrixXd Xk(m, static_cast<Eigen::Index>(keep.size()));
-  for (std::size_t j = 0; j < keep.size(); ++j) Xk.col(static_cast<Eigen::Index>(j)) = Xc.col(keep[j]);
-  return Xk;
+  return channel_rows(d, X, c, touching(d, X, c));
 }
 
 Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
@@ -158,30 +172,19 @@ double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) cons
   Eigen::MatrixXd A(raw_.rows(), K);
   A << raw_, C, Eigen::Map<const Eigen::VectorXd>(d_.pb->y.data(), static_cast<Eigen::Index>(d_.pb->size()));
   const std::size_t n_ch = d_.rows.size();
-  std::vector<NoiseParams> np = d_.noise;
   std::vector<std::vector<NoiseParams>> sets(n_ch);
   std::vector<std::vector<Eigen::Index>> cols(n_ch);  // per channel: the columns of A that touch it
   for (std::size_t c = 0; c < n_ch; ++c) {
-    for (Eigen::Index j = 0; j < K; ++j)
-      for (std::size_t r : d_.rows[c])
-        if (A(static_cast<Eigen::Index>(r), j) != 0) {
-          cols[c].push_back(j);
-          break;
-        }
+    cols[c] = touching(d_, A, c);
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
     sets[c] = noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
                                    fits_[c].outlier, q);
-    np[c] = sets[c].front();  // start from the most likely
   }
   // channel c's share of the Gram matrix of the whitened [X | C | y] under noise p
   auto gram = [&](std::size_t c, const NoiseParams& p) {
-    const auto m = static_cast<Eigen::Index>(d_.rows[c].size());
     const auto kk = static_cast<Eigen::Index>(cols[c].size());
-    Eigen::MatrixXd B(m, kk);
-    for (Eigen::Index r = 0; r < m; ++r)
-      for (Eigen::Index j = 0; j < kk; ++j)
-        B(r, j) = A(static_cast<Eigen::Index>(d_.rows[c][static_cast<std::size_t>(r)]), cols[c][static_cast<std::size_t>(j)]);
+    Eigen::MatrixXd B = channel_rows(d_, A, c, cols[c]);
     whiten(d_.times[c], d_.gains[c], p, d_.skip[c], B);
     const Eigen::MatrixXd Bg = B.transpose() * B;
     Eigen::MatrixXd G = Eigen::MatrixXd::Zero(K, K);
@@ -190,18 +193,21 @@ double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) cons
     return G;
   };
   std::vector<Eigen::MatrixXd> Gc(n_ch);
+  std::vector<std::vector<Eigen::MatrixXd>> Gset(n_ch);  // per channel: each set member's share, whitened once
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(K, K);
-  for (std::size_t c = 0; c < n_ch; ++c) G += (Gc[c] = gram(c, np[c]));
+  for (std::size_t c = 0; c < n_ch; ++c) {
+    for (const NoiseParams& cand : sets[c]) Gset[c].push_back(gram(c, cand));
+    // start from each set's most likely member; an untouched channel keeps its null noise
+    G += (Gc[c] = sets[c].empty() ? gram(c, d_.noise[c]) : Gset[c].front());
+  }
   double best = gram_lr(G, k, kc, d_.n_used);
   for (int sweep = 0; sweep < 2; ++sweep)
-    for (std::size_t c = 0; c < n_ch; ++c) {
-      for (const NoiseParams& cand : sets[c]) {
-        const Eigen::MatrixXd Gn = gram(c, cand);
+    for (std::size_t c = 0; c < n_ch; ++c)
+      for (const Eigen::MatrixXd& Gn : Gset[c]) {
         const Eigen::MatrixXd Gt = G - Gc[c] + Gn;
         const double lr = gram_lr(Gt, k, kc, d_.n_used);
         if (lr >= 0 && lr < best) best = lr, G = Gt, Gc[c] = Gn;
       }
-    }
   return best;
 }
 
