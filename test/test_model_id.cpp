@@ -182,6 +182,35 @@ TEST_CASE("effect search: a real step is found at its time") {
   CHECK(std::abs(r.effects[0].scan_value - 120) < 3 * r.effects[0].scan_se + 4);  // grid step 4 s
 }
 
+TEST_CASE("effect search: each effect reports the statistic it was kept with") {
+  // A range gain and a step under tau 8 s noise, five seeds. Every named effect passed the
+  // selection, so its kept adjusted p is below alpha; where the plug-in selection (q = 0) names
+  // the same effects, the kept 2 log LR under the noise confidence set, the least over a set
+  // containing the plug-in noise, is at most the plug-in one.
+  SearchOptions plug_in;
+  plug_in.noise_set_q = 0;
+  int compared = 0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const Synthetic s = make(seed, 3e-3, 3.0, 8.0, 0, 0.5);
+    const SearchResult r = search_effects(s.pb, SearchOptions{});
+    const SearchResult r0 = search_effects(s.pb, plug_in);
+    for (const auto* res : {&r, &r0})
+      for (const auto& e : res->effects) {
+        INFO("seed " << seed << " " << e.name << ": kept at 2 log LR " << e.kept_lr);
+        CHECK(e.kept_log10_p < std::log10(0.01));
+      }
+    if (r.effects.size() != r0.effects.size()) continue;
+    for (std::size_t i = 0; i < r.effects.size(); ++i) {
+      INFO("seed " << seed << " " << r.effects[i].name << ": kept at 2 log LR " << r.effects[i].kept_lr << " (plug-in "
+                   << r0.effects[i].kept_lr << ")");
+      REQUIRE(r.effects[i].name == r0.effects[i].name);
+      CHECK(r.effects[i].kept_lr <= r0.effects[i].kept_lr + 1e-9);
+      ++compared;
+    }
+  }
+  CHECK(compared >= 5);
+}
+
 TEST_CASE("effect search: an effect the window cannot separate from one kept before it is left out of the held-out fit") {
   // Two real range-like effects: A = range, B = range plus a 7 s wiggle of 300 m inside the
   // window (canonical correlation with A 1000 / sqrt(1000^2 + 300^2) = 0.96 > 0.9), plus a ramp

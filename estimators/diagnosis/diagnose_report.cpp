@@ -38,6 +38,8 @@ EffectResult from_found(const FoundEffect& f) {
   }
   e.evidence_lr = f.lr;
   e.log10_p = f.log10_p;
+  e.kept_lr = f.kept_lr;
+  e.kept_log10_p = f.kept_log10_p;
   e.delta_bic = f.delta_bic;
   for (const auto& c : f.confounded_with) e.confounded_with.push_back(c.name);
   e.note = f.note;
@@ -159,7 +161,9 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
     x["params"] = e.params;
     x["estimate"] = e.estimate.size() == 1 ? nlohmann::ordered_json(e.estimate[0]) : nlohmann::ordered_json(e.estimate);
     x["stderr"] = e.stderr_.size() == 1 ? nlohmann::ordered_json(e.stderr_[0]) : nlohmann::ordered_json(e.stderr_);
-    x["evidence"] = {{"lr", e.evidence_lr}, {"log10_p_adjusted", e.log10_p}, {"delta_bic", e.delta_bic}};
+    x["evidence"] = {{"lr", e.evidence_lr}, {"log10_p_adjusted", e.log10_p}};
+    if (e.channel.empty() && !e.nominal) x["evidence"]["kept_lr"] = e.kept_lr, x["evidence"]["kept_log10_p_adjusted"] = e.kept_log10_p;
+    x["evidence"]["delta_bic"] = e.delta_bic;
     x["confounded_with"] = e.confounded_with;
     x["nominal"] = e.nominal;
     if (!e.note.empty()) x["note"] = e.note;
@@ -190,7 +194,11 @@ std::string DiagnoseReport::text() const {
     for (std::size_t i = 0; i < e.estimate.size(); ++i)
       o << " " << (i < e.params.size() ? e.params[i] + "=" : "") << short_num(e.estimate[i]) << " +- "
         << short_num(e.stderr_[i]);
-    if (!e.nominal) o << "  (2 log LR " << short_num(e.evidence_lr) << ", log10 p " << short_num(e.log10_p) << ")";
+    if (!e.nominal) {
+      o << "  (2 log LR " << short_num(e.evidence_lr) << ", log10 p " << short_num(e.log10_p);
+      if (e.channel.empty() && !e.nominal) o << "; kept at " << short_num(e.kept_lr) << ", log10 p " << short_num(e.kept_log10_p);
+      o << ")";
+    }
     if (!e.confounded_with.empty()) o << "  confounded with " << e.confounded_with.front();
     o << "\n";
   }

@@ -22,6 +22,9 @@ struct EffectResult {
   std::vector<std::string> params;        ///< parameter names; a scanned effect's scanned value comes first
   double evidence_lr = 0;                 ///< 2 log likelihood ratio against the model without it
   double log10_p = 0;                     ///< log10 of its adjusted p-value (familywise; scans included)
+  /// The 2 log LR the selection kept it with (given the other effects; the least over the noise
+  /// confidence sets, FoundEffect::kept_lr) and its adjusted log10 p.
+  double kept_lr = 0, kept_log10_p = 0;  ///< (mean effects only; channel empty)
   double delta_bic = 0;                   ///< BIC(without) - BIC(with): > 10 is very strong
   std::vector<std::string> confounded_with;
   std::string note;

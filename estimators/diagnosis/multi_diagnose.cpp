@@ -82,7 +82,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
     x["params"] = {"t_s", e.params[0], e.params[1]};
     x["estimate"] = {e.scan_value, e.estimate[0], e.estimate[1]};
     x["stderr"] = {e.scan_se, e.stderr_[0], e.stderr_[1]};
-    x["evidence"] = {{"lr", e.lr}, {"log10_p_adjusted", e.log10_p}, {"delta_bic", e.delta_bic}};
+    x["evidence"] = evidence_json(e);
     x["confounded_with"] = nlohmann::ordered_json::array();
     x["note"] = "the reference track departs from constant velocity here (tested on the track itself)";
     j["effects"].push_back(x);

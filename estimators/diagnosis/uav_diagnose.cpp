@@ -142,6 +142,8 @@ void add_target_model(const AzimuthData& data, const LocalLevelFrame& F, const U
     e.stderr_ = {m.scan_se, m.stderr_[0], m.stderr_[1]};
     e.evidence_lr = m.lr;
     e.log10_p = m.log10_p;
+    e.kept_lr = m.kept_lr;
+    e.kept_log10_p = m.kept_log10_p;
     e.delta_bic = m.delta_bic;
     e.note = "the reference track (truth) departs from constant velocity here (tested on the track itself)";
     rep.effects.push_back(e);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rnav::search_detail {
 
@@ -85,9 +86,10 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
 
 }  // namespace
 
-void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const std::vector<NoiseFit>& fits,
-            SearchResult& res) {
+void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const std::vector<double>& kept_lr,
+            const std::vector<NoiseFit>& fits, SearchResult& res) {
   const Problem& p = *d.pb;
+  if (kept_lr.size() != chosen.size()) throw std::logic_error("effect search: one kept 2 log LR per chosen effect expected");
   const double m = res.family_size;
   const Eigen::MatrixXd M = model_matrix(d, chosen);
   const Ols fin = ols(M, d.yw, d.used);
@@ -126,7 +128,13 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     const Projector P(model_matrix(d, rest), d.yw, d.n_used);
     fe.lr = P.lr(d.Cw[e][v]);
     const double k = static_cast<double>(c.params.size());
-    fe.log10_p = std::min(0.0, (log_chi2_sf(fe.lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
+    // log10 of the Bonferroni-adjusted p of a 2 log LR: alpha / m per entry, split over its grid
+    auto log10_adjusted = [&](double lr) {
+      return std::min(0.0, (log_chi2_sf(lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
+    };
+    fe.log10_p = log10_adjusted(fe.lr);
+    fe.kept_lr = kept_lr[s];
+    fe.kept_log10_p = log10_adjusted(fe.kept_lr);
     fe.delta_bic = fe.lr - (k + (c.scanned() ? 1 : 0)) * std::log(d.n_used);
     if (c.scanned()) {
       fe.scan_param = c.scan_param;

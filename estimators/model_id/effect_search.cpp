@@ -37,10 +37,17 @@ void check_options(const SearchOptions& o) {
     throw std::invalid_argument("effect search: noise_set_q must be finite and >= 0");
 }
 
+// The chosen effects and, per effect, the 2 log LR it was kept with (given all the others
+// chosen: the plug-in test, and with noise_set_q > 0 the least over the noise confidence sets).
+struct Selection {
+  Chosen chosen;
+  std::vector<double> kept_lr;
+};
+
 // Forward selection: the entry with the smallest adjusted log p enters while it is below log
-// alpha; each tested by EntryTests (a scanned entry at its best grid point by GLS under the
-// null noise).
-Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, const std::vector<NoiseFit>& fits) {
+// alpha; each tested by EntryTests (a non-scanned entry by GLS under the noise re-identified
+// with it, a scanned entry at its best grid point by the profile LR over the noise family).
+Selection forward_select(const Design& d, const SearchOptions& o, double m_family, const std::vector<NoiseFit>& fits) {
   const Problem& p = *d.pb;
   Chosen chosen;
   std::vector<char> taken(p.catalogue.size(), 0);
@@ -78,23 +85,27 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
   // (e.g. a site offset that stood in for a drift and a time offset together). The least
   // significant entry, tested against the model without it as it was when it entered, leaves
   // while its adjusted log p is at or above log alpha.
-  auto test = [&](std::size_t i, bool over_noise) {
+  // the tests of chosen entry i given all the other chosen ones
+  auto tests_given_rest = [&](std::size_t i) {
     Chosen rest = chosen;
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    const auto [e, v] = chosen[i];
-    EntryTests tests(d, rest, fits, o.noise);
-    double lr = p.catalogue[e].scanned() ? tests.scanned(e, v) : tests.fixed(e);
-    if (over_noise && adjusted_log_p(e, lr) < log_alpha) lr = std::min(lr, tests.least_over_noise(e, v, o.noise_set_q));
-    return adjusted_log_p(e, std::max(lr, 0.0));
+    return EntryTests(d, rest, fits, o.noise);
   };
-  while (chosen.size() > 1) {
+  auto plug_in = [&](std::size_t i) {
+    const auto [e, v] = chosen[i];
+    EntryTests tests = tests_given_rest(i);
+    return std::max(0.0, p.catalogue[e].scanned() ? tests.scanned(e, v) : tests.fixed(e));
+  };
+  std::vector<double> lr(chosen.size());
+  while (!chosen.empty()) {
     double worst = -INFINITY;
     std::size_t wi = 0;
     for (std::size_t i = 0; i < chosen.size(); ++i) {
-      const double lp = test(i, false);
+      lr[i] = plug_in(i);
+      const double lp = adjusted_log_p(chosen[i].first, lr[i]);
       if (lp > worst) worst = lp, wi = i;
     }
-    if (worst < log_alpha) break;
+    if (chosen.size() <= 1 || worst < log_alpha) break;
     chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(wi));
   }
   // The noise's uncertainty (noise_set_q > 0): each entry left, given all the others, is tested
@@ -104,13 +115,15 @@ Chosen forward_select(const Design& d, const SearchOptions& o, double m_family, 
   // bearing bias beside a manoeuvre - looks like slow noise. One at a time, each removal makes
   // the rest weaker and on the Autoferry data all went, effects whose held-out gain shows them
   // real among them.)
-  if (o.noise_set_q > 0) {
-    Chosen kept;
-    for (std::size_t i = 0; i < chosen.size(); ++i)
-      if (test(i, true) < log_alpha) kept.push_back(chosen[i]);
-    chosen = kept;
+  Selection out;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const auto [e, v] = chosen[i];
+    double kept = lr[i];  // the backward check's last plug-in test
+    if (o.noise_set_q > 0 && adjusted_log_p(e, kept) < log_alpha)
+      kept = std::max(0.0, std::min(kept, tests_given_rest(i).least_over_noise(e, v, o.noise_set_q)));
+    if (adjusted_log_p(e, kept) < log_alpha) out.chosen.push_back(chosen[i]), out.kept_lr.push_back(kept);
   }
-  return chosen;
+  return out;
 }
 
 }  // namespace
@@ -132,6 +145,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
   o.noise.alpha_correlated = o.alpha / res.family_size;
 
   Chosen chosen;
+  std::vector<double> kept_lr;
   std::vector<NoiseFit> fits;
   for (int round = 0; round < o.max_rounds; ++round) {
     fits = identify_all(d, chosen, o.noise);
@@ -144,12 +158,13 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
       sk.push_back(f.outlier);
     }
     d.set_noise(np, sk);
-    const Chosen next = forward_select(d, o, res.family_size, fits);
-    const bool settled = next == chosen;
-    chosen = next;
+    Selection next = forward_select(d, o, res.family_size, fits);
+    const bool settled = next.chosen == chosen;
+    chosen = next.chosen;
+    kept_lr = std::move(next.kept_lr);
     if (settled && round > 0) break;
   }
-  search_detail::report(d, o, chosen, fits, res);
+  search_detail::report(d, o, chosen, kept_lr, fits, res);
   return res;
 }
 

@@ -132,8 +132,12 @@ struct FoundEffect {
   std::vector<double> estimate, stderr_;
   std::string scan_param;
   double scan_value = 0, scan_se = 0;  ///< scanned entries: the chosen grid value and its SE
-  double lr = 0;                       ///< 2 log LR of the final model against it without this effect
+  double lr = 0;                       ///< 2 log LR of the final model against it without this effect (GLS under the final noise)
   double log10_p = 0;                  ///< log10 of its Bonferroni-adjusted p-value
+  /// The 2 log LR the selection kept it with, given all the other effects: its plug-in test (a
+  /// non-scanned entry under the noise re-identified with it, a scanned one by the profile LR)
+  /// and, with noise_set_q > 0, the least over the noise confidence sets; and its adjusted p.
+  double kept_lr = 0, kept_log10_p = 0;
   double delta_bic = 0;                ///< BIC(without) - BIC(with)
   struct Confound {
     std::string name;

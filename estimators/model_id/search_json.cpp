@@ -21,6 +21,11 @@ nlohmann::ordered_json one_or_list(const std::vector<double>& v) {
 Scope channel_scope(const Channel& c) { return {c.sensor, c.target}; }
 }  // namespace
 
+nlohmann::ordered_json evidence_json(const FoundEffect& e) {
+  return {{"lr", e.lr}, {"log10_p_adjusted", e.log10_p}, {"kept_lr", e.kept_lr}, {"kept_log10_p_adjusted", e.kept_log10_p},
+          {"delta_bic", e.delta_bic}};
+}
+
 nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
   nlohmann::ordered_json j;
   j["effects"] = nlohmann::ordered_json::array();
@@ -32,7 +37,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
     x["estimate"] = one_or_list(e.estimate);
     x["stderr"] = one_or_list(e.stderr_);
     if (!e.scan_param.empty()) x["scanned"] = {{"param", e.scan_param}, {"value", e.scan_value}, {"stderr", e.scan_se}};
-    x["evidence"] = {{"lr", e.lr}, {"log10_p_adjusted", e.log10_p}, {"delta_bic", e.delta_bic}};
+    x["evidence"] = evidence_json(e);
     x["confounded_with"] = nlohmann::ordered_json::array();
     for (const auto& c : e.confounded_with)
       x["confounded_with"].push_back({{"name", c.name}, {"scope", scope_json(c.scope)}, {"params", c.params}, {"canonical_corr", c.corr},
@@ -105,7 +110,8 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
     for (std::size_t i = 0; i < e.estimate.size(); ++i)
       o << " " << e.params[i] << "=" << short_num(e.estimate[i]) << " +- " << short_num(e.stderr_[i]);
     if (!e.scan_param.empty()) o << " at " << e.scan_param << "=" << short_num(e.scan_value) << " +- " << short_num(e.scan_se);
-    o << "  (2 log LR " << short_num(e.lr) << ", log10 p " << short_num(e.log10_p) << ")";
+    o << "  (2 log LR " << short_num(e.lr) << ", log10 p " << short_num(e.log10_p) << "; kept at " << short_num(e.kept_lr)
+      << ", log10 p " << short_num(e.kept_log10_p) << ")";
     for (const auto& c : e.confounded_with) o << "  confounded with " << c.name << " [" << c.scope.label() << "]";
     o << "\n";
   }

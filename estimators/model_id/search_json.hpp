@@ -11,6 +11,9 @@ namespace rnav {
 
 /// {"sensor": S or null, "target": T or null}
 nlohmann::ordered_json scope_json(const Scope& s);
+/// An effect's evidence: "lr", "log10_p_adjusted" (GLS under the final noise, given the other
+/// effects), "kept_lr", "kept_log10_p_adjusted" (the test the selection kept it with), "delta_bic".
+nlohmann::ordered_json evidence_json(const FoundEffect& e);
 /// "effects" (chosen effects then named noise findings), "noise" per channel, "series_gain",
 /// "detection_limits", "scope_support", "unexplained", "familywise".
 nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r);
