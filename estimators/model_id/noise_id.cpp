@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rnav {
 
@@ -125,16 +126,25 @@ Eigen::MatrixXd fixed_effects(const std::vector<double>& t, const Eigen::VectorX
   return Xe;
 }
 
+// The input checks identify_noise and noise_confidence_set share; `who` names the caller.
+void check_series(const char* who, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                  const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  const std::string w = who;
+  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()))
+    throw std::invalid_argument(w + ": sizes differ");
+  if (skip && !skip->empty() && skip->size() != t.size()) throw std::invalid_argument(w + ": skip mask of the wrong size");
+  if (!(o.nominal_share >= 0 && o.nominal_share < 1) || (o.nominal_share > 0 && !(o.nominal_tau_s > 0)))
+    throw std::invalid_argument(w + ": nominal share must be in [0, 1) and its tau > 0");
+  if (n < 10) throw std::invalid_argument(w + ": fewer than 10 frames");
+}
+
 }  // namespace
 
 NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                         const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+  check_series("identify_noise", t, h, e, X, o, fixed_skip);
   const auto n = static_cast<Eigen::Index>(t.size());
-  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()))
-    throw std::invalid_argument("identify_noise: sizes differ");
-  if (!(o.nominal_share >= 0 && o.nominal_share < 1) || (o.nominal_share > 0 && !(o.nominal_tau_s > 0)))
-    throw std::invalid_argument("identify_noise: nominal share must be in [0, 1) and its tau > 0");
-  if (n < 10) throw std::invalid_argument("identify_noise: fewer than 10 frames");
   const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
   const Eigen::MatrixXd Xe = fixed_effects(t, e, X, o);
   const double mu = o.nominal_share;
@@ -142,10 +152,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
   const auto [ltau_lo, ltau_hi] = log_tau_range(o, span);
   NoiseFit fit;
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
-  if (fixed_skip) {
-    if (fixed_skip->size() != t.size()) throw std::invalid_argument("identify_noise: skip mask of the wrong size");
-    skip = *fixed_skip;
-  }
+  if (fixed_skip && !fixed_skip->empty()) skip = *fixed_skip;
   // the criterion maximised: REML, or the ML likelihood in profile_ml mode
   auto crit = [&](double lam, double tau) {
     const Reml r = reml(sr, mu, lam, tau, skip);
@@ -276,12 +283,8 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
 std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                               const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                               const std::vector<char>& skip, double q) {
-  const auto n = static_cast<Eigen::Index>(t.size());
-  if (e.size() != n || (X.size() > 0 && X.rows() != n) || (!h.empty() && h.size() != t.size()) ||
-      (!skip.empty() && skip.size() != t.size()))
-    throw std::invalid_argument("noise_confidence_set: sizes differ");
+  check_series("noise_confidence_set", t, h, e, X, o, &skip);
   if (!(q > 0)) throw std::invalid_argument("noise_confidence_set: q must be > 0");
-  if (n < 10) throw std::invalid_argument("noise_confidence_set: fewer than 10 frames");
   NoiseIdOptions ro = o;
   ro.profile_ml = true;  // fixed effects exactly X (no trend): those of the test the set serves
   const Eigen::MatrixXd Xe = fixed_effects(t, e, X, ro);
