@@ -239,6 +239,40 @@ TEST_CASE("effect search: an effect the window cannot separate from one kept bef
   CHECK(r.holdout_effects[0] == r.effects[0].name + "@sensor radar");
 }
 
+TEST_CASE("effect search: an effect whose held-out part the window leaves open is not extrapolated") {
+  // A two-parameter entry: the range (hidden at 3e-3, about 20 SE) and a ramp that starts at
+  // t0 (hidden at 0). With t0 = 128 s the window (t < 130 s) sees only a few frames of the ramp,
+  // so the ramp's coefficient has an SE of about 0.2 there, and its prediction over the held-out
+  // frames (ramp up to 70) is mostly uncertainty: left out. With t0 = 60 s the window
+  // determines both parts, and the effect is used. (The range part alone is determined in both:
+  // the largest |estimate / SE| is no guard here.)
+  for (const double t0 : {128.0, 60.0}) {
+    Synthetic s = make(31, 3e-3, 0, 0, 0, 0.5);
+    Problem& pb = s.pb;
+    const auto n = static_cast<Eigen::Index>(pb.y.size());
+    const auto range = s.range;
+    const auto t_s = pb.t_s;
+    pb.catalogue.push_back({"gain_and_ramp", {"radar", ""}, {"1", "m_per_s"}, "range and a late ramp", "", {},
+                            [range, t_s, t0, n](std::size_t) {
+                              Eigen::MatrixXd C(n, 2);
+                              for (Eigen::Index i = 0; i < n; ++i) {
+                                const auto k = static_cast<std::size_t>(i);
+                                C(i, 0) = range[k];
+                                C(i, 1) = std::max(0.0, t_s[k] - t0);
+                              }
+                              return C;
+                            }});
+    pb.catalogue.erase(pb.catalogue.begin());  // without the plain range_gain, the pair is the cause
+    const SearchResult r = search_effects(pb, SearchOptions{});
+    INFO("ramp from t = " << t0 << " s");
+    REQUIRE(!r.effects.empty());
+    CHECK(r.effects[0].name == "gain_and_ramp");
+    const bool used = std::find(r.holdout_effects.begin(), r.holdout_effects.end(), "gain_and_ramp@sensor radar") !=
+                      r.holdout_effects.end();
+    CHECK(used == (t0 < 100));
+  }
+}
+
 TEST_CASE("effect search: outliers are named only when the mixture predicts better") {
   const Synthetic clean = make(11, 0, 0, 0, 0, 0.5);
   const SearchResult r0 = search_effects(clean.pb, SearchOptions{});

@@ -92,7 +92,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms}, {"unit", g.unit}};
   j["gain_window"] = "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s";
   j["gain_effects"] = result.holdout_effects;
-  for (const char* k : {"noise", "series_gain", "detection_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
+  for (const char* k : {"noise", "series_gain", "gain_fit", "detection_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
   return j;
 }
@@ -115,7 +115,7 @@ std::string MultiReport::text() const {
     o << "  gain " << k << ": RMS " << short_num(g.nominal_rms) << " -> " << short_num(g.extended_rms) << " " << g.unit
       << " (n " << g.n << ")\n";
   o << "  gain window: fit on t < " << short_num(split_time_s) << " s with";
-  for (const auto& g : result.holdout_effects) o << " " << g;
+  o << gain_fit_text(problem, result);
   if (result.holdout_effects.empty()) o << " no effect (none named, or none determined by the window)";
   o << "\n";
   return o.str();

@@ -118,10 +118,13 @@ struct SearchOptions {
   /// is chosen by measurement (README: false alarms under tau = 30 s noise and the power table).
   double noise_set_q = 4;
   /// Score the held-out frames: the named effects refitted on the estimation frames alone
-  /// (those the window does not determine, |estimate / SE| < 2 there, left out) predict the rest.
+  /// (those the window does not determine left out, holdout_min_z) predict the rest.
   bool score_holdout = true;
-  /// An effect whose largest |estimate / SE| on the estimation frames is below this is left out
-  /// of the held-out prediction (the window does not determine it), >= 0.
+  /// An effect is left out of the held-out prediction (the window does not determine it) when,
+  /// fitted on the estimation frames, its largest |estimate / SE| is below this, or its
+  /// predicted contribution on the held-out frames is below this many of that prediction's own
+  /// SEs (RMS over those frames; the same as |estimate / SE| for a one-parameter effect, smaller
+  /// for a multi-parameter one whose held-out part the window leaves open), >= 0.
   double holdout_min_z = 2;
 };
 
@@ -188,6 +191,7 @@ struct SearchResult {
   /// The held-out fits' coefficients: nominal = the nuisance's; extended = the nuisance's, then
   /// each kept effect's columns in the order of holdout_entries.
   Eigen::VectorXd nominal_oos_beta, extended_oos_beta;
+  Eigen::VectorXd extended_oos_se;  ///< the extended held-out fit's standard errors (scale from its whitened residuals)
   std::vector<std::pair<std::size_t, std::size_t>> holdout_entries;  ///< (catalogue entry, grid point) kept
   std::vector<std::string> holdout_effects;     ///< the named effects the estimation frames determine ("name@scope")
   std::vector<SeriesGain> gain;                ///< per channel

@@ -21,12 +21,24 @@ Eigen::MatrixXd rows_where(const Eigen::MatrixXd& M, const std::vector<char>& ma
   return out;
 }
 
-// The largest |estimate / SE| of the k coefficients from col of a successful fit.
-double max_z(const Ols& f, Eigen::Index col, Eigen::Index k) {
+// How well the window determines an effect where it is used: the smaller of
+//  - the largest |estimate / SE| of its k coefficients from col (is it there at all?), and
+//  - its predicted contribution on the held-out frames against that prediction's own standard
+//    error, both RMS over those frames (whitened): z_h = sqrt(sum (C_h b)^2 / sum diag(C_h V C_h')),
+//    V = the coefficients' covariance (for one parameter exactly |estimate / SE|). Only the
+//    held-out frames' regressors enter (their geometry), never their residuals. A multi-parameter effect with a part the window leaves
+//    open (an along-hull offset on one straight leg, SE 7.7 m, extrapolated through a turn) is
+//    thus not extrapolated: its prediction would be mostly its uncertainty.
+double determined_z(const Ols& f, Eigen::Index col, Eigen::Index k, const Eigen::MatrixXd& C_held) {
   const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size()));
   double z = 0;
   for (Eigen::Index j = col; j < col + k; ++j) z = std::max(z, std::abs(f.beta(j)) / std::sqrt(f.cov_unscaled(j, j) * scale));
-  return z;
+  if (C_held.rows() == 0) return z;
+  const Eigen::VectorXd b = f.beta.segment(col, k);
+  const Eigen::MatrixXd V = f.cov_unscaled.block(col, col, k, k) * scale;
+  const double signal = (C_held * b).squaredNorm();
+  const double var = (C_held * V).cwiseProduct(C_held).sum();
+  return var > 0 ? std::min(z, std::sqrt(signal / var)) : z;
 }
 }  // namespace
 
@@ -56,6 +68,9 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   // extrapolated as a large difference of two large estimates), or max |estimate / SE| below
   // holdout_min_z given them. The kept set is then refitted (dropping any that fell below).
   const Eigen::MatrixXd Nw_est = rows_where(d.Nw, est);
+  std::vector<char> held(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) held[i] = !p.estimation[i] && d.used[i];
+  auto held_cols = [&](const std::pair<std::size_t, std::size_t>& c) { return rows_where(d.Cw[c.first][c.second], held); };
   std::vector<std::pair<std::size_t, std::size_t>> kept;
   for (const auto& c : chosen) {
     const Eigen::MatrixXd& C = d.Cw[c.first][c.second];
@@ -72,7 +87,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     const Ols f = ols(Mt, d.yw, est);
     if (!f.ok) continue;
     const auto k = static_cast<Eigen::Index>(p.catalogue[c.first].params.size());
-    if (max_z(f, f.beta.size() - k, k) >= o.holdout_min_z) kept = trial;
+    if (determined_z(f, f.beta.size() - k, k, held_cols(c)) >= o.holdout_min_z) kept = trial;
   }
   Eigen::VectorXd pred1 = pred0;
   for (std::size_t pass = 0; pass <= chosen.size(); ++pass) {
@@ -84,13 +99,15 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     Eigen::Index col = q;
     for (std::size_t s = 0; s < kept.size(); ++s) {
       const auto k = static_cast<Eigen::Index>(p.catalogue[kept[s].first].params.size());
-      const double z = f1.ok ? max_z(f1, col, k) : 0.0;
+      const double z = f1.ok ? determined_z(f1, col, k, held_cols(kept[s])) : 0.0;
       if (z < weakest_z || !f1.ok) weakest_z = z, weakest = s;  // singular: drop the latest chosen
       col += k;
     }
     if (f1.ok && weakest == kept.size()) {
       pred1 = raw_model_matrix(d, kept) * f1.beta;
       res.extended_oos_beta = f1.beta;
+      const double scale = f1.rss / std::max(1.0, f1.n - static_cast<double>(f1.beta.size()));
+      res.extended_oos_se = (f1.cov_unscaled.diagonal() * scale).cwiseSqrt();
       res.holdout_entries = kept;
       for (const auto& k : kept)
         res.holdout_effects.push_back(p.catalogue[k.first].name + "@" + p.catalogue[k.first].scope.label());

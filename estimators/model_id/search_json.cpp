@@ -88,6 +88,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                              {"extended_rms", g.extended_rms}, {"nominal_loglik", g.nominal_loglik},
                                              {"extended_loglik", g.extended_loglik}};
   }
+  j["gain_fit"] = gain_fit_json(pb, r);
   j["detection_limits"] = r.detection_limits;
   j["scope_support"] = nlohmann::ordered_json::array();
   for (const auto& s : r.scopes) {
@@ -101,6 +102,41 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
   j["unexplained"] = r.unexplained;
   j["familywise"] = r.familywise;
   return j;
+}
+
+nlohmann::ordered_json gain_fit_json(const Problem& pb, const SearchResult& r) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  auto col = pb.nuisance.cols();
+  for (const auto& [e, v] : r.holdout_entries) {
+    const Candidate& c = pb.catalogue[e];
+    nlohmann::ordered_json x;
+    x["name"] = c.name;
+    x["scope"] = scope_json(c.scope);
+    x["params"] = c.params;
+    std::vector<double> est, se;
+    for (std::size_t j = 0; j < c.params.size(); ++j, ++col) {
+      est.push_back(r.extended_oos_beta(col));
+      se.push_back(r.extended_oos_se(col));
+    }
+    x["estimate"] = one_or_list(est);
+    x["stderr"] = one_or_list(se);
+    if (c.scanned()) x["scanned"] = {{"param", c.scan_param}, {"value", c.scan[v]}};
+    out.push_back(x);
+  }
+  return out;
+}
+
+std::string gain_fit_text(const Problem& pb, const SearchResult& r) {
+  std::ostringstream o;
+  auto col = pb.nuisance.cols();
+  for (const auto& [e, v] : r.holdout_entries) {
+    const Candidate& c = pb.catalogue[e];
+    o << " " << c.name << "@" << c.scope.label() << " (";
+    for (std::size_t j = 0; j < c.params.size(); ++j, ++col)
+      o << (j ? " " : "") << c.params[j] << "=" << short_num(r.extended_oos_beta(col)) << " +- " << short_num(r.extended_oos_se(col));
+    o << ")";
+  }
+  return o.str();
 }
 
 std::string search_text(const Problem& pb, const SearchResult& r) {

@@ -17,6 +17,11 @@ nlohmann::ordered_json evidence_json(const FoundEffect& e);
 /// "effects" (chosen effects then named noise findings), "noise" per channel, "series_gain",
 /// "detection_limits", "scope_support", "unexplained", "familywise".
 nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r);
+/// The extended model's held-out fit (on the estimation frames): per effect it used, its name,
+/// scope, parameters, estimates and SEs, in the fit's order.
+nlohmann::ordered_json gain_fit_json(const Problem& pb, const SearchResult& r);
+/// The same on one line: " name@scope (param=estimate +- se ...)" per effect; "" when none.
+std::string gain_fit_text(const Problem& pb, const SearchResult& r);
 /// A human-readable summary (one line per finding).
 std::string search_text(const Problem& pb, const SearchResult& r);
 
