@@ -4,6 +4,7 @@
 // Gauss-Markov process). Hidden effects must be named with their scope, within 3 SE, with a
 // positive held-out gain; nominal data must name no mean effect; the turn must be named.
 #include "multi_diagnose.hpp"
+#include "search_json.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -178,7 +179,18 @@ void check_found(const MultiReport& r, const Expect& x) {
 TEST_CASE("multi diagnosis: a lidar range gain is the lidar's") {
   Hidden h;
   h.lidar_range_gain = 1e-3;
-  check_found(diagnose_multi(make(3, h), options()), {"range_gain", "lidar", "", 1e-3, {"lidar:1", "lidar:2"}});
+  const MultiReport r = diagnose_multi(make(3, h), options());
+  check_found(r, {"range_gain", "lidar", "", 1e-3, {"lidar:1", "lidar:2"}});
+  // the window's own fit, as reported: one entry per effect used, the gain within 3 of its SEs
+  const nlohmann::ordered_json fit = gain_fit_json(r.problem, r.result);
+  REQUIRE(fit.size() == r.result.holdout_effects.size());
+  bool seen = false;
+  for (const auto& x : fit)
+    if (x["name"] == "range_gain") {
+      seen = true;
+      CHECK(std::abs(x["estimate"].get<double>() - 1e-3) < 3 * x["stderr"].get<double>());
+    }
+  CHECK(seen);
 }
 
 TEST_CASE("multi diagnosis: an EO bearing bias is the camera's") {

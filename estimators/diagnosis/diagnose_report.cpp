@@ -106,6 +106,8 @@ void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseRepor
     rep.gain[pb.channels[c].name] = {s.n, s.nominal_rms, s.extended_rms, s.nominal_loglik, s.extended_loglik};
   }
   rep.gain_effects = r.holdout_effects;
+  rep.gain_fit = gain_fit_json(pb, r);
+  rep.gain_fit_line = gain_fit_text(pb, r);
   rep.unexplained.insert(rep.unexplained.end(), r.unexplained.begin(), r.unexplained.end());
   rep.noise = search_json(pb, r)["noise"];
   rep.familywise = r.familywise;
@@ -173,6 +175,7 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
   j["gain"] = nlohmann::ordered_json::object();
   j["gain_window"] = "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s";
   j["gain_effects"] = gain_effects;
+  j["gain_fit"] = gain_fit;
   for (const auto& [k, g] : gain)
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms},
                     {"nominal_loglik", g.nominal_loglik}, {"extended_loglik", g.extended_loglik}};
@@ -207,7 +210,7 @@ std::string DiagnoseReport::text() const {
       << ")\n";
   if (!gain.empty()) {
     o << "  gain window: fit on t < " << short_num(split_time_s) << " s with";
-    for (const auto& g : gain_effects) o << " " << g;
+    o << gain_fit_line;
     if (gain_effects.empty()) o << " no effect (none named, or none determined by the window)";
     o << "\n";
   }

@@ -45,6 +45,8 @@ struct DiagnoseReport {
   /// ("truth_position_m") where the adapter can score one.
   std::map<std::string, ChannelGain> gain;
   std::vector<std::string> gain_effects;  ///< the named effects the estimation window determines (used in the gain)
+  nlohmann::ordered_json gain_fit;        ///< their estimates and SEs on the estimation window (search_json.hpp)
+  std::string gain_fit_line;              ///< the same on one line, for text()
   std::vector<std::string> unexplained;
   /// Per non-scanned catalogue entry and parameter: the size detected with probability 0.9 at
   /// the familywise level (Fisher information of this data under the identified noise).
