@@ -22,6 +22,8 @@ struct Hidden {
   double eo_bearing_bias_rad = 0;   // added to every EO bearing
   double eo_step_rad = 0;           // added to EO bearings from t = 80 s on
   double antenna2_along_m = 0;      // the sensors see target 2 this far ahead of its GNSS antenna
+  double lidar_range_bias_m = 0;    // added to every lidar range
+  double heading_bias_rad = 0;      // the observer's heading error: added to every sensor's bearings
 };
 
 Eigen::Vector2d target_pos(int k, double t) {
@@ -79,8 +81,10 @@ MultiSensorData make(std::uint64_t seed, const Hidden& h) {
         const Eigen::Vector2d rel = target_pos(k, true_t) - own(true_t);
         double b = std::atan2(rel.y(), rel.x()) + s.sb_deg * kDegToRad * (0.5 * N(rng) + 2.0 * f2[k]);
         if (s.name == "eo") b += h.eo_bearing_bias_rad;
+        b += h.heading_bias_rad;
         if (s.name == "eo" && t >= 80) b += h.eo_step_rad;
-        const double range = rel.norm() * (s.name == "lidar" ? 1 + h.lidar_range_gain : 1.0);
+        const double range =
+            rel.norm() * (s.name == "lidar" ? 1 + h.lidar_range_gain : 1.0) + (s.name == "lidar" ? h.lidar_range_bias_m : 0.0);
         rows.push_back({t, s.name, s.ranged ? range + s.sr_m * N(rng) : NAN, wrap_pi(b), NAN});
       }
       for (int c = 0; c < 2; ++c)  // clutter
@@ -148,7 +152,9 @@ TEST_CASE("multi diagnosis: a radar clock offset is the radar's, a reference clo
 
 // Sensor and target effects hidden one at a time and in a pair, at about 3x the detection limit
 // the nominal flight (seed 1) reports: lidar range_gain 3.4e-4 (hidden 1e-3), EO bearing_bias
-// 4.9e-3 rad (hidden 0.015). An EO bias_step (scanned, no limit; on half the frames, so about
+// 4.9e-3 rad (hidden 0.015), lidar range_bias 0.060 m (hidden 0.2 m), the common bearing_bias
+// (the observer's heading) 2.7e-3 rad (hidden 0.008; the scope question must answer common).
+// An EO bias_step (scanned, no limit; on half the frames, so about
 // twice the bias limit) of 0.025 rad at t = 80 s: at 1.4 deg well inside the 3 deg association
 // gate (a 0.04 rad IR step pushed detections out of the gate and was not named; with the noise
 // at its estimate it was named at a quarter of its size). Target 2's along-hull antenna offset:
@@ -191,6 +197,23 @@ TEST_CASE("multi diagnosis: a lidar range gain is the lidar's") {
       CHECK(std::abs(x["estimate"].get<double>() - 1e-3) < 3 * x["stderr"].get<double>());
     }
   CHECK(seen);
+}
+
+TEST_CASE("multi diagnosis: a lidar range bias is the lidar's") {
+  Hidden h;
+  h.lidar_range_bias_m = 0.2;  // limit 0.060 m
+  check_found(diagnose_multi(make(8, h), options()), {"range_bias", "lidar", "", 0.2, {"lidar:1", "lidar:2"}});
+}
+
+TEST_CASE("multi diagnosis: a heading error is common to every sensor's bearings") {
+  Hidden h;
+  h.heading_bias_rad = 0.008;  // limit 0.0027 rad
+  const MultiReport r = diagnose_multi(make(9, h), options());
+  check_found(r, {"bearing_bias", "", "", 0.008, {"eo:1", "eo:2", "ir:1", "ir:2", "lidar:1", "lidar:2"}});
+  bool common = false;
+  for (const auto& q : r.result.scopes)
+    if (q.question.find("bearing bias") != std::string::npos) common = q.supported == "common (heading)";
+  CHECK(common);
 }
 
 TEST_CASE("multi diagnosis: an EO bearing bias is the camera's") {
