@@ -199,7 +199,7 @@ std::string DiagnoseReport::text() const {
         << short_num(e.stderr_[i]);
     if (!e.nominal) {
       o << "  (2 log LR " << short_num(e.evidence_lr) << ", log10 p " << short_num(e.log10_p);
-      if (e.channel.empty() && !e.nominal) o << "; kept at " << short_num(e.kept_lr) << ", log10 p " << short_num(e.kept_log10_p);
+      if (e.channel.empty()) o << "; kept at " << short_num(e.kept_lr) << ", log10 p " << short_num(e.kept_log10_p);
       o << ")";
     }
     if (!e.confounded_with.empty()) o << "  confounded with " << e.confounded_with.front();

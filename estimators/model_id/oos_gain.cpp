@@ -26,9 +26,10 @@ Eigen::MatrixXd rows_where(const Eigen::MatrixXd& M, const std::vector<char>& ma
 //  - its predicted contribution on the held-out frames against that prediction's own standard
 //    error, both RMS over those frames (whitened): z_h = sqrt(sum (C_h b)^2 / sum diag(C_h V C_h')),
 //    V = the coefficients' covariance (for one parameter exactly |estimate / SE|). Only the
-//    held-out frames' regressors enter (their geometry), never their residuals. A multi-parameter effect with a part the window leaves
-//    open (an along-hull offset on one straight leg, SE 7.7 m, extrapolated through a turn) is
-//    thus not extrapolated: its prediction would be mostly its uncertainty.
+//    held-out frames' regressors enter (their geometry), never their residuals. A
+//    multi-parameter effect with a part the window leaves open (an along-hull offset on one
+//    straight leg, SE 7.7 m, extrapolated through a turn) is thus not extrapolated: its
+//    prediction would be mostly its uncertainty.
 double determined_z(const Ols& f, Eigen::Index col, Eigen::Index k, const Eigen::MatrixXd& C_held) {
   const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size()));
   double z = 0;
@@ -65,7 +66,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   // after the split), its columns confounded there with those kept before it (canonical
   // correlation above confound_corr given the nuisance and them: a pair the window cannot
   // separate, e.g. an along-hull offset and a clock offset on one straight leg, would be
-  // extrapolated as a large difference of two large estimates), or max |estimate / SE| below
+  // extrapolated as a large difference of two large estimates), or determined_z below
   // holdout_min_z given them. The kept set is then refitted (dropping any that fell below).
   const Eigen::MatrixXd Nw_est = rows_where(d.Nw, est);
   std::vector<char> held(p.size());
