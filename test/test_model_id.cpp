@@ -391,6 +391,43 @@ TEST_CASE("noise identification: the profile likelihood ratio of a step is chi-s
   CHECK(lr_step > 9);
 }
 
+TEST_CASE("effect search: separation limits are the detection limits given the hardest partner") {
+  // White noise, so the whitening is (nearly) a constant and the GLS partial correlation of the
+  // range with a second range-like column (the range plus a 7 s wiggle) given the intercept is
+  // the plain one, rho (about 0.96). Then the separation limit of range_gain is its detection
+  // limit / sqrt(1 - rho^2) (the two fits' residual scales differ by one column's share of about
+  // 500 frames: 2 % tolerance), its partner that column. An entry that copies another's column
+  // can be told from it at no size (infinite).
+  Synthetic s = make(41, 0, 0, 0, 0, 0.5);
+  Problem& pb = s.pb;
+  const auto n = static_cast<Eigen::Index>(pb.y.size());
+  const auto t_s = pb.t_s;
+  pb.catalogue.push_back({"drift_copy", {"radar", ""}, {"m_per_s"}, "time", "", {}, [t_s, n](std::size_t) {
+                            Eigen::MatrixXd C(n, 1);
+                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = 2 * (t_s[static_cast<std::size_t>(i)] - 100);
+                            return C;
+                          }});
+  std::vector<double> rb(s.range);  // a second range-like regressor: the range plus a 7 s wiggle
+  for (std::size_t i = 0; i < rb.size(); ++i) rb[i] += 300 * std::sin(2 * M_PI * t_s[i] / 7);
+  pb.catalogue.push_back({"range_gain_b", {"radar", ""}, {"1"}, "range b", "", {}, [rb, n](std::size_t) {
+                            Eigen::MatrixXd C(n, 1);
+                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = rb[static_cast<std::size_t>(i)];
+                            return C;
+                          }});
+  const SearchResult r = search_effects(pb, SearchOptions{});
+  // (the noise may be identified with a short correlation, under 1 s: the whitening then acts on
+  // these slow columns - a 150 s period and a ramp - nearly as a constant, and rho is kept)
+  REQUIRE((r.noise[0].fit.params.lambda == 0 || r.noise[0].fit.params.tau_s < 1));
+  const double rho = pearson(s.range, rb);
+  const double alone = r.detection_limits.at("range_gain@sensor radar").at("1");
+  const SeparationLimit& sep = r.separation_limits.at("range_gain@sensor radar").at("1");
+  INFO("rho " << rho << ", alone " << alone << ", separation " << sep.size << " from " << sep.partner);
+  CHECK(sep.partner.rfind("range_gain_b", 0) == 0);
+  CHECK(sep.size / alone == Approx(1 / std::sqrt(1 - rho * rho)).epsilon(0.02));
+  CHECK(std::isinf(r.separation_limits.at("bias_drift@sensor radar").at("m_per_s").size));
+  CHECK(r.separation_limits.at("bias_drift@sensor radar").at("m_per_s").partner.rfind("drift_copy", 0) == 0);
+}
+
 TEST_CASE("effect search: bad problems are named") {
   Synthetic s = make(1, 0, 0, 0, 0, 0.5);
   s.pb.y[5] = NAN;

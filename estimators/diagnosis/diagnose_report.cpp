@@ -100,6 +100,7 @@ void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseRepor
   }
   for (const auto& [k, m] : r.detection_limits)
     for (const auto& [p, v] : m) rep.detection_limits[strip_common(k)][p] = v;
+  rep.separation_limits = separation_json(r, strip_common);
   for (std::size_t c = 0; c < r.gain.size(); ++c) {
     const SeriesGain& s = r.gain[c];
     if (s.n == 0) continue;
@@ -181,6 +182,7 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
                     {"nominal_loglik", g.nominal_loglik}, {"extended_loglik", g.extended_loglik}};
   j["unexplained"] = unexplained;
   j["detection_limits"] = detection_limits;
+  j["separation_limits"] = separation_limits;
   j["familywise"] = familywise;
   return j;
 }

@@ -51,6 +51,8 @@ struct DiagnoseReport {
   /// Per non-scanned catalogue entry and parameter: the size detected with probability 0.9 at
   /// the familywise level (Fisher information of this data under the identified noise).
   std::map<std::string, std::map<std::string, double>> detection_limits;
+  /// The same given the entry it is hardest to tell apart from (search_json.hpp's separation_json).
+  nlohmann::ordered_json separation_limits;
   nlohmann::ordered_json noise;  ///< per channel: the identified noise model
   std::string familywise;        ///< the stated selection rule
   int plots_used = 0, plots_dropped = 0;

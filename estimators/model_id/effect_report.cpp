@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace rnav::search_detail {
@@ -147,18 +148,41 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     res.effects.push_back(fe);
   }
 
-  // ---- detection limits: each non-scanned entry alone with the nuisance ----
+  // ---- detection limits: each non-scanned entry alone with the nuisance; separation limits:
+  // the same given the other non-scanned entry that inflates its SE most (the size at which it
+  // is told from that partner with the same probability), z times
+  //   SE(e | nuisance, f) = SE(e | nuisance) / sqrt(1 - rho^2), rho its partial correlation with f ----
   {
     const double z = z_two_sided(o.alpha / m) + normal_upper_quantile(1 - o.power);
+    auto se_of = [&](const Chosen& model, std::size_t j) {  // SE of the first entry's parameter j
+      const Ols f = ols(model_matrix(d, model), d.yw, d.used);
+      if (!f.ok) return std::numeric_limits<double>::quiet_NaN();
+      const auto ix = q + static_cast<Eigen::Index>(j);
+      return std::sqrt(f.cov_unscaled(ix, ix) * f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size())));
+    };
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
       const Candidate& c = p.catalogue[e];
       if (c.scanned()) continue;
-      const Ols f = ols(model_matrix(d, {{e, 0}}), d.yw, d.used);
-      if (!f.ok) continue;
-      const double sc = f.rss / std::max(1.0, f.n - static_cast<double>(q + 1));
+      const std::string key = c.name + "@" + c.scope.label();
       for (std::size_t j = 0; j < c.params.size(); ++j) {
-        const auto ix = q + static_cast<Eigen::Index>(j);
-        res.detection_limits[c.name + "@" + c.scope.label()][c.params[j]] = z * std::sqrt(f.cov_unscaled(ix, ix) * sc);
+        const double se = se_of({{e, 0}}, j);
+        if (!std::isfinite(se)) continue;
+        res.detection_limits[key][c.params[j]] = z * se;
+        SeparationLimit worst{z * se, ""};
+        for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
+          if (f == e || p.catalogue[f].scanned()) continue;
+          const double se_f = se_of({{e, 0}, {f, 0}}, j);
+          const Candidate& other = p.catalogue[f];
+          std::string label = other.name + " (" + other.scope.label();
+          for (const auto& pn : other.params) label += "; " + pn;
+          label += ")";
+          if (!std::isfinite(se_f)) {  // inside the partner's span: no size tells them apart
+            worst = {std::numeric_limits<double>::infinity(), label};
+            break;
+          }
+          if (z * se_f > worst.size) worst = {z * se_f, label};
+        }
+        res.separation_limits[key][c.params[j]] = worst;
       }
     }
   }

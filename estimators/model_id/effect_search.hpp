@@ -181,6 +181,11 @@ struct ScopeAnswer {
   std::string supported;  ///< label with the smallest BIC ("none" if none beats it)
 };
 
+struct SeparationLimit {
+  double size = 0;        ///< [the parameter's unit], > 0, may be infinite
+  std::string partner;    ///< the entry it must be told from
+};
+
 struct SearchResult {
   std::vector<FoundEffect> effects;
   std::vector<ChannelNoise> noise;              ///< per channel
@@ -196,6 +201,10 @@ struct SearchResult {
   std::vector<std::string> holdout_effects;     ///< the named effects the estimation frames determine ("name@scope")
   std::vector<SeriesGain> gain;                ///< per channel
   std::map<std::string, std::map<std::string, double>> detection_limits;  ///< "name@scope" -> param -> size
+  /// "name@scope" -> param -> the size detected with the same probability given the other
+  /// non-scanned entry that makes it hardest (the size that tells the two apart), and that entry
+  /// ("name (scope; params)"; "" when none is harder than alone). Infinite when no size can.
+  std::map<std::string, std::map<std::string, SeparationLimit>> separation_limits;
   std::vector<std::string> unexplained;
   std::vector<ScopeAnswer> scopes;
   double family_size = 0;                       ///< m of the Bonferroni split

@@ -90,6 +90,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
   }
   j["gain_fit"] = gain_fit_json(pb, r);
   j["detection_limits"] = r.detection_limits;
+  j["separation_limits"] = separation_json(r);
   j["scope_support"] = nlohmann::ordered_json::array();
   for (const auto& s : r.scopes) {
     nlohmann::ordered_json q;
@@ -102,6 +103,15 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
   j["unexplained"] = r.unexplained;
   j["familywise"] = r.familywise;
   return j;
+}
+
+nlohmann::ordered_json separation_json(const SearchResult& r, const std::function<std::string(const std::string&)>& strip) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  for (const auto& [k, m] : r.separation_limits)
+    for (const auto& [p, s] : m)
+      out[strip ? strip(k) : k][p] = {{"size", std::isfinite(s.size) ? nlohmann::ordered_json(s.size) : nlohmann::ordered_json()},
+                                      {"partner", s.partner}};
+  return out;
 }
 
 nlohmann::ordered_json gain_fit_json(const Problem& pb, const SearchResult& r) {

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 
 namespace rnav {
@@ -17,6 +18,9 @@ nlohmann::ordered_json evidence_json(const FoundEffect& e);
 /// "effects" (chosen effects then named noise findings), "noise" per channel, "series_gain",
 /// "detection_limits", "scope_support", "unexplained", "familywise".
 nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r);
+/// "name@scope" -> param -> {"size": [unit] or null (no size separates them), "partner"}; strip
+/// (if given) maps each key, e.g. to drop "@common".
+nlohmann::ordered_json separation_json(const SearchResult& r, const std::function<std::string(const std::string&)>& strip = {});
 /// The extended model's held-out fit (on the estimation frames): per effect it used, its name,
 /// scope, parameters, estimates and SEs, in the fit's order.
 nlohmann::ordered_json gain_fit_json(const Problem& pb, const SearchResult& r);
