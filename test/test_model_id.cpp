@@ -424,6 +424,53 @@ TEST_CASE("effect search: separation limits are the detection limits given the h
   INFO("rho " << rho << ", alone " << alone << ", separation " << sep.size << " from " << sep.partner);
   CHECK(sep.partner.rfind("range_gain_b", 0) == 0);
   CHECK(sep.size / alone == Approx(1 / std::sqrt(1 - rho * rho)).epsilon(0.02));
+  CHECK(sep.rho == Approx(std::abs(rho)).epsilon(0.002));
+
+  // The naming limit, checked against the Neyman-Pearson rule it speaks of, built here from the
+  // test's own columns and the true noise (white, sigma 0.5): hide range_gain at the naming limit
+  // a, and the partner at b, its least-squares fit to the same signal (after the intercept). The
+  // best rule between the two, the likelihood ratio's midpoint, names each with probability
+  // Phi(d / 2), d = |a x_e - b x_f| / sigma; the engine says d / 2 = z_0.9 = 1.2816. The engine
+  // estimates sigma from about 500 frames (relative SE 1 / sqrt(2 n), 3.2 %) and may whiten with
+  // a short correlation: 3 such SE on d. Then 4000 draws under each hypothesis, hit rates within
+  // 3 binomial SE of Phi(d / 2) with the test's d (checks the rule and the formula together).
+  const double z90 = normal_upper_quantile(0.1);
+  auto centred = [](std::vector<double> v) {
+    double m = 0;
+    for (double x : v) m += x;
+    m /= static_cast<double>(v.size());
+    for (double& x : v) x -= m;
+    return v;
+  };
+  const std::vector<double> xe = centred(s.range), xf = centred(rb);
+  double ef = 0, ff = 0;
+  for (std::size_t i = 0; i < xe.size(); ++i) ef += xe[i] * xf[i], ff += xf[i] * xf[i];
+  const double a = sep.naming_size, b = a * ef / ff;
+  std::vector<double> diff(xe.size());  // mu_e - mu_f
+  double d2 = 0;
+  for (std::size_t i = 0; i < xe.size(); ++i) diff[i] = a * xe[i] - b * xf[i], d2 += diff[i] * diff[i];
+  const double sigma = 0.5, d = std::sqrt(d2) / sigma;
+  INFO("naming limit " << a << ": d / 2 = " << d / 2 << " (engine: " << z90 << ")");
+  CHECK(d / 2 == Approx(z90).epsilon(3 / std::sqrt(2.0 * static_cast<double>(xe.size()))));
+  std::mt19937_64 rng(77);
+  std::normal_distribution<double> N(0, 1);
+  const int draws = 4000;
+  int hit_e = 0, hit_f = 0;
+  for (int k = 0; k < draws; ++k)
+    for (int truth : {0, 1}) {
+      // statistic (y - (mu_e + mu_f) / 2) . (mu_e - mu_f): positive names the entry
+      double stat = 0;
+      for (std::size_t i = 0; i < xe.size(); ++i) {
+        const double mu = truth == 0 ? a * xe[i] : b * xf[i];
+        stat += (mu + sigma * N(rng) - 0.5 * (a * xe[i] + b * xf[i])) * diff[i];
+      }
+      (truth == 0 ? hit_e : hit_f) += truth == 0 ? stat > 0 : stat <= 0;
+    }
+  const double expect = 0.5 * std::erfc(-d / 2 / std::sqrt(2.0)), band = 3 * std::sqrt(expect * (1 - expect) / draws);
+  INFO("hits " << hit_e << ", " << hit_f << " of " << draws << ", Phi(d/2) = " << expect);
+  CHECK(std::abs(hit_e / double(draws) - expect) < band);
+  CHECK(std::abs(hit_f / double(draws) - expect) < band);
+  CHECK(std::isinf(r.separation_limits.at("bias_drift@sensor radar").at("m_per_s").naming_size));
   CHECK(std::isinf(r.separation_limits.at("bias_drift@sensor radar").at("m_per_s").size));
   CHECK(r.separation_limits.at("bias_drift@sensor radar").at("m_per_s").partner.rfind("drift_copy", 0) == 0);
 }

@@ -151,9 +151,11 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   // ---- detection limits: each non-scanned entry alone with the nuisance; separation limits:
   // the same given the other non-scanned entry that inflates its SE most (the size at which it
   // is told from that partner with the same probability), z times
-  //   SE(e | nuisance, f) = SE(e | nuisance) / sqrt(1 - rho^2), rho its partial correlation with f ----
+  //   SE(e | nuisance, f) = SE(e | nuisance) / sqrt(1 - rho^2), rho its partial correlation with f;
+  //   naming limit = 2 z_power SE(e | nuisance, f)  (see SeparationLimit::naming_size) ----
   {
-    const double z = z_two_sided(o.alpha / m) + normal_upper_quantile(1 - o.power);
+    const double z_power = normal_upper_quantile(1 - o.power);
+    const double z = z_two_sided(o.alpha / m) + z_power;
     auto se_of = [&](const Chosen& model, std::size_t j) {  // SE of the first entry's parameter j
       const Ols f = ols(model_matrix(d, model), d.yw, d.used);
       if (!f.ok) return std::numeric_limits<double>::quiet_NaN();
@@ -168,7 +170,8 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
         const double se = se_of({{e, 0}}, j);
         if (!std::isfinite(se)) continue;
         res.detection_limits[key][c.params[j]] = z * se;
-        SeparationLimit worst{z * se, ""};
+        const double inf = std::numeric_limits<double>::infinity();
+        SeparationLimit worst{z * se, "", 0.0, 2 * z_power * se};
         for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
           if (f == e || p.catalogue[f].scanned()) continue;
           const double se_f = se_of({{e, 0}, {f, 0}}, j);
@@ -177,10 +180,10 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
           for (const auto& pn : other.params) label += "; " + pn;
           label += ")";
           if (!std::isfinite(se_f)) {  // inside the partner's span: no size tells them apart
-            worst = {std::numeric_limits<double>::infinity(), label};
+            worst = {inf, label, 1.0, inf};
             break;
           }
-          if (z * se_f > worst.size) worst = {z * se_f, label};
+          if (z * se_f > worst.size) worst = {z * se_f, label, std::sqrt(std::max(0.0, 1 - (se / se_f) * (se / se_f))), 2 * z_power * se_f};
         }
         res.separation_limits[key][c.params[j]] = worst;
       }

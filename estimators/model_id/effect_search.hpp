@@ -184,6 +184,16 @@ struct ScopeAnswer {
 struct SeparationLimit {
   double size = 0;        ///< [the parameter's unit], > 0, may be infinite
   std::string partner;    ///< the entry it must be told from
+  double rho = 0;         ///< [-] |partial correlation| with the partner given the nuisance, [0, 1]
+  /// [the parameter's unit], > 0, may be infinite: the naming limit, 2 z_power SE(entry |
+  /// nuisance, partner). Below it no rule that names at most one of the two (however chosen,
+  /// knowing the noise) names both this entry hidden at that size and the partner hidden at the
+  /// size that mimics it (its least-squares fit to the same signal), each with the reported
+  /// power: the two are simple hypotheses d = size / SE(entry | nuisance, partner) standard
+  /// deviations apart, and the best rule's smaller hit rate is Phi(d / 2) (Neyman-Pearson).
+  /// A rule that must also keep naming the absent one below alpha needs (z_alpha + z_power) SE,
+  /// about the separation limit.
+  double naming_size = 0;
 };
 
 struct SearchResult {

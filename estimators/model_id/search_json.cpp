@@ -15,6 +15,8 @@ nlohmann::ordered_json scope_json(const Scope& s) {
 }
 
 namespace {
+nlohmann::ordered_json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); }
+
 nlohmann::ordered_json one_or_list(const std::vector<double>& v) {
   return v.size() == 1 ? nlohmann::ordered_json(v[0]) : nlohmann::ordered_json(v);
 }
@@ -109,8 +111,10 @@ nlohmann::ordered_json separation_json(const SearchResult& r, const std::functio
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
   for (const auto& [k, m] : r.separation_limits)
     for (const auto& [p, s] : m)
-      out[strip ? strip(k) : k][p] = {{"size", std::isfinite(s.size) ? nlohmann::ordered_json(s.size) : nlohmann::ordered_json()},
-                                      {"partner", s.partner}};
+      out[strip ? strip(k) : k][p] = {{"size", finite_or_null(s.size)},
+                                      {"partner", s.partner},
+                                      {"rho", s.rho},
+                                      {"naming_size", finite_or_null(s.naming_size)}};
   return out;
 }
 
