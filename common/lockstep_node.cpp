@@ -1,5 +1,6 @@
 #include "lockstep_node.hpp"
 
+#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,35 +13,56 @@ DropSpec DropSpec::parse(const std::string& text) {
   std::vector<std::string> parts;
   while (std::getline(ss, part, ':')) parts.push_back(part);
   try {
-    if (parts.size() < 3 || parts.size() > 4) throw std::invalid_argument("parts");
+    if (parts.size() < 3 || parts.size() > 5) throw std::invalid_argument("parts");
+    auto number = [](const std::string& t) {
+      std::size_t pos = 0;
+      const int v = std::stoi(t, &pos);
+      if (pos != t.size() || v < 0) throw std::invalid_argument(t);
+      return v;
+    };
     d.channel = parts[0];
-    d.realization = std::stoi(parts[1]);
-    d.window = std::stoi(parts[2]);
-    if (parts.size() == 4) d.attempt = std::stoi(parts[3]);
+    d.realization = number(parts[1]);
+    d.window = number(parts[2]);
+    if (parts.size() >= 4) d.attempt = number(parts[3]);
+    if (parts.size() == 5) d.transmissions = number(parts[4]);
+    if (d.transmissions == 0) throw std::invalid_argument("K");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--drop '" + text + "': expected CHANNEL:REALIZATION:WINDOW[:ATTEMPT]");
+    throw std::invalid_argument("--drop '" + text +
+                                "': expected CHANNEL:REALIZATION:WINDOW[:ATTEMPT[:K]] (non-negative integers, K >= 1)");
   }
   return d;
 }
 
-LockstepNode::LockstepNode(Bus& bus, std::string name, double stall_timeout_s)
-    : bus_(bus), name_(std::move(name)), stall_timeout_s_(stall_timeout_s) {
-  bus_.subscribe<sim_window_t>(ch::kWindow, [this](const sim_window_t& w) { on_grant(w); });
+std::uint64_t message_digest(const void* data, int size) {
+  // FNV-1a, 64 bit
+  std::uint64_t h = 14695981039346656037ULL;
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  for (int i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  return h;
 }
 
-bool LockstepNode::dropped(const std::string& channel) const {
+LockstepNode::LockstepNode(Bus& bus, std::string name, double peer_timeout_s)
+    : bus_(bus), name_(std::move(name)), peer_timeout_s_(peer_timeout_s) {
+  if (!(peer_timeout_s_ > 0)) throw std::invalid_argument(name_ + ": the peer timeout must be > 0 s");
+  bus_.subscribe<sim_window_t>(ch::kWindow, [this](const sim_window_t& w) { on_grant(w); });
+  bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_peer_ack(a); });
+}
+
+void LockstepNode::transmit(const std::string& channel, const std::vector<std::uint8_t>& bytes) {
+  const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
+  const int k = ++transmissions_[{channel, key}];
   for (const auto& d : drops_)
     if (d.channel == channel && d.realization == grant_.realization && d.window == grant_.window &&
-        (d.attempt < 0 || d.attempt == grant_.attempt))
-      return true;
-  return false;
+        (d.attempt < 0 || d.attempt == grant_.attempt) && (d.transmissions < 0 || k <= d.transmissions))
+      return;  // fault injection: this transmission is lost
+  bus_.publish_raw(channel, bytes.data(), static_cast<int>(bytes.size()));
 }
 
 bool LockstepNode::newer(int r, int a) const {
   return r > cur_r_ || (r == cur_r_ && a > cur_a_);
 }
 
-void LockstepNode::report(std::int8_t status, const std::string& detail) {
+void LockstepNode::report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing) {
   node_ack_t ack;
   ack.node = name_;
   ack.status = status;
@@ -49,60 +71,65 @@ void LockstepNode::report(std::int8_t status, const std::string& detail) {
   ack.window = status == node_ack_t::HELLO ? -1 : grant_.window;
   ack.n_published = published_;
   ack.detail = detail;
+  ack.n_missing = static_cast<std::int16_t>(missing.size());
+  ack.missing = missing;
+  if (status == node_ack_t::OK)
+    for (const auto& out : last_out_) ack.published.push_back(out.channel);
+  ack.n_published_channels = static_cast<std::int16_t>(ack.published.size());
   bus_.publish(ch::kAck, ack);
 }
 
 void LockstepNode::fail(const std::string& detail) {
   if (failed_ || cur_r_ < 0) return;
   failed_ = true;
-  report(node_ack_t::LOSS, name_ + ": " + detail);
+  failed_detail_ = name_ + ": " + detail;
+  report(node_ack_t::LOSS, failed_detail_);
 }
 
-void LockstepNode::on_grant(const sim_window_t& w) {
-  if (done_) return;
-  if (w.command == sim_window_t::FINISH) {
-    if (processed_any_) commit();
-    processed_any_ = false;
-    finish(w);
-    report(node_ack_t::FINISHED, "");
-    done_ = true;
-    exit_code_ = 0;
-    return;
-  }
-  if (w.command == sim_window_t::ABORT) {
-    done_ = true;
-    exit_code_ = 3;
-    return;
-  }
-  if (w.command != sim_window_t::START)
-    throw std::runtime_error(name_ + ": unknown SIM_WINDOW command " + std::to_string(w.command));
+void LockstepNode::stop(int code, const std::string& why) {
+  done_ = true;
+  exit_code_ = code;
+  failure_ = why;
+}
 
-  started_ = true;
-  if (newer(w.realization, w.attempt)) {
-    if (processed_any_ && w.realization != cur_r_) commit();
-    processed_any_ = false;
-    cur_r_ = w.realization;
-    cur_a_ = w.attempt;
-    next_window_ = 0;
-    failed_ = false;
-    have_grant_ = false;
-    // Forget everything older than the new (realization, attempt).
-    for (auto& in : inputs_)
-      for (auto it = in->store.begin(); it != in->store.end();)
-        it = (std::get<0>(it->first) < cur_r_ ||
-              (std::get<0>(it->first) == cur_r_ && std::get<1>(it->first) < cur_a_))
-                 ? in->store.erase(it)
-                 : std::next(it);
-    // A repeated attempt exists because something was lost; what the failed attempt lost is
-    // already reported, so the first sequence number of each input is taken as it comes.
-    // Loss within the new attempt is still caught by the window checks.
-    if (w.attempt > 0)
-      for (auto& in : inputs_) in->resync = true;
-    grant_ = w;
-    reset(w);
-  } else if (w.realization != cur_r_ || w.attempt != cur_a_) {
-    return;  // a grant of an abandoned attempt
+std::vector<std::string> LockstepNode::missing_inputs() const {
+  const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
+  std::vector<std::string> missing;
+  for (const auto& in : inputs_)
+    if (!in->store.count(key)) missing.push_back(in->channel);
+  return missing;
+}
+
+void LockstepNode::begin_attempt(const sim_window_t& w) {
+  if (processed_any_ && w.realization != cur_r_) commit();
+  processed_any_ = false;
+  cur_r_ = w.realization;
+  cur_a_ = w.attempt;
+  next_window_ = 0;
+  failed_ = false;
+  failed_detail_.clear();
+  have_grant_ = false;
+  last_out_.clear();
+  last_out_key_ = {-1, -1, -1};
+  transmissions_.clear();
+  // Forget everything older than the new (realization, attempt).
+  auto older = [&](const WindowKey& k) {
+    return std::get<0>(k) < cur_r_ || (std::get<0>(k) == cur_r_ && std::get<1>(k) < cur_a_);
+  };
+  for (auto& in : inputs_) {
+    for (auto it = in->store.begin(); it != in->store.end();) it = older(it->first) ? in->store.erase(it) : std::next(it);
+    for (auto it = in->digest.begin(); it != in->digest.end();) it = older(it->first) ? in->digest.erase(it) : std::next(it);
   }
+  // A repeated attempt exists because something was lost; what the failed attempt lost is
+  // already reported, so the first sequence number of each input is taken as it comes.
+  // Loss within the new attempt is still caught by the window checks.
+  if (w.attempt > 0)
+    for (auto& in : inputs_) in->resync = true;
+  grant_ = w;
+  reset(w);
+}
+
+void LockstepNode::accept_grant(const sim_window_t& w) {
   grant_ = w;
   if (failed_) return;
   if (w.window != next_window_) {
@@ -113,16 +140,118 @@ void LockstepNode::on_grant(const sim_window_t& w) {
     return;
   }
   have_grant_ = true;
-  grant_wall_s_ = now_s_;
   try_process();
 }
 
-void LockstepNode::on_batch(InputStream& in, const batch_header_t& h,
-                            std::shared_ptr<const void> batch) {
+void LockstepNode::on_grant(const sim_window_t& w) {
   if (done_) return;
+  clock_heard_ = true;  // timed at the next poll()
+  if (finished_ && w.command != sim_window_t::FINISH) return;
+  switch (w.command) {
+    case sim_window_t::HEARTBEAT:
+      return;
+    case sim_window_t::FINISH:
+      if (!finished_) {
+        if (processed_any_) commit();
+        processed_any_ = false;
+        finish(w);
+        finished_ = true;
+      }
+      // Repeated FINISH: the FINISHED report was lost. The node lingers to answer (poll()).
+      report(node_ack_t::FINISHED, "");
+      return;
+    case sim_window_t::ABORT:
+      stop(3, "aborted by the clock: " + w.reason);
+      return;
+    case sim_window_t::RESEND:
+      on_resend(w);
+      return;
+    case sim_window_t::START:
+      break;
+    default:
+      throw std::runtime_error(name_ + ": unknown SIM_WINDOW command " + std::to_string(w.command));
+  }
+  started_ = true;
+  if (newer(w.realization, w.attempt)) {
+    begin_attempt(w);
+  } else if (w.realization != cur_r_ || w.attempt != cur_a_) {
+    return;  // a grant of an abandoned attempt
+  } else if (w.window < next_window_ && w.window == std::get<2>(last_out_key_)) {
+    return;  // the START of a window already processed, repeated: the RESEND path answers
+  }
+  accept_grant(w);
+}
+
+void LockstepNode::on_resend(const sim_window_t& w) {
+  if (newer(w.realization, w.attempt)) {
+    // The START of a new attempt was lost; the RESEND carries the same grant.
+    started_ = true;
+    begin_attempt(w);
+    accept_grant(w);
+    return;
+  }
+  if (w.realization != cur_r_ || w.attempt != cur_a_) return;  // an abandoned attempt
+  if (failed_) {
+    report(node_ack_t::LOSS, failed_detail_);  // the LOSS report itself may have been lost
+    return;
+  }
+  if (w.window == next_window_ - 1) {
+    report(node_ack_t::OK, "");  // processed: the ack was lost (or a consumer's input: see on_peer_ack)
+  } else if (w.window == next_window_ && !have_grant_) {
+    accept_grant(w);  // its START was lost
+  } else if (w.window == next_window_) {
+    report_waiting(missing_inputs());
+  } else {
+    fail("RESEND of window " + std::to_string(w.window) + " while at window " + std::to_string(next_window_) +
+         " (grants lost or out of order)");
+  }
+}
+
+void LockstepNode::report_waiting(const std::vector<std::string>& missing) {
+  std::string detail = name_ + ": waiting for realization " + std::to_string(grant_.realization) + " attempt " +
+                       std::to_string(grant_.attempt) + " window " + std::to_string(grant_.window) + " on";
+  for (const auto& m : missing) detail += " " + m;
+  report(node_ack_t::WAITING, detail, missing);
+}
+
+void LockstepNode::on_peer_ack(const node_ack_t& a) {
+  if (done_ || a.node == name_) return;
+  const WindowKey key{a.realization, a.attempt, a.window};
+  if (a.status == node_ack_t::WAITING && key == last_out_key_) {
+    // A consumer misses a batch of the last window this node processed: publish it again.
+    for (const auto& m : a.missing)
+      for (const auto& out : last_out_)
+        if (out.channel == m) {
+          transmit(out.channel, out.bytes);
+          ++republished_;
+        }
+  } else if (a.status == node_ack_t::OK && have_grant_ && !failed_ &&
+             key == WindowKey{grant_.realization, grant_.attempt, grant_.window}) {
+    // A publisher acked the window this node waits on: what it published and is not here was lost.
+    std::vector<std::string> lost;
+    for (const auto& in : inputs_)
+      if (!in->store.count(key) && std::find(a.published.begin(), a.published.end(), in->channel) != a.published.end())
+        lost.push_back(in->channel);
+    if (!lost.empty()) report_waiting(lost);
+  }
+}
+
+void LockstepNode::on_batch(InputStream& in, const batch_header_t& h, std::shared_ptr<const void> batch,
+                            std::uint64_t digest) {
+  if (done_) return;
+  if (cur_r_ >= 0 && !newer(h.realization, h.attempt) && !(h.realization == cur_r_ && h.attempt == cur_a_))
+    return;  // a batch of an abandoned attempt (or its resend): ignore
   const std::string where = in.channel + " (realization " + std::to_string(h.realization) +
                             ", attempt " + std::to_string(h.attempt) + ", window " +
                             std::to_string(h.window) + ", seq " + std::to_string(h.seq) + ")";
+  const WindowKey key{h.realization, h.attempt, h.window};
+  if (const auto seen = in.digest.find(key); seen != in.digest.end()) {
+    if (seen->second != digest)
+      throw std::runtime_error(name_ + ": two different batches for one window on " + where +
+                               ": a publisher is not deterministic or the message is corrupt");
+    ++duplicates_ignored_;  // a resend of what is here already
+    return;
+  }
   if (in.resync && h.seq >= in.next_seq) in.next_seq = h.seq;
   in.resync = false;
   if (h.seq != in.next_seq) {
@@ -132,19 +261,11 @@ void LockstepNode::on_batch(InputStream& in, const batch_header_t& h,
       fail(std::to_string(h.seq - expected) + " message(s) lost on " + in.channel +
            ": expected seq " + std::to_string(expected) + ", got " + where);
     else
-      fail("duplicate or out-of-order message on " + where + ", expected seq " +
-           std::to_string(expected));
+      fail("out-of-order message on " + where + ", expected seq " + std::to_string(expected));
     return;
   }
   in.next_seq = h.seq + 1;
-  if (cur_r_ >= 0 && !newer(h.realization, h.attempt) &&
-      !(h.realization == cur_r_ && h.attempt == cur_a_))
-    return;  // a batch of an abandoned attempt: ignore
-  const WindowKey key{h.realization, h.attempt, h.window};
-  if (in.store.count(key)) {
-    fail("duplicate batch on " + where);
-    return;
-  }
+  in.digest.emplace(key, digest);
   in.store.emplace(key, std::move(batch));
   try_process();
 }
@@ -156,6 +277,8 @@ void LockstepNode::try_process() {
     if (!in->store.count(key)) return;
   have_grant_ = false;
   published_ = 0;
+  last_out_.clear();
+  last_out_key_ = key;
   try {
     process(grant_);
   } catch (const std::exception& e) {
@@ -170,22 +293,29 @@ void LockstepNode::try_process() {
 
 void LockstepNode::poll(double wall_now_s) {
   now_s_ = wall_now_s;
+  if (first_poll_s_ < 0) first_poll_s_ = wall_now_s;
   if (done_) return;
+  if (finished_) {
+    if (finished_at_s_ < 0) finished_at_s_ = wall_now_s;
+    if (wall_now_s - finished_at_s_ >= kFinishLingerS) stop(0, "");
+    return;
+  }
   if (!started_ && wall_now_s - last_hello_s_ >= 0.2) {
     last_hello_s_ = wall_now_s;
     report(node_ack_t::HELLO, "");
   }
-  if (have_grant_ && !failed_ && wall_now_s - grant_wall_s_ > stall_timeout_s_) {
-    const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
-    std::string missing;
-    for (const auto& in : inputs_)
-      if (!in->store.count(key))
-        missing += (missing.empty() ? "" : ", ") + in->channel + " (next seq " +
-                   std::to_string(in->next_seq) + ")";
-    fail("no batch for realization " + std::to_string(grant_.realization) + " attempt " +
-         std::to_string(grant_.attempt) + " window " + std::to_string(grant_.window) + " on " +
-         missing + " after " + std::to_string(stall_timeout_s_) + " s: lost");
-  }
+  // Watchdog: the clock speaks at least every peer_timeout / 8 (grants, resends, heartbeats).
+  if (clock_heard_) last_clock_s_ = wall_now_s;
+  clock_heard_ = false;
+  if (!clock_watchdog_) return;
+  if (last_clock_s_ < 0 && wall_now_s - first_poll_s_ > kClockStartupTimeoutS)
+    stop(kClockSilentExit, "never heard the clock (no SIM_WINDOW message) within " +
+                               std::to_string(kClockStartupTimeoutS) + " s of start: is rnav_clock running on this LCM network?");
+  else if (last_clock_s_ >= 0 && wall_now_s - last_clock_s_ > peer_timeout_s_)
+    stop(kClockSilentExit, "the clock fell silent: no SIM_WINDOW message for " + std::to_string(wall_now_s - last_clock_s_) +
+                               " s (runner.peer_timeout_s " + std::to_string(peer_timeout_s_) +
+                               "; last grant: realization " + std::to_string(grant_.realization) + " attempt " +
+                               std::to_string(grant_.attempt) + " window " + std::to_string(grant_.window) + ")");
 }
 
 }  // namespace rnav

@@ -3,12 +3,17 @@
 // The clock grants windows [utime_begin, utime_end) of (realization, attempt). A node processes
 // window w once it holds the grant and one batch for w on each of its inputs, then publishes
 // one batch per output channel (possibly empty) and an OK ack. Every input is checked:
-//   - each channel's header.seq must run 0, 1, 2, ... (a gap is loss, a repeat or step back
-//     is duplication or reordering);
-//   - each (realization, attempt) must bring windows 0, 1, 2, ... exactly once;
-//   - a grant whose inputs do not all arrive within stall_timeout_s (wall) is loss.
-// Any of these makes the node publish a LOSS ack naming channel, realization, window and seq;
-// the clock then repeats the realization. Batches of older attempts are ignored.
+//   - a batch seen before (same channel and window of the current attempt) must be
+//     byte-identical: it is a resend and is ignored; a different one is an error;
+//   - otherwise each channel's header.seq must run 0, 1, 2, ... (a gap or a step back is loss or
+//     reordering: LOSS, and the clock repeats the realization);
+//   - each (realization, attempt) must bring windows 0, 1, 2, ... exactly once.
+// Loss is recovered, not repeated: the clock sends RESEND for an overdue window; a node that
+// processed it acks again; one that never saw its START takes the RESEND as the START; one that
+// misses inputs answers WAITING naming them, and their publishers publish the kept batches of
+// that window again. The node keeps its outputs of the last window it processed for this.
+// Watchdog: a node that hears nothing from the clock (grants, resends, heartbeats) for the peer
+// timeout stops with exit code kClockSilentExit, naming the clock.
 #pragma once
 
 #include "bus.hpp"
@@ -21,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -30,29 +36,50 @@ namespace rnav {
 /// (realization, attempt, window) of a batch or grant.
 using WindowKey = std::tuple<int, int, int>;
 
-/// A deliberate drop of one published batch (fault injection for tests): CHANNEL:R:W[:A].
+/// A deliberate drop of one published batch (fault injection for tests): CHANNEL:R:W[:A[:K]].
 struct DropSpec {
   std::string channel;
   int realization = 0, window = 0;
-  int attempt = -1;  ///< -1 = every attempt
+  int attempt = -1;       ///< -1 = every attempt
+  int transmissions = -1; ///< drop the first K transmissions (the original, then resends); -1 = every one
   static DropSpec parse(const std::string& text);
 };
 
+/// Exit code of a node whose clock fell silent (the runner names the clock).
+inline constexpr int kClockSilentExit = 5;
+/// [s wall] How long a node stays after FINISH to answer a repeated FINISH (its FINISHED
+/// report may be lost; the clock repeats FINISH every 50 ms).
+inline constexpr double kFinishLingerS = 0.5;
+/// [s wall] How long a node waits for the first word of the clock: the runner starts the clock
+/// last, after the optional lcm-logger has recorded a node's HELLO (at most 10 s).
+inline constexpr double kClockStartupTimeoutS = 60;
+
 class LockstepNode {
  public:
-  LockstepNode(Bus& bus, std::string name, double stall_timeout_s);
+  /// @param peer_timeout_s [s wall] > 0: silence of the clock after which the node stops
+  ///        (runner.peer_timeout_s)
+  LockstepNode(Bus& bus, std::string name, double peer_timeout_s);
   virtual ~LockstepNode() = default;
   LockstepNode(const LockstepNode&) = delete;
   LockstepNode& operator=(const LockstepNode&) = delete;
 
   /// Call regularly with a monotonic wall time [s]: sends HELLO until the first grant and
-  /// reports loss for a grant whose inputs are overdue.
+  /// watches the clock (silent for the peer timeout: done, exit code kClockSilentExit).
   void poll(double wall_now_s);
   bool done() const { return done_; }
-  /// 0 after FINISH, non-zero after ABORT.
+  /// 0 after FINISH, 3 after ABORT, kClockSilentExit when the clock fell silent.
   int exit_code() const { return exit_code_; }
+  /// Why the node stopped, if not by FINISH (empty otherwise).
+  const std::string& failure() const { return failure_; }
+  /// Resent batches received and ignored (identical to the first copy), and batches published
+  /// again on a consumer's WAITING.
+  int duplicates_ignored() const { return duplicates_ignored_; }
+  int republished() const { return republished_; }
   const std::string& name() const { return name_; }
   void add_drop(const DropSpec& d) { drops_.push_back(d); }
+  /// Off: the node never stops for a silent clock (one process, where the clock cannot fall
+  /// silent and wall time is simulated).
+  void set_clock_watchdog(bool on) { clock_watchdog_ = on; }
 
  protected:
   /// A new (realization, attempt) starts: reset all per-realization state and re-seed.
@@ -81,34 +108,59 @@ class LockstepNode {
     std::int64_t next_seq = 0;
     bool resync = false;  // a repeated attempt: messages lost in the failed one are already reported
     std::map<WindowKey, std::shared_ptr<const void>> store;
+    std::map<WindowKey, std::uint64_t> digest;  // every batch of the current attempt: resends must match
+  };
+  struct Output {  // a published batch of the last processed window, kept for resends
+    std::string channel;
+    std::vector<std::uint8_t> bytes;
   };
 
   void on_grant(const sim_window_t& w);
-  void on_batch(InputStream& in, const batch_header_t& h, std::shared_ptr<const void> batch);
+  void on_resend(const sim_window_t& w);
+  void on_peer_ack(const node_ack_t& a);
+  void on_batch(InputStream& in, const batch_header_t& h, std::shared_ptr<const void> batch,
+                std::uint64_t digest);
+  void begin_attempt(const sim_window_t& w);
+  void accept_grant(const sim_window_t& w);
   void try_process();
-  void report(std::int8_t status, const std::string& detail);
+  void report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing = {});
   void fail(const std::string& detail);
+  void stop(int code, const std::string& why);
   bool newer(int r, int a) const;
-  bool dropped(const std::string& channel) const;
+  void transmit(const std::string& channel, const std::vector<std::uint8_t>& bytes);
+  std::vector<std::string> missing_inputs() const;
+  void report_waiting(const std::vector<std::string>& missing);
 
   Bus& bus_;
   std::string name_;
-  double stall_timeout_s_;
+  double peer_timeout_s_;
   std::vector<std::unique_ptr<InputStream>> inputs_;
   std::map<std::string, std::int64_t> out_seq_;
   std::vector<DropSpec> drops_;
+  std::map<std::pair<std::string, WindowKey>, int> transmissions_;  // per channel and window, for drops
+  std::vector<Output> last_out_;
+  WindowKey last_out_key_{-1, -1, -1};
 
   sim_window_t grant_{};
   bool started_ = false;       // any START seen
   bool have_grant_ = false;    // grant_ not yet processed
   bool failed_ = false;        // current attempt failed (LOSS reported)
+  std::string failed_detail_;  // ... and the report, repeated on RESEND (the LOSS ack may be lost)
   bool processed_any_ = false; // something to commit
   int cur_r_ = -1, cur_a_ = -1, next_window_ = 0;
-  double grant_wall_s_ = -1, last_hello_s_ = -1e9, now_s_ = 0;
+  double last_hello_s_ = -1e9, now_s_ = 0, first_poll_s_ = -1, last_clock_s_ = -1;
+  bool clock_heard_ = false;  // a SIM_WINDOW message since the last poll()
+  bool clock_watchdog_ = true;
+  bool finished_ = false;     // FINISH handled: lingering to answer a repeated FINISH
+  double finished_at_s_ = -1;
   bool done_ = false;
   int exit_code_ = 0;
-  int published_ = 0;
+  std::string failure_;
+  int published_ = 0, duplicates_ignored_ = 0, republished_ = 0;
 };
+
+/// FNV-1a 64-bit digest of a message's bytes (tells a resend from a different batch).
+std::uint64_t message_digest(const void* data, int size);
 
 // ---- template implementation ----
 
@@ -116,8 +168,11 @@ template <class B> void LockstepNode::add_input(const std::string& channel) {
   inputs_.push_back(std::make_unique<InputStream>());
   InputStream* in = inputs_.back().get();
   in->channel = channel;
-  bus_.subscribe<B>(channel, [this, in](const B& b) {
-    on_batch(*in, b.header, std::make_shared<const B>(b));
+  bus_.subscribe_raw(channel, [this, in](const std::string& ch, const void* data, int size) {
+    auto b = std::make_shared<B>();
+    if (b->decode(data, 0, size) != size)
+      throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " (wrong type or corrupt)");
+    on_batch(*in, b->header, b, message_digest(data, size));
   });
 }
 
@@ -139,7 +194,11 @@ template <class B> void LockstepNode::publish_batch(const std::string& channel, 
   batch.header.utime_begin = grant_.utime_begin;
   batch.header.utime_end = grant_.utime_end;
   published_ += batch.n;
-  if (!dropped(channel)) bus_.publish(channel, batch);
+  const int n = batch.getEncodedSize();
+  Output out{channel, std::vector<std::uint8_t>(static_cast<std::size_t>(n))};
+  if (batch.encode(out.bytes.data(), 0, n) != n) throw std::runtime_error(name_ + ": cannot encode a batch for " + channel);
+  transmit(channel, out.bytes);
+  last_out_.push_back(std::move(out));
 }
 
 }  // namespace rnav

@@ -58,8 +58,11 @@ int run_node_main(int argc, char** argv, const std::string& name,
       bus.handle(20);
       node->poll(wall_seconds());
     }
-    std::cerr << name << ": " << (node->exit_code() == 0 ? "finished" : "aborted by the clock")
-              << "\n";
+    if (node->exit_code() == 0)
+      std::cerr << name << ": finished (" << node->duplicates_ignored() << " resent batch(es) ignored, "
+                << node->republished() << " republished)\n";
+    else
+      std::cerr << name << ": " << (node->exit_code() == 3 ? "" : "error: ") << node->failure() << "\n";
     return node->exit_code();
   } catch (const ConfigError& e) {
     std::cerr << name << ": error: " << e.what() << "\n";

@@ -155,9 +155,19 @@ struct LoggerOptions {
 struct RunnerOptions {
   double window_s = 100;        ///< [s] sim time per lock-step window (batch size), >= trajectory.step_s
   double flush_s = 5;           ///< [s] sim time after the aircraft's last state, > prl_bias.nav_wait_s
-  double stall_timeout_s = 2;   ///< [s wall] a node waiting this long for an input reports loss
-  double ack_timeout_s = 6;     ///< [s wall] the clock waiting this long for acks repeats the realization
-  long max_attempts = 3;        ///< attempts per realization before the run fails
+  /// [s wall] the longest the clock waits for a window's next ack before it sends RESEND; the
+  /// wait adapts to the run's own pace (4x the slowest ack gap of the last 32 windows without
+  /// resends, at least 2 ms) and doubles on each further resend, up to this. [0.05, 600]
+  double stall_timeout_s = 1;
+  /// [s wall] a window not complete this long after its START, despite resends, repeats the
+  /// realization. [0.1, 600]
+  double ack_timeout_s = 6;
+  long max_attempts = 3;        ///< attempts per realization before the run fails, [1, 100]
+  /// [s wall] a node or the clock silent this long fails the run naming it: the clock names a
+  /// node that neither acks nor answers RESEND; a node that hears nothing from the clock (it
+  /// sends a heartbeat every peer_timeout_s / 8) stops. Must exceed the longest time a node
+  /// takes to process one window. [0.5, 3600]
+  double peer_timeout_s = 10;
   std::int64_t epoch_utime = 1767225600000000LL;  ///< [us since Unix epoch] sim time 0 (2026-01-01T00:00Z)
 };
 

@@ -10,7 +10,7 @@
 namespace rnav {
 
 PrlLoggerNode::PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir)
-    : LockstepNode(bus, "logger", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "logger", sc.runner.peer_timeout_s),
       sc_(sc),
       out_dir_(std::move(out_dir)),
       T_L_R_(transform(sc.landing_frame(), sc.radar_frame())),

@@ -10,7 +10,7 @@
 namespace rnav {
 
 UavLoggerNode::UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir)
-    : LockstepNode(bus, "uav_logger", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "uav_logger", sc.runner.peer_timeout_s),
       sc_(sc),
       out_dir_(std::move(out_dir)),
       stats_(sc) {

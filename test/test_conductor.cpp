@@ -1,10 +1,15 @@
 // The lock-step clock's loss handling, driven in one process (InprocBus) with a scripted wall
-// clock: which reports a retry names, and when it acts.
+// clock: when it asks for a window again (RESEND), which reports a retry names and when it acts,
+// when it gives up on a silent node, and its heartbeat.
 #include "bus.hpp"
 #include "channels.hpp"
 #include "conductor.hpp"
 
+#include <rnav/sim_window_t.hpp>
+
 #include <catch2/catch.hpp>
+
+#include <vector>
 
 namespace {
 
@@ -12,7 +17,7 @@ using rnav::Conductor;
 using rnav::node_ack_t;
 
 void ack(rnav::InprocBus& bus, const std::string& node, std::int8_t status, int window, const std::string& detail = "") {
-  node_ack_t a;
+  node_ack_t a{};
   a.node = node;
   a.status = status;
   a.realization = node_ack_t::HELLO == status ? -1 : 0;
@@ -24,7 +29,117 @@ void ack(rnav::InprocBus& bus, const std::string& node, std::int8_t status, int 
   bus.run_until_idle();
 }
 
+// The commands as values (LCM's constants have no out-of-class definition to bind to).
+constexpr std::int8_t kStart = rnav::sim_window_t::START, kAbort = rnav::sim_window_t::ABORT,
+                      kResend = rnav::sim_window_t::RESEND, kHeartbeat = rnav::sim_window_t::HEARTBEAT;
+
+// Every SIM_WINDOW command the clock sends, in order.
+struct Recorder {
+  std::vector<rnav::sim_window_t> sent;
+  explicit Recorder(rnav::InprocBus& bus) {
+    bus.subscribe<rnav::sim_window_t>(rnav::ch::kWindow, [this](const rnav::sim_window_t& w) { sent.push_back(w); });
+  }
+  int count(std::int8_t command) const {
+    int n = 0;
+    for (const auto& w : sent) n += w.command == command;
+    return n;
+  }
+};
+
 }  // namespace
+
+TEST_CASE("conductor: an overdue ack is asked for again (RESEND), and the realization is not repeated",
+          "[conductor][loss]") {
+  rnav::InprocBus bus;
+  Recorder rec(bus);
+  rnav::RunnerOptions runner;
+  runner.window_s = 10;
+  rnav::ConductorOptions o;
+  o.nodes = {"prl_bias", "logger"};
+  Conductor c(bus, runner, 0.25, o, 30.0);
+  ack(bus, "prl_bias", node_ack_t::HELLO, -1);
+  ack(bus, "logger", node_ack_t::HELLO, -1);
+  c.poll(0.0);
+  bus.run_until_idle();
+  REQUIRE(rec.count(kStart) == 1);
+  ack(bus, "prl_bias", node_ack_t::OK, 0);
+  // Before any pace is known the clock waits 50 ms after the last progress (the ack at 0.0).
+  c.poll(0.04);
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 0);
+  c.poll(0.06);
+  bus.run_until_idle();
+  REQUIRE(rec.count(kResend) == 1);
+  CHECK(rec.sent.back().window == 0);
+  REQUIRE(c.resends().size() == 1);
+  CHECK(c.resends()[0].reason == "logger: no ack");
+  // The logger answers WAITING: the next RESEND names what it misses; it waits twice as long.
+  ack(bus, "logger", node_ack_t::WAITING, 0, "logger: waiting for realization 0 attempt 0 window 0 on PRL_TOI");
+  c.poll(0.06 + 0.09);
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 1);
+  c.poll(0.06 + 0.11);
+  bus.run_until_idle();
+  REQUIRE(c.resends().size() == 2);
+  CHECK(c.resends()[1].reason == "logger: waiting for realization 0 attempt 0 window 0 on PRL_TOI");
+  ack(bus, "logger", node_ack_t::OK, 0);  // recovered: window 1 is granted
+  CHECK(rec.sent.back().command == kStart);
+  CHECK(rec.sent.back().window == 1);
+  CHECK(c.retries().empty());
+}
+
+TEST_CASE("conductor: a node that answers no RESEND for the peer timeout fails the run, named",
+          "[conductor][watchdog]") {
+  rnav::InprocBus bus;
+  Recorder rec(bus);
+  rnav::RunnerOptions runner;
+  runner.window_s = 10;
+  runner.peer_timeout_s = 3;
+  runner.ack_timeout_s = 100;  // the silent node, not the window's deadline, must end the run
+  rnav::ConductorOptions o;
+  o.nodes = {"prl_bias", "logger"};
+  Conductor c(bus, runner, 0.25, o, 30.0);
+  ack(bus, "prl_bias", node_ack_t::HELLO, -1);
+  ack(bus, "logger", node_ack_t::HELLO, -1);
+  c.poll(0.0);
+  bus.run_until_idle();
+  ack(bus, "logger", node_ack_t::OK, 0);
+  // prl_bias is frozen: it neither acks nor answers the RESENDs. The run must fail naming it
+  // after the peer timeout (3 s after the window's START, when it was last heard of), within 2 s.
+  double t = 0;
+  while (!c.done() && t < 10) {
+    t += 0.01;
+    c.poll(t);
+    bus.run_until_idle();
+  }
+  INFO(c.failure());
+  REQUIRE(c.done());
+  CHECK(c.exit_code() == 4);
+  CHECK(t > runner.peer_timeout_s);
+  CHECK(t < runner.peer_timeout_s + 2);
+  CHECK(c.failure().find("node 'prl_bias' fell silent") != std::string::npos);
+  CHECK(c.failure().find("logger") == std::string::npos);
+  CHECK(rec.count(kResend) >= 2);
+  CHECK(rec.sent.back().command == kAbort);
+}
+
+TEST_CASE("conductor: the clock sends a heartbeat when it has nothing else to say", "[conductor][watchdog]") {
+  // While it waits for HELLOs it sends nothing else; nodes must still hear it every
+  // peer_timeout / 8 (here 0.5 s): over 4.9 s, 10 heartbeats (at 0, 0.5, ..., 4.5 s).
+  rnav::InprocBus bus;
+  Recorder rec(bus);
+  rnav::RunnerOptions runner;
+  runner.peer_timeout_s = 4;
+  rnav::ConductorOptions o;
+  o.nodes = {"prl_bias"};
+  Conductor c(bus, runner, 0.25, o, 30.0);
+  for (double t = 0; t < 4.9; t += 0.01) {
+    c.poll(t);
+    bus.run_until_idle();
+  }
+  CHECK(rec.count(kHeartbeat) == 10);
+  CHECK(rec.count(kStart) == 0);
+}
 
 TEST_CASE("conductor: losses reported within half a stall timeout are named together in one retry",
           "[conductor][loss]") {

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -54,6 +55,35 @@ fs::path scratch(const std::string& name) {
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
+}
+
+// The pid of process `name` of the run whose work folder is scratch folder d's "out.partial.*"
+// (from its logs/pids file; other tests may run their own processes of the same name); 0 if it
+// does not appear within 10 s.
+pid_t pid_in_run(const fs::path& d, const std::string& name) {
+  for (int i = 0; i < 200; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    for (const auto& e : fs::directory_iterator(d)) {
+      const auto pids = e.path() / "logs" / "pids";
+      if (e.path().filename().string().rfind("out.partial.", 0) != 0 || !fs::exists(pids)) continue;
+      std::ifstream f(pids);
+      std::string n;
+      int pid;
+      while (f >> n >> pid)
+        if (n == name) return pid;
+    }
+  }
+  return 0;
+}
+
+// Running or stopped, not a zombie: a dead orphan stays a zombie until its new parent (init, or
+// a subreaper such as the test driver) reaps it.
+bool alive(pid_t pid) {
+  std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  if (!std::getline(f, stat)) return false;
+  const auto close = stat.rfind(')');  // "pid (comm) S ...": the state follows the command name
+  return close != std::string::npos && close + 2 < stat.size() && stat[close + 2] != 'Z' && stat[close + 2] != 'X';
 }
 
 const std::string kRun = kRoot + "/scripts/run paper --no-plots --net netns ";
@@ -149,20 +179,7 @@ TEST_CASE("a process killed mid-run fails the run naming it", "[integration][kil
   std::thread runner;
   Result r;
   runner = std::thread([&] { r = sh(kRun + "--realizations 3000 --seed 2 --out " + out.string()); });
-  // Find the run's own prl process from its pids file (other tests may run their own prl).
-  pid_t prl = 0;
-  for (int i = 0; i < 200 && prl == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    for (const auto& e : fs::directory_iterator(d)) {
-      const auto pids = e.path() / "logs" / "pids";
-      if (e.path().filename().string().rfind("out.partial.", 0) != 0 || !fs::exists(pids)) continue;
-      std::ifstream f(pids);
-      std::string name;
-      int pid;
-      while (f >> name >> pid)
-        if (name == "prl") prl = pid;
-    }
-  }
+  const pid_t prl = pid_in_run(d, "prl");
   REQUIRE(prl > 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let it get going
   ::kill(prl, SIGKILL);
@@ -173,6 +190,120 @@ TEST_CASE("a process killed mid-run fails the run naming it", "[integration][kil
   CHECK(r.output.find("killed by signal 9") != std::string::npos);
   CHECK_FALSE(fs::exists(out));
   CHECK_FALSE(fs::exists(d / "out.failed" / "table2.json"));
+}
+
+TEST_CASE("a batch lost once is published again: no repeated realization, the same result",
+          "[integration][loss]") {
+  const fs::path d = scratch("loss_once");
+  const std::string common = "--realizations 4 --seed 9 " + kFast;
+  const auto clean = sh(kRun + common + "--out " + (d / "clean").string());
+  // prl's PRL_APOI batch of realization 2, window 3, attempt 0: only its first transmission lost.
+  const auto lossy = sh(kRun + common + "--drop prl:PRL_APOI:2:3:0:1 --out " + (d / "lossy").string());
+  INFO(clean.output << lossy.output);
+  REQUIRE(clean.status == 0);
+  REQUIRE(lossy.status == 0);
+  const auto ev = nlohmann::json::parse(slurp(d / "lossy" / "run_events.json"));
+  CHECK(ev["retries"].empty());
+  // prl published it again on its consumers' WAITING (each consumer that missed it asks: prl_bias
+  // and the logger, so one or two times); the consumers ignored any second copy.
+  const std::string prl_log = slurp(d / "lossy" / "logs" / "prl.log");
+  std::smatch m;
+  REQUIRE(std::regex_search(prl_log, m, std::regex(R"(prl: finished \(0 resent batch\(es\) ignored, (\d+) republished\))")));
+  CHECK(std::stoi(m[1]) >= 1);
+  CHECK(slurp(d / "lossy" / "stats_time.csv") == slurp(d / "clean" / "stats_time.csv"));
+  CHECK(slurp(d / "lossy" / "table2.json") == slurp(d / "clean" / "table2.json"));
+}
+
+TEST_CASE("random multicast loss of 1 % and 5 % is recovered: the statistics equal a clean run's",
+          "[integration][loss]") {
+  // iptables drops each multicast packet with probability P inside the run's private network
+  // namespace (scripts/run --loss). 50 realizations of about 7 windows, about 70 messages each:
+  // at 5 % some 250 messages are lost. The run must complete with byte-identical results.
+  const fs::path d = scratch("loss_random");
+  const std::string common = "--realizations 50 --seed 4 ";
+  const auto clean = sh(kRun + common + "--out " + (d / "clean").string());
+  INFO(clean.output);
+  REQUIRE(clean.status == 0);
+  for (const char* p : {"0.01", "0.05"}) {
+    const fs::path out = d / (std::string("loss") + p);
+    const auto lossy = sh(kRun + common + "--loss " + p + " --out " + out.string());
+    INFO("loss " << p << "\n" << lossy.output);
+    REQUIRE(lossy.status == 0);
+    CHECK(lossy.output.find("dropping each multicast packet with probability") != std::string::npos);
+    const auto ev = nlohmann::json::parse(slurp(out / "run_events.json"));
+    CHECK(ev["resends"].size() > 0);  // loss happened and was recovered
+    CHECK(slurp(out / "stats_time.csv") == slurp(d / "clean" / "stats_time.csv"));
+    CHECK(slurp(out / "stats_range.csv") == slurp(d / "clean" / "stats_range.csv"));
+    CHECK(slurp(out / "table2.json") == slurp(d / "clean" / "table2.json"));
+  }
+}
+
+TEST_CASE("a frozen clock fails the run naming it, within 2 s of the peer timeout", "[integration][watchdog]") {
+  const fs::path d = scratch("frozen_clock");
+  std::thread runner;
+  Result r;
+  runner = std::thread([&] {
+    r = sh(kRun + "--realizations 3000 --seed 2 --set runner.peer_timeout_s=2 --out " + (d / "out").string());
+  });
+  const pid_t clock = pid_in_run(d, "clock");
+  REQUIRE(clock > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ::kill(clock, SIGSTOP);
+  const auto t0 = std::chrono::steady_clock::now();
+  runner.join();
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ::kill(clock, SIGKILL);  // (the runner has killed it already)
+  INFO(r.output);
+  CHECK(r.status != 0);
+  CHECK(r.output.find("the clock fell silent") != std::string::npos);
+  CHECK(took < 2 + 2);
+  CHECK_FALSE(fs::exists(d / "out"));
+}
+
+TEST_CASE("a frozen node fails the run naming it, within 2 s of the peer timeout", "[integration][watchdog]") {
+  const fs::path d = scratch("frozen_node");
+  std::thread runner;
+  Result r;
+  runner = std::thread([&] {
+    r = sh(kRun + "--realizations 3000 --seed 2 --set runner.peer_timeout_s=2 --out " + (d / "out").string());
+  });
+  const pid_t snsins = pid_in_run(d, "snsins");
+  REQUIRE(snsins > 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ::kill(snsins, SIGSTOP);
+  const auto t0 = std::chrono::steady_clock::now();
+  runner.join();
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(r.output);
+  CHECK(r.status != 0);
+  CHECK(r.output.find("node 'snsins' fell silent") != std::string::npos);
+  CHECK(took < 2 + 2);
+  CHECK_FALSE(alive(snsins));  // the runner killed it (SIGKILL works on a stopped process)
+}
+
+TEST_CASE("killing the runner takes every process of the run with it", "[integration][watchdog]") {
+  const fs::path d = scratch("kill_runner");
+  // scripts/run in its own process group, so that it alone can be killed (not this test).
+  const std::string cmd = "RNAV_BUILD='" + kBuild + "' setsid " + kRun + "--realizations 3000 --seed 2 --out " +
+                          (d / "out").string() + " >" + (d / "run.log").string() + " 2>&1 & echo $!";
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  int run_pid = 0;
+  REQUIRE(fscanf(p, "%d", &run_pid) == 1);
+  pclose(p);
+  std::vector<pid_t> pids;
+  for (const char* n : {"trajectory", "snsins", "prl", "prl_bias", "logger", "clock"}) {
+    const pid_t pid = pid_in_run(d, n);
+    REQUIRE(pid > 0);
+    pids.push_back(pid);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(run_pid, SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  for (const pid_t pid : pids) {
+    INFO("pid " << pid);
+    CHECK_FALSE(alive(pid));
+  }
 }
 
 TEST_CASE("bad scenario input is an error naming the key", "[integration][input]") {

@@ -7,7 +7,7 @@
 namespace rnav {
 
 PrlBiasNode::PrlBiasNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "prl_bias", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "prl_bias", sc.runner.peer_timeout_s),
       sc_(sc),
       frame_R_(sc.radar_frame()),
       est_(sc.prl_bias, sc.runner.epoch_utime) {

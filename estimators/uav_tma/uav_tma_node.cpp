@@ -9,7 +9,7 @@
 namespace rnav {
 
 UavTmaNode::UavTmaNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "uav_tma", sc.runner.stall_timeout_s), sc_(sc) {
+    : LockstepNode(bus, "uav_tma", sc.runner.peer_timeout_s), sc_(sc) {
   add_input<observer_batch_t>("UAV_NAV");
   add_input<bearing_batch_t>("UAV_BEARING");
 }

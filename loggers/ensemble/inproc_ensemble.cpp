@@ -26,6 +26,7 @@ InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<Lockst
   o.seed = seed;
   for (const auto& node : nodes) {
     o.nodes.push_back(node->name());
+    node->set_clock_watchdog(false);
     for (const auto& d : drops) node->add_drop(DropSpec::parse(d));
   }
   Conductor c(bus, runner, step_s, o, duration_s);

@@ -8,7 +8,7 @@ namespace rnav {
 
 PrlCsvRecorderNode::PrlCsvRecorderNode(Bus& bus, const Scenario& sc, int realization,
                                        std::string out_dir)
-    : LockstepNode(bus, "recorder", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "recorder", sc.runner.peer_timeout_s),
       sc_(sc),
       realization_(realization),
       out_dir_(std::move(out_dir)) {

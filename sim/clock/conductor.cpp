@@ -5,6 +5,7 @@
 #include <rnav/sim_scenario_t.hpp>
 #include <rnav/sim_window_t.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rnav {
@@ -38,12 +39,84 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
   w.utime_end = (runner_.epoch_utime + std::min(b + window_us_, end_us_));
   w.reason = reason;
   bus_.publish(ch::kWindow, w);
+  last_sent_s_ = now_s_;
+}
+
+namespace {
+constexpr std::size_t kPaceWindows = 32;   // windows the resend wait learns the run's pace from
+constexpr double kPaceFactor = 2;          // resend after this many times the slowest recent ack gap
+constexpr double kMinResendWaitS = 0.001;  // [s wall] never sooner (scheduling jitter)
+constexpr double kFirstResendWaitS = 0.05; // [s wall] before any pace is known
+constexpr double kHeartbeatsPerTimeout = 8;
+constexpr double kFinishRepeatS = 0.05;    // [s wall] FINISH is repeated until every node reports FINISHED
+}  // namespace
+
+double Conductor::resend_wait_s() const {
+  double wait = kFirstResendWaitS;
+  if (!pace_.empty()) {
+    double slowest = 0;
+    for (double g : pace_) slowest = std::max(slowest, g);
+    wait = std::max(kMinResendWaitS, kPaceFactor * slowest);
+  }
+  // Each further RESEND of the same window waits twice as long.
+  wait *= std::pow(2.0, std::min(window_resends_, 20));
+  return std::min(wait, runner_.stall_timeout_s);
+}
+
+double Conductor::idle_s(double wall_now_s) const {
+  double due = wall_now_s + 0.05;
+  if (state_ == State::kRunning && window_open_) due = std::min(due, progress_wall_s_ + resend_wait_s());
+  if (loss_deadline_s_ >= 0) due = std::min(due, loss_deadline_s_);
+  due = std::min(due, last_sent_s_ + runner_.peer_timeout_s / kHeartbeatsPerTimeout);
+  return std::clamp(due - wall_now_s, 0.001, 0.05);
+}
+
+std::string Conductor::overdue() const {
+  std::string s;
+  for (const auto& n : o_.nodes)
+    if (!acked_.count(n)) {
+      const auto w = waiting_.find(n);
+      s += (s.empty() ? "" : "; ") + (w != waiting_.end() ? w->second : n + ": no ack");
+    }
+  return s;
+}
+
+void Conductor::resend() {
+  const std::string why = overdue();
+  resends_.push_back({r_, a_, w_, why});
+  for (const auto& n : o_.nodes)
+    if (!acked_.count(n)) ++unanswered_[n];
+  ++window_resends_;
+  progress_wall_s_ = now_s_;
+  send(sim_window_t::RESEND, why);
+}
+
+void Conductor::check_silent_nodes() {
+  // A node the open window waits for, heard from neither since the window's START nor within
+  // peer_timeout_s: it is frozen or gone (a live node answers every RESEND).
+  for (const auto& n : o_.nodes) {
+    if (acked_.count(n)) continue;
+    const auto it = last_heard_.find(n);
+    const double heard = std::max(it == last_heard_.end() ? start_wall_s_ : it->second, window_wall_s_);
+    const auto un = unanswered_.find(n);
+    if (un != unanswered_.end() && un->second >= 2 && now_s_ - heard > runner_.peer_timeout_s) {
+      abort("node '" + n + "' fell silent: no ack and no answer to " + std::to_string(un->second) +
+                " RESEND(s) for " + std::to_string(now_s_ - heard) + " s (runner.peer_timeout_s " +
+                std::to_string(runner_.peer_timeout_s) + ") at realization " + std::to_string(r_) + " attempt " +
+                std::to_string(a_) + " window " + std::to_string(w_) + ": frozen or dead",
+            4);
+      return;
+    }
+  }
 }
 
 void Conductor::grant() {
   acked_.clear();
+  waiting_.clear();
   window_open_ = true;
-  window_wall_s_ = now_s_;
+  window_wall_s_ = progress_wall_s_ = now_s_;
+  window_resends_ = 0;
+  window_max_gap_s_ = 0;
   if (w_ == 0) realization_wall_s_ = now_s_;
   if (w_ == 0 && !o_.scenario_json.empty()) {
     sim_scenario_t s;
@@ -59,6 +132,11 @@ void Conductor::grant() {
 
 void Conductor::next_window() {
   window_open_ = false;
+  if (window_resends_ == 0) {  // learn the pace from clean windows only
+    if (pace_.size() < kPaceWindows) pace_.push_back(window_max_gap_s_);
+    else pace_[pace_next_] = window_max_gap_s_;
+    pace_next_ = (pace_next_ + 1) % kPaceWindows;
+  }
   if (w_ + 1 < n_windows_) {
     ++w_;
   } else {
@@ -105,6 +183,8 @@ void Conductor::abort(const std::string& reason, int code) {
 
 void Conductor::on_ack(const node_ack_t& a) {
   if (state_ == State::kDone) return;
+  last_heard_[a.node] = now_s_;
+  unanswered_[a.node] = 0;
   if (a.status == node_ack_t::HELLO) {
     hello_.insert(a.node);
     return;
@@ -126,8 +206,15 @@ void Conductor::on_ack(const node_ack_t& a) {
     }
     return;
   }
-  if (a.status == node_ack_t::OK && window_open_ && a.window == w_) {
+  if (a.status == node_ack_t::WAITING) {
+    if (window_open_ && a.window == w_) waiting_[a.node] = a.detail;
+    return;
+  }
+  if (a.status == node_ack_t::OK && window_open_ && a.window == w_ && !acked_.count(a.node)) {
     acked_.insert(a.node);
+    waiting_.erase(a.node);
+    window_max_gap_s_ = std::max(window_max_gap_s_, now_s_ - progress_wall_s_);
+    progress_wall_s_ = now_s_;
     if (acked_.size() == o_.nodes.size()) next_window();
   }
 }
@@ -156,15 +243,16 @@ void Conductor::poll(double wall_now_s) {
       break;
     }
     case State::kRunning:
+      if (window_open_) check_silent_nodes();
+      if (state_ != State::kRunning) break;
       if (loss_deadline_s_ >= 0 && now_s_ >= loss_deadline_s_) {
         retry(loss_reasons_);
       } else if (window_open_ && now_s_ - window_wall_s_ > runner_.ack_timeout_s) {
-        std::string missing;
-        for (const auto& n : o_.nodes)
-          if (!acked_.count(n)) missing += " " + n;
-        retry("no ack within " + std::to_string(runner_.ack_timeout_s) + " s for realization " +
-              std::to_string(r_) + " attempt " + std::to_string(a_) + " window " +
-              std::to_string(w_) + " from:" + missing);
+        retry("window not complete within " + std::to_string(runner_.ack_timeout_s) + " s (runner.ack_timeout_s) for realization " +
+              std::to_string(r_) + " attempt " + std::to_string(a_) + " window " + std::to_string(w_) + " after " +
+              std::to_string(window_resends_) + " RESEND(s): " + overdue());
+      } else if (window_open_ && now_s_ - progress_wall_s_ > resend_wait_s()) {
+        resend();
       } else if (o_.realtime && !window_open_) {
         // Window w starts when the wall clock reaches its sim start time.
         const double due = realization_wall_s_ + (w_ * window_us_ * 1e-6) / o_.speed;
@@ -179,7 +267,7 @@ void Conductor::poll(double wall_now_s) {
         failure_ = "no FINISHED report from:" + missing;
         exit_code_ = 4;
         state_ = State::kDone;
-      } else if (now_s_ - last_finish_s_ > 0.5) {
+      } else if (now_s_ - last_finish_s_ > kFinishRepeatS) {
         last_finish_s_ = now_s_;
         send(sim_window_t::FINISH);  // repeated: a lost FINISH must not hang the run
       }
@@ -187,6 +275,8 @@ void Conductor::poll(double wall_now_s) {
     case State::kDone:
       break;
   }
+  if (state_ != State::kDone && now_s_ - last_sent_s_ >= runner_.peer_timeout_s / kHeartbeatsPerTimeout)
+    send(sim_window_t::HEARTBEAT);
 }
 
 }  // namespace rnav

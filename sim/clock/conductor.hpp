@@ -1,5 +1,9 @@
-// The lock-step clock: grants windows to every node, waits for their acks, repeats a
-// realization that lost a message (up to runner.max_attempts), finishes or aborts the run.
+// The lock-step clock: grants windows to every node, waits for their acks, recovers a lost
+// message by RESEND (the nodes re-ack, or name what they miss and its publisher sends it again),
+// repeats a realization only when recovery fails within runner.ack_timeout_s (up to
+// runner.max_attempts), fails the run naming a node that falls silent (runner.peer_timeout_s),
+// and finishes or aborts the run. It sends a heartbeat when it has sent nothing for
+// peer_timeout_s / 8, so that nodes can tell a silent clock.
 // Transport-agnostic (Bus) and time-agnostic (poll(wall_now)): the same code drives the
 // multi-process run over LCM and the single-process ensemble.
 #pragma once
@@ -10,6 +14,7 @@
 #include <rnav/node_ack_t.hpp>
 
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -33,6 +38,13 @@ struct RetryEvent {
   std::string reason;
 };
 
+/// A RESEND the clock sent: the window and what was overdue (the nodes not yet acked, and what
+/// those that answered WAITING miss).
+struct ResendEvent {
+  int realization = 0, attempt = 0, window = 0;
+  std::string reason;
+};
+
 class Conductor {
  public:
   /// @param runner      lock-step options (window, timeouts, attempts, epoch)
@@ -48,7 +60,13 @@ class Conductor {
   int exit_code() const { return exit_code_; }
   const std::string& failure() const { return failure_; }
   const std::vector<RetryEvent>& retries() const { return retries_; }
+  const std::vector<ResendEvent>& resends() const { return resends_; }
   int windows_per_realization() const { return n_windows_; }
+  /// [s wall] How long the caller may block before the next poll() has something to do (a
+  /// resend, heartbeat or timeout falls due), in (0, 0.05].
+  double idle_s(double wall_now_s) const;
+  /// [s wall] The current resend wait (adaptive; see RunnerOptions::stall_timeout_s).
+  double resend_wait_s() const;
 
   /// Called after each completed realization: (completed, total, retries so far).
   std::function<void(int, int, int)> on_progress;
@@ -61,6 +79,9 @@ class Conductor {
   void retry(const std::string& reason);
   void abort(const std::string& reason, int code);
   void send(std::int8_t command, const std::string& reason = "");
+  void resend();
+  std::string overdue() const;
+  void check_silent_nodes();
 
   Bus& bus_;
   RunnerOptions runner_;
@@ -79,6 +100,19 @@ class Conductor {
   std::string loss_reasons_;
   double loss_deadline_s_ = -1;  ///< [s wall] when the collected losses are acted on (< 0: none)
   std::vector<RetryEvent> retries_;
+  std::vector<ResendEvent> resends_;
+  // Recovery of the open window: when it last progressed (START, RESEND or a new ack), how many
+  // RESENDs it took, and what the nodes answering WAITING said they miss.
+  double progress_wall_s_ = 0;
+  int window_resends_ = 0;
+  std::map<std::string, std::string> waiting_;
+  // Pace of the run: the slowest ack gap [s wall] of each of the last windows without resends.
+  std::vector<double> pace_;
+  std::size_t pace_next_ = 0;
+  double window_max_gap_s_ = 0;
+  double last_sent_s_ = -1;                  // [s wall] the clock's last message (for heartbeats)
+  std::map<std::string, double> last_heard_; // [s wall] per node: its last message of any kind
+  std::map<std::string, int> unanswered_;    // per node: RESENDs sent since its last message
   std::string failure_;
   int exit_code_ = 0;
 };

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -31,6 +32,9 @@ void write_events(const std::string& file, const rnav::Conductor& c, int n, std:
   j["retries"] = nlohmann::json::array();
   for (const auto& e : c.retries())
     j["retries"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"reason", e.reason}});
+  j["resends"] = nlohmann::json::array();
+  for (const auto& e : c.resends())
+    j["resends"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"window", e.window}, {"reason", e.reason}});
   std::ofstream(file) << j.dump(2) << "\n";
 }
 
@@ -124,7 +128,7 @@ int main(int argc, char** argv) {
     c.on_progress = [&](int done, int total, int retries) { bar.update(done, total, retries, rnav::wall_seconds()); };
     bar.update(0, o.n_realizations, 0, t0);
     while (!c.done()) {
-      bus.handle(o.realtime ? 5 : 50);
+      bus.handle(static_cast<int>(std::ceil(1000 * c.idle_s(rnav::wall_seconds()))));
       c.poll(rnav::wall_seconds());
     }
     const double wall = rnav::wall_seconds() - t0;
@@ -137,7 +141,7 @@ int main(int argc, char** argv) {
       return c.exit_code();
     }
     std::cerr << "clock: " << o.n_realizations << " realizations in " << wall << " s, "
-              << c.retries().size() << " repeated\n";
+              << c.resends().size() << " RESEND(s), " << c.retries().size() << " repeated\n";
     return 0;
   } catch (const rnav::ConfigError& e) {
     std::cerr << "clock: error: " << e.what() << "\n";

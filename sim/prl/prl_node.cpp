@@ -7,7 +7,7 @@
 namespace rnav {
 
 PrlNode::PrlNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "prl", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "prl", sc.runner.peer_timeout_s),
       sc_(sc),
       frame_L_(sc.landing_frame()),
       frame_R_(sc.radar_frame()),

@@ -6,7 +6,7 @@
 namespace rnav {
 
 SnsinsNode::SnsinsNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "snsins", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "snsins", sc.runner.peer_timeout_s),
       sc_(sc),
       frame_L_(sc.landing_frame()),
       model_(sc.snsins) {

@@ -5,7 +5,7 @@
 namespace rnav {
 
 TargetNode::TargetNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "target", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "target", sc.runner.peer_timeout_s),
       sc_(sc),
       motion_(sc.target, sc.sensor.period_s),
       frame_(sc.frame()) {}

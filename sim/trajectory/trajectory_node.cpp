@@ -5,7 +5,7 @@
 namespace rnav {
 
 TrajectoryNode::TrajectoryNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "trajectory", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "trajectory", sc.runner.peer_timeout_s),
       sc_(sc),
       traj_(make_trajectory(sc)),
       frame_L_(sc.landing_frame()) {}

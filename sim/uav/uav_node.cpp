@@ -17,7 +17,7 @@ Eigen::Vector2d orbit_centre(const UavScenario& sc) {
 }  // namespace
 
 UavNode::UavNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "uav", sc.runner.stall_timeout_s),
+    : LockstepNode(bus, "uav", sc.runner.peer_timeout_s),
       sc_(sc),
       frame_(sc.frame()),
       path_(sc.uav, orbit_centre(sc), sc.duration_s),
