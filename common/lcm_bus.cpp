@@ -1,19 +1,68 @@
 #include "lcm_bus.hpp"
 
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 namespace rnav {
 
-LcmBus::LcmBus(const std::string& url) : lcm_(std::make_unique<lcm::LCM>(url)) {
+long LcmBus::granted_receive_buffer(long requested) {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) throw std::runtime_error(std::string("cannot open a UDP socket to check the receive buffer: ") + std::strerror(errno));
+  const int want = static_cast<int>(std::min<long>(requested, std::numeric_limits<int>::max() / 2));
+  int got = 0;
+  socklen_t len = sizeof got;
+  const bool ok = ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &want, sizeof want) == 0 &&
+                  ::getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &got, &len) == 0;
+  ::close(fd);
+  if (!ok) throw std::runtime_error(std::string("cannot set a UDP receive buffer: ") + std::strerror(errno));
+  return got / 2;  // Linux reports twice the granted size (its bookkeeping overhead)
+}
+
+LcmBus::LcmBus(const std::string& url) {
+  // recv_buf_size=B in the URL: LCM asks for B with SO_RCVBUF, which the kernel silently caps at
+  // net.core.rmem_max. Ask the same of a probe socket and refuse to run on less.
+  const std::string effective = url.empty() ? (std::getenv("LCM_DEFAULT_URL") ? std::getenv("LCM_DEFAULT_URL") : "") : url;
+  const auto at = effective.find("recv_buf_size=");
+  if (at != std::string::npos) {
+    const std::string text = effective.substr(at + 14, effective.find('&', at) - (at + 14));
+    char* end = nullptr;
+    errno = 0;
+    const long want = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || errno != 0 || want <= 0)
+      throw std::runtime_error("LCM URL '" + effective + "': recv_buf_size must be a positive integer [bytes], got '" + text + "'");
+    const long got = granted_receive_buffer(want);
+    if (got < want)
+      throw std::runtime_error("LCM URL '" + effective + "' asks for a " + std::to_string(want) +
+                               "-byte receive buffer, the kernel grants " + std::to_string(got) +
+                               " (net.core.rmem_max): raise it (sysctl -w net.core.rmem_max=" + std::to_string(want) +
+                               ") or ask for less");
+  }
+  lcm_ = std::make_unique<lcm::LCM>(url);
   if (!lcm_->good())
     throw std::runtime_error("cannot initialise LCM (url '" + url +
                              "'): is there a multicast route? see README, 'Networking'");
 }
 
 void LcmBus::publish_raw(const std::string& channel, const void* data, int size) {
-  if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) != 0)
-    throw std::runtime_error("LCM publish failed on channel " + channel);
+  int err = 0;
+  for (int attempt = 0; attempt < kPublishAttempts; ++attempt) {
+    errno = 0;
+    if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) == 0) return;
+    err = errno;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1 << attempt));
+  }
+  throw std::runtime_error("LCM publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) " +
+                           std::to_string(kPublishAttempts) + " times: " + (err ? std::strerror(err) : "no reason given"));
 }
 
 void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Sub* sub) {

@@ -4,11 +4,13 @@
 #include "bus.hpp"
 #include "channels.hpp"
 #include "conductor.hpp"
+#include "lcm_bus.hpp"
 
 #include <rnav/sim_window_t.hpp>
 
 #include <catch2/catch.hpp>
 
+#include <fstream>
 #include <vector>
 
 namespace {
@@ -174,4 +176,18 @@ TEST_CASE("conductor: losses reported within half a stall timeout are named toge
   c.poll(5.0);  // (before attempt 1's ack timeout, 6 s after 3.01)
   CHECK(c.retries().size() == 1);
   CHECK(c.exit_code() == 0);
+}
+
+TEST_CASE("LCM bus: a receive buffer the kernel will not grant is refused, naming rmem_max", "[lcm][input]") {
+  // The check runs before LCM opens anything (no traffic). The kernel caps SO_RCVBUF at
+  // net.core.rmem_max; twice that can never be granted.
+  std::ifstream f("/proc/sys/net/core/rmem_max");
+  long rmem_max = 0;
+  REQUIRE(f >> rmem_max);
+  const std::string too_big = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=" + std::to_string(2 * rmem_max + 4096);
+  CHECK_THROWS_WITH(rnav::LcmBus(too_big),
+                    Catch::Contains("net.core.rmem_max") && Catch::Contains(std::to_string(2 * rmem_max + 4096)));
+  CHECK_THROWS_WITH(rnav::LcmBus("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=12x"),
+                    Catch::Contains("recv_buf_size must be a positive integer") && Catch::Contains("12x"));
+  CHECK(rnav::LcmBus::granted_receive_buffer(rmem_max / 2) >= rmem_max / 2);
 }

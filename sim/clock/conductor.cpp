@@ -44,7 +44,7 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
 
 namespace {
 constexpr std::size_t kPaceWindows = 32;   // windows the resend wait learns the run's pace from
-constexpr double kPaceFactor = 2;          // resend after this many times the slowest recent ack gap
+constexpr double kPaceFactor = 1;          // resend after this many times the slowest recent ack gap
 constexpr double kMinResendWaitS = 0.001;  // [s wall] never sooner (scheduling jitter)
 constexpr double kFirstResendWaitS = 0.05; // [s wall] before any pace is known
 constexpr double kHeartbeatsPerTimeout = 8;
