@@ -243,12 +243,39 @@ TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, win
     CHECK_THAT(with("last.lcmlog", v), Catch::Contains("NAV_SOLUTION, realization 1, attempt 1: window " +
                                                        std::to_string(last) + " is missing"));
   }
-  SECTION("a duplicated batch") {
+  SECTION("a duplicated batch that differs from the first copy") {
+    // An identical copy is a resend (loss recovery publishes a batch again; see the next section).
+    auto v = ev;
+    const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 2);
+    auto b = decode<prl_plot_batch_t>(v[i]);
+    REQUIRE(!b.plots.empty());
+    b.plots[0].range_m += 1;
+    v.insert(v.begin() + static_cast<long>(i) + 1, encode(ch::kApoi, b));
+    CHECK_THAT(with("dup.lcmlog", v), Catch::Contains("PRL_APOI, realization 1, attempt 1") &&
+                                          Catch::Contains("window 2") && Catch::Contains("duplicate") &&
+                                          Catch::Contains("differs"));
+  }
+  SECTION("an identical resent copy is ignored, and a RESEND stands for a grant the log lost") {
     auto v = ev;
     const std::size_t i = find_batch<nav_batch_t>(v, ch::kNav, 1, 1, 2);
-    v.insert(v.begin() + static_cast<long>(i) + 1, v[i]);
-    CHECK_THAT(with("dup.lcmlog", v), Catch::Contains("NAV_SOLUTION, realization 1, attempt 1") &&
-                                          Catch::Contains("window 2") && Catch::Contains("duplicate"));
+    v.insert(v.begin() + static_cast<long>(i) + 3, v[i]);
+    // The START of realization 1 attempt 1 window 3 lost by the recorder, its RESEND kept.
+    for (auto& e : v)
+      if (e.channel == ch::kWindow) {
+        auto w = decode<sim_window_t>(e);
+        if (w.command != sim_window_t::START || w.realization != 1 || w.attempt != 1 || w.window != 3) continue;
+        w.command = sim_window_t::RESEND;
+        e = encode(ch::kWindow, w);
+      }
+    const std::string f = (d / "resent.lcmlog").string();
+    write_events(f, v);
+    read_prl_lcm_log(f, realization(1)).write_folder((d / "resent").string());
+    read_prl_lcm_log(paper_log(), realization(1)).write_folder((d / "ref").string());
+    for (const char* csv : {"radar.csv", "nav.csv", "truth.csv"}) {
+      INFO(csv);
+      REQUIRE(slurp(d / "ref" / csv).size() > 100);
+      CHECK(slurp(d / "resent" / csv) == slurp(d / "ref" / csv));
+    }
   }
   SECTION("a reordered batch") {
     auto v = ev;

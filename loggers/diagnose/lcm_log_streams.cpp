@@ -1,6 +1,7 @@
 #include "lcm_log_streams.hpp"
 
 #include "channels.hpp"
+#include "lockstep_node.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -87,10 +88,17 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
     if (e->channel == ch::kWindow) {
       sim_window_t w;
       if (w.decode(e->data, 0, e->datalen) != e->datalen) throw undecodable("sim_window_t");
-      if (w.command == sim_window_t::START) {
+      // A RESEND repeats its window's grant (a node that lost the START takes it as the START),
+      // so it stands for a START the log lost; repeated grants of one window count once.
+      if (w.command == sim_window_t::START || w.command == sim_window_t::RESEND) {
         attempts[w.realization].insert(w.attempt);
-        if (w.realization == realization) grants.push_back({e->eventnum, index, w});
-        else if (w.realization > realization) moved_on_index = index;
+        if (w.realization == realization) {
+          bool seen = false;
+          for (const auto& g : grants) seen = seen || (g.w.attempt == w.attempt && g.w.window == w.window);
+          if (!seen) grants.push_back({e->eventnum, index, w});
+        } else if (w.realization > realization) {
+          moved_on_index = index;
+        }
       } else if (w.command == sim_window_t::FINISH) {
         moved_on_index = index;
       } else if (w.command == sim_window_t::ABORT) {
@@ -103,6 +111,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
     } else if (Stream* s = find(e->channel)) {
       Item it;
       it.event = e->eventnum;
+      it.digest = message_digest(e->data, e->datalen);
       if (!s->decode(e->data, e->datalen, it.h, it.msg)) throw undecodable("batch of " + s->channel);
       attempts[it.h.realization].insert(it.h.attempt);
       if (it.h.realization == realization) s->items.push_back(std::move(it));
@@ -181,9 +190,15 @@ void LcmLogStreams::check_stream(Stream& s) {
                             std::to_string(later.event) + ", after " + at + ")");
       throw ConfigError(w + ": window " + std::to_string(i) + " is missing (lost; the next batch is " + at + ")");
     }
-    if (it.h.window < static_cast<int>(i))
+    if (it.h.window < static_cast<int>(i)) {
+      const Item& first = *s.used[static_cast<std::size_t>(it.h.window)];
+      if (it.h.seq == first.h.seq && it.digest == first.digest) {
+        ++n_resent_;  // published again on a consumer's WAITING: byte-identical, ignored
+        continue;
+      }
       throw ConfigError(w + ": " + at + " is a duplicate or out of order (expected window " +
-                        std::to_string(i) + ")");
+                        std::to_string(i) + "; it differs from the batch of event " + std::to_string(first.event) + ")");
+    }
     if (i > 0 && it.h.seq != s.used[0]->h.seq + static_cast<std::int64_t>(i))
       throw ConfigError(w + ": " + at + " has seq " + std::to_string(it.h.seq) + ", expected " +
                         std::to_string(s.used[0]->h.seq + static_cast<std::int64_t>(i)) +
@@ -206,8 +221,8 @@ std::string LcmLogStreams::summary() const {
   os << file_ << ": " << n_events_ << " events; realization " << realization_ << " attempt " << attempt_
      << ", " << grants_.size() << " windows;";
   for (const auto& s : streams_) os << " " << s->channel << " " << s->used.size() << " batches;";
-  os << " ignored: " << n_earlier_ << " batches of earlier attempts, " << n_other_realizations_
-     << " of other realizations";
+  os << " ignored: " << n_earlier_ << " batches of earlier attempts, " << n_resent_ << " resent copies, "
+     << n_other_realizations_ << " of other realizations";
   long other = 0;
   for (const auto& [c, k] : ignored_) other += k;
   os << ", " << other << " events on other channels";

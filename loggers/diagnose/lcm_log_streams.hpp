@@ -62,6 +62,7 @@ class LcmLogStreams {
     std::int64_t event = 0;
     batch_header_t h;
     std::shared_ptr<const void> msg;
+    std::uint64_t digest = 0;  // of the encoded bytes: a resend (RESEND recovery) is identical
   };
   struct Stream {
     std::string channel;
@@ -87,7 +88,7 @@ class LcmLogStreams {
   std::vector<Grant> grants_;  // of the attempt used, log order
   std::map<int, sim_scenario_t> scenarios_;  // attempt -> SIM_SCENARIO of the realization
   std::map<std::string, long> ignored_;      // channel -> events not read
-  long n_events_ = 0, n_earlier_ = 0, n_other_realizations_ = 0;
+  long n_events_ = 0, n_earlier_ = 0, n_other_realizations_ = 0, n_resent_ = 0;
 };
 
 // ---- template implementation ----
