@@ -180,6 +180,7 @@ void LcmLogStreams::check_stream(Stream& s) {
     if (it.h.attempt != attempt_) continue;
     const std::size_t i = s.used.size();
     const std::string at = "window " + std::to_string(it.h.window) + " (event " + std::to_string(it.event) + ")";
+    if (it.h.window < 0) throw ConfigError(w + ": " + at + ": a negative window index (corrupt)");
     if (i >= n)
       throw ConfigError(w + ": " + at + " after the attempt's last window " + std::to_string(n - 1) +
                         " (duplicate or out of order)");
