@@ -1,0 +1,160 @@
+// The node side of the lock-step protocol, in one process (InprocBus) with a toy source and a
+// toy sink: a resend is ignored, a different second copy is an error, a lost START is replaced
+// by the RESEND, a consumer's WAITING makes the publisher send its batch again, and a silent
+// clock stops a node.
+#include "bus.hpp"
+#include "channels.hpp"
+#include "lockstep_node.hpp"
+
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/node_ack_t.hpp>
+#include <rnav/sim_window_t.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+namespace {
+
+using rnav::bearing_batch_t;
+using rnav::node_ack_t;
+using rnav::sim_window_t;
+
+const std::string kCh = "TOY_BEARING";
+constexpr std::int8_t kStart = sim_window_t::START, kResend = sim_window_t::RESEND, kOk = node_ack_t::OK,
+                      kWaiting = node_ack_t::WAITING;
+
+// Publishes one bearing per window whose value is the window index (deterministic).
+class Source : public rnav::LockstepNode {
+ public:
+  explicit Source(rnav::Bus& bus) : LockstepNode(bus, "source", 10) {}
+  int processed = 0;
+
+ protected:
+  void reset(const sim_window_t&) override {}
+  int process(const sim_window_t& w) override {
+    bearing_batch_t b{};
+    b.n = 1;
+    b.bearings.resize(1);
+    b.bearings[0].utime = w.utime_begin;
+    b.bearings[0].bearing_rad = w.window;
+    publish_batch(kCh, b);
+    ++processed;
+    return 1;
+  }
+};
+
+// Consumes TOY_BEARING; records what it got.
+class Sink : public rnav::LockstepNode {
+ public:
+  explicit Sink(rnav::Bus& bus) : LockstepNode(bus, "sink", 10) { add_input<bearing_batch_t>(kCh); }
+  std::vector<double> got;
+
+ protected:
+  void reset(const sim_window_t&) override { got.clear(); }
+  int process(const sim_window_t&) override {
+    got.push_back(input<bearing_batch_t>(kCh).bearings.at(0).bearing_rad);
+    return 0;
+  }
+};
+
+sim_window_t window(std::int8_t command, int w) {
+  sim_window_t s{};
+  s.command = command;
+  s.seed = 1;
+  s.n_realizations = 1;
+  s.window = w;
+  s.utime_begin = 1000000LL * w;
+  s.utime_end = 1000000LL * (w + 1);
+  return s;
+}
+
+struct Acks {
+  std::vector<node_ack_t> all;
+  explicit Acks(rnav::InprocBus& bus) {
+    bus.subscribe<node_ack_t>(rnav::ch::kAck, [this](const node_ack_t& a) { all.push_back(a); });
+  }
+  int count(const std::string& node, std::int8_t status, int w) const {
+    int n = 0;
+    for (const auto& a : all) n += a.node == node && a.status == status && a.window == w;
+    return n;
+  }
+};
+
+void send(rnav::InprocBus& bus, const sim_window_t& w) {
+  bus.publish(rnav::ch::kWindow, w);
+  bus.run_until_idle();
+}
+
+}  // namespace
+
+TEST_CASE("lock-step node: a batch lost once is sent again on the consumer's WAITING", "[lockstep][loss]") {
+  rnav::InprocBus bus;
+  Acks acks(bus);
+  Source src(bus);
+  Sink sink(bus);
+  src.add_drop(rnav::DropSpec::parse(kCh + ":0:1:0:1"));  // window 1: its first transmission lost
+  send(bus, window(kStart, 0));
+  CHECK(acks.count("sink", kOk, 0) == 1);
+  send(bus, window(kStart, 1));
+  // The source acked window 1 listing TOY_BEARING, which the sink lacks: it answers WAITING at
+  // once, the source publishes the kept batch again, the sink processes it.
+  CHECK(acks.count("source", kOk, 1) == 1);
+  CHECK(acks.count("sink", kWaiting, 1) == 1);
+  CHECK(src.republished() == 1);
+  CHECK(acks.count("sink", kOk, 1) == 1);
+  CHECK(sink.got == std::vector<double>{0, 1});
+  // A RESEND of window 1 (e.g. an ack lost): both ack again; no new batch is processed.
+  send(bus, window(kResend, 1));
+  CHECK(acks.count("sink", kOk, 1) == 2);
+  CHECK(acks.count("source", kOk, 1) == 2);
+  CHECK(src.processed == 2);
+  CHECK(sink.got.size() == 2);
+}
+
+TEST_CASE("lock-step node: a RESEND stands for a lost START; an identical copy is ignored", "[lockstep][loss]") {
+  rnav::InprocBus bus;
+  Acks acks(bus);
+  Source src(bus);
+  Sink sink(bus);
+  send(bus, window(kStart, 0));
+  // Window 1's START lost at both nodes: the clock's RESEND grants it.
+  send(bus, window(kResend, 1));
+  CHECK(acks.count("source", kOk, 1) == 1);
+  CHECK(acks.count("sink", kOk, 1) == 1);
+  CHECK(sink.got == std::vector<double>{0, 1});
+  // A byte-identical copy of the source's window-1 batch, published again by hand (seq 1): ignored.
+  bearing_batch_t dup{};
+  dup.header.seq = 1;
+  dup.header.window = 1;
+  dup.header.utime_begin = 1000000;
+  dup.header.utime_end = 2000000;
+  dup.n = 1;
+  dup.bearings.resize(1);
+  dup.bearings[0].utime = 1000000;
+  dup.bearings[0].bearing_rad = 1;
+  bus.publish(kCh, dup);
+  bus.run_until_idle();
+  CHECK(sink.duplicates_ignored() == 1);
+  CHECK(sink.got.size() == 2);
+  // A copy that differs (another value for the same window) stops the sink with an error.
+  dup.bearings[0].bearing_rad = 1.5;
+  bus.publish(kCh, dup);
+  CHECK_THROWS_WITH(bus.run_until_idle(), Catch::Contains("two different batches for one window on TOY_BEARING") &&
+                                              Catch::Contains("window 1"));
+}
+
+TEST_CASE("lock-step node: a clock silent for the peer timeout stops the node, naming it", "[lockstep][watchdog]") {
+  rnav::InprocBus bus;
+  Source src(bus);  // peer timeout 10 s
+  src.poll(100.0);
+  send(bus, window(kStart, 0));
+  src.poll(100.1);  // heard at 100.1
+  src.poll(110.0);
+  CHECK_FALSE(src.done());
+  src.poll(110.2);
+  REQUIRE(src.done());
+  CHECK(src.exit_code() == rnav::kClockSilentExit);
+  CHECK_THAT(src.failure(), Catch::Contains("the clock fell silent") && Catch::Contains("runner.peer_timeout_s"));
+}
