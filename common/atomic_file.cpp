@@ -1,21 +1,81 @@
 #include "atomic_file.hpp"
 
+#include "config.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
+#include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace rnav {
 
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& file, int err) {
+  throw std::runtime_error("cannot " + what + " " + file + ": " + std::strerror(err));
+}
+
+}  // namespace
+
 void write_file_atomic(const std::string& dir, const std::string& name, const std::string& text) {
   const std::string tmp = dir + "/." + name + ".partial", dst = dir + "/" + name;
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("cannot write " + tmp);
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error("error writing " + tmp);
+  if (::unlink(tmp.c_str()) != 0 && errno != ENOENT) fail("remove the stale", tmp, errno);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) fail("create", tmp, errno);
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const int err = w < 0 ? errno : ENOSPC;
+      ::close(fd);
+      ::unlink(tmp.c_str());
+      fail("write", tmp, err);
+    }
+    done += static_cast<std::size_t>(w);
   }
-  if (std::rename(tmp.c_str(), dst.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp);
+  if (::fsync(fd) != 0) {
+    const int err = errno;
+    ::close(fd);
+    ::unlink(tmp.c_str());
+    fail("sync", tmp, err);
+  }
+  if (::close(fd) != 0) {
+    const int err = errno;
+    ::unlink(tmp.c_str());
+    fail("close", tmp, err);
+  }
+  if (std::rename(tmp.c_str(), dst.c_str()) != 0) fail("rename " + tmp + " to", dst, errno);
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::filesystem::path p(path);
+  write_file_atomic(p.has_parent_path() ? p.parent_path().string() : ".", p.filename().string(), text);
+}
+
+void prepare_output_dir(const std::string& dir, bool force, const std::string& option) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto st = fs::symlink_status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(fs::status(dir, ec)))
+      throw ConfigError(option + " " + dir + ": exists and is not a folder");
+    if (!force && !fs::exists(fs::path(dir) / kOutputMarker)) {
+      for (const auto& e : fs::directory_iterator(dir))
+        throw ConfigError(option + " " + dir + ": the folder is not empty (it holds " + e.path().filename().string() +
+                          ") and is not an earlier output of this project (no " + kOutputMarker +
+                          "): choose an empty or new folder, or add --force to write into it");
+    }
+  } else {
+    fs::create_directories(dir, ec);
+    if (ec) throw ConfigError(option + " " + dir + ": cannot create the folder: " + ec.message());
+  }
+  write_file_atomic(dir, kOutputMarker, "This folder holds outputs of rnav (radio-navigation estimators).\n");
 }
 
 std::string fixed(double x, int prec) {

@@ -16,6 +16,7 @@
 // timeout stops with exit code kClockSilentExit, naming the clock.
 #pragma once
 
+#include "batch_decode.hpp"
 #include "bus.hpp"
 #include "channels.hpp"
 
@@ -170,7 +171,7 @@ template <class B> void LockstepNode::add_input(const std::string& channel) {
   in->channel = channel;
   bus_.subscribe_raw(channel, [this, in](const std::string& ch, const void* data, int size) {
     auto b = std::make_shared<B>();
-    if (b->decode(data, 0, size) != size)
+    if (!decode_batch(data, size, *b))
       throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " (wrong type or corrupt)");
     on_batch(*in, b->header, b, message_digest(data, size));
   });

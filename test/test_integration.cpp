@@ -306,6 +306,60 @@ TEST_CASE("killing the runner takes every process of the run with it", "[integra
   }
 }
 
+TEST_CASE("an output folder that is not ours is refused (--out) and left intact", "[integration][files]") {
+  const fs::path d = scratch("foreign_out");
+  for (const char* name : {"mine", "mine2", "mine3"}) {
+    fs::create_directories(d / name);
+    std::ofstream(d / name / "thesis.txt") << "precious";
+  }
+  const auto run = sh(kRun + "--realizations 2 --out " + (d / "mine").string());
+  const auto exp = sh(kBuild + "/bin/rnav_export_prl --scenario " + kRoot + "/sim/scenarios/paper.json --out " +
+                      (d / "mine2").string());
+  // scripts/run also removes DIR.failed and DIR.old: a foreign one is refused the same way.
+  fs::create_directories(d / "fresh.failed");
+  std::ofstream(d / "fresh.failed" / "notes.txt") << "mine";
+  const auto failed = sh(kRun + "--realizations 2 --out " + (d / "fresh").string());
+  INFO(run.output << exp.output << failed.output);
+  CHECK(run.status != 0);
+  CHECK(run.output.find("thesis.txt") != std::string::npos);
+  CHECK(run.output.find("--force") != std::string::npos);
+  CHECK(exp.status != 0);
+  CHECK(exp.output.find("mine2") != std::string::npos);
+  CHECK(failed.status != 0);
+  CHECK(failed.output.find("fresh.failed") != std::string::npos);
+  for (const char* name : {"mine", "mine2"}) {
+    CHECK(slurp(d / name / "thesis.txt") == "precious");
+    CHECK(std::distance(fs::directory_iterator(d / name), fs::directory_iterator()) == 1);
+  }
+  CHECK(slurp(d / "fresh.failed" / "notes.txt") == "mine");
+  // An earlier output is replaced without --force; a foreign folder with it.
+  REQUIRE(sh(kRun + "--realizations 2 --no-plots --out " + (d / "ours").string()).status == 0);
+  CHECK(sh(kRun + "--realizations 2 --no-plots --out " + (d / "ours").string()).status == 0);
+  CHECK(sh(kRun + "--realizations 2 --no-plots --force --out " + (d / "mine3").string()).status == 0);
+  CHECK_FALSE(fs::exists(d / "mine3" / "thesis.txt"));
+  CHECK(fs::exists(d / "mine3" / "table2.json"));
+}
+
+TEST_CASE("a full disk is an error naming the file, not a truncated result", "[integration][files]") {
+  // A 64 kB tmpfs in a private mount namespace (root, or a user namespace); the export of one
+  // approach writes about 300 kB of CSV, so some write fails with ENOSPC.
+  const fs::path d = scratch("full_disk");
+  const std::string inner = "mount -t tmpfs -o size=64k tmpfs " + d.string() + " && " + kBuild +
+                            "/bin/rnav_export_prl --scenario " + kRoot + "/sim/scenarios/paper.json --out " +
+                            (d / "x").string();
+  Result r = sh("unshare -m sh -c '" + inner + "'");
+  if (r.output.find("mount") != std::string::npos || r.output.find("unshare") != std::string::npos)
+    r = sh("unshare -rm sh -c '" + inner + "'");
+  if (r.output.find("rnav_export_prl") == std::string::npos && r.output.find("export:") == std::string::npos) {
+    WARN("no private mount namespace here (" << r.output << "): the full-disk case is not exercised");
+    return;
+  }
+  INFO(r.output);
+  CHECK(r.status != 0);
+  CHECK(r.output.find("No space left on device") != std::string::npos);
+  CHECK(r.output.find(".partial") != std::string::npos);  // the file it was writing, named
+}
+
 TEST_CASE("bad scenario input is an error naming the key", "[integration][input]") {
   const fs::path d = scratch("bad");
   const std::string out = " --out " + (d / "out").string();

@@ -294,6 +294,14 @@ TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, win
     CHECK_THAT(with("garbage.lcmlog", v),
                Catch::Contains("event " + std::to_string(i) + " on channel PRL_APOI does not decode"));
   }
+  SECTION("a batch whose count claims 2^31 - 1 elements (found by fuzzing: it asked for ~100 GB)") {
+    auto v = ev;
+    const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 2);
+    REQUIRE(v[i].data.size() > 48);
+    v[i].data[44] = 0x7f, v[i].data[45] = 0xff, v[i].data[46] = 0xff, v[i].data[47] = 0xff;  // the count n
+    CHECK_THAT(with("count.lcmlog", v),
+               Catch::Contains("event " + std::to_string(i) + " on channel PRL_APOI does not decode"));
+  }
   SECTION("a log cut before the clock moved on") {
     auto v = ev;
     // Up to the last window's grant of realization 1 (its batches and the FINISH cut off).

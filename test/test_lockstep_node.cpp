@@ -113,7 +113,7 @@ TEST_CASE("lock-step node: a batch lost once is sent again on the consumer's WAI
   CHECK(sink.got.size() == 2);
 }
 
-TEST_CASE("lock-step node: a RESEND stands for a lost START; an identical copy is ignored", "[lockstep][loss]") {
+TEST_CASE("lock-step node: a RESEND stands for a lost START, an identical copy is ignored", "[lockstep][loss]") {
   rnav::InprocBus bus;
   Acks acks(bus);
   Source src(bus);

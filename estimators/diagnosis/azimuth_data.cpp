@@ -1,5 +1,7 @@
 #include "azimuth_data.hpp"
 
+#include "atomic_file.hpp"
+
 #include "config.hpp"
 #include "csv_table.hpp"
 
@@ -44,29 +46,29 @@ void AzimuthData::write_folder(const std::string& dir) const {
   std::filesystem::create_directories(dir);
   char b[200];
   {
-    std::ofstream f(dir + "/observer.csv");
-    f << "t_s,lat_deg,lon_deg,h_m\n";
+    std::string f = "t_s,lat_deg,lon_deg,h_m\n";
     for (const auto& s : observer) {
       std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
-      f << b;
+      f += b;
     }
+    write_file_atomic(dir, "observer.csv", f);
   }
   {
-    std::ofstream f(dir + "/bearings.csv");
-    f << "t_s,bearing_deg\n";
+    std::string f = "t_s,bearing_deg\n";
     for (const auto& fr : frames)
       for (double x : fr.bearings_rad) {
         std::snprintf(b, sizeof b, "%.6f,%.6f\n", fr.t_s, x / kDegToRad);
-        f << b;
+        f += b;
       }
+    write_file_atomic(dir, "bearings.csv", f);
   }
   if (!truth.empty()) {
-    std::ofstream f(dir + "/truth.csv");
-    f << "t_s,lat_deg,lon_deg\n";
+    std::string f = "t_s,lat_deg,lon_deg\n";
     for (const auto& s : truth) {
       std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f\n", s.t_s, s.g.lat_deg, s.g.lon_deg);
-      f << b;
+      f += b;
     }
+    write_file_atomic(dir, "truth.csv", f);
   }
 }
 

@@ -1,5 +1,7 @@
 #include "diagnose_report.hpp"
 
+#include "atomic_file.hpp"
+
 #include "config.hpp"
 #include "search_json.hpp"
 #include "stats.hpp"
@@ -127,8 +129,7 @@ std::vector<char> outlier_flags(const Problem& pb, const SearchResult& r) {
 }
 
 void DiagnoseReport::write_residuals_csv(const std::string& file) const {
-  std::ofstream f(file);
-  if (!f) throw ConfigError("cannot write " + file);
+  std::ostringstream f;
   char b[512];
   if (kind == "uav") {
     f << "t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier\n";
@@ -148,6 +149,7 @@ void DiagnoseReport::write_residuals_csv(const std::string& file) const {
     }
   }
   if (!f.flush()) throw ConfigError("cannot write " + file + " (disk full?)");
+  write_file_atomic(file, f.str());
 }
 
 nlohmann::ordered_json DiagnoseReport::to_json() const {

@@ -1,5 +1,7 @@
 #include "multi_diagnose.hpp"
 
+#include "atomic_file.hpp"
+
 #include "config.hpp"
 #include "multi_problem.hpp"
 #include "search_json.hpp"
@@ -122,8 +124,7 @@ std::string MultiReport::text() const {
 }
 
 void MultiReport::write_residuals_csv(const std::string& file) const {
-  std::ofstream f(file);
-  if (!f) throw ConfigError("cannot write " + file);
+  std::ostringstream f;
   f << "t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier\n";
   std::vector<std::size_t> pos(problem.channels.size(), 0);
   char b[256];
@@ -139,6 +140,7 @@ void MultiReport::write_residuals_csv(const std::string& file) const {
     f << b;
   }
   if (!f.flush()) throw ConfigError("cannot write " + file + " (disk full?)");
+  write_file_atomic(file, f.str());
 }
 
 }  // namespace rnav

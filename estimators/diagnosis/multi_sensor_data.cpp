@@ -1,5 +1,7 @@
 #include "multi_sensor_data.hpp"
 
+#include "atomic_file.hpp"
+
 #include "config.hpp"
 #include "csv_table.hpp"
 
@@ -10,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace rnav {
@@ -122,22 +125,17 @@ void read_truth(const std::string& file, MultiSensorData& d) {
   }
 }
 
-/// Opens `file` for writing; close() flushes and throws naming the file on any failure.
+/// A file's text, built in memory; close() writes it with write_file_atomic (exclusive partial
+/// file, every byte checked, renamed into place), throwing naming the file on any failure.
 class CheckedFile {
  public:
-  explicit CheckedFile(std::string file) : file_(std::move(file)), f_(file_, std::ios::trunc) {
-    if (!f_) throw std::runtime_error("cannot open " + file_ + " for writing");
-  }
-  std::ofstream& out() { return f_; }
-  void close() {
-    f_.flush();
-    f_.close();
-    if (!f_) throw std::runtime_error("error writing " + file_ + " (disk full?)");
-  }
+  explicit CheckedFile(std::string file) : file_(std::move(file)) {}
+  std::ostringstream& out() { return f_; }
+  void close() { write_file_atomic(file_, f_.str()); }
 
  private:
   std::string file_;
-  std::ofstream f_;
+  std::ostringstream f_;
 };
 
 /// "%.<prec>f" of x, or "" for NaN.

@@ -1,6 +1,7 @@
 #include "prl_flight_data.hpp"
 
 #include "config.hpp"
+#include "atomic_file.hpp"
 #include "csv_table.hpp"
 
 #include <cstdio>
@@ -23,14 +24,14 @@ std::vector<GeoSample> read_geo(const std::string& file) {
   return out;
 }
 
-void write_geo(const std::string& file, const std::vector<GeoSample>& v) {
-  std::ofstream f(file);
-  f << "t_s,lat_deg,lon_deg,h_m\n";
+std::string geo_csv(const std::vector<GeoSample>& v) {
+  std::string f = "t_s,lat_deg,lon_deg,h_m\n";
   char b[160];
   for (const auto& s : v) {
     std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
-    f << b;
+    f += b;
   }
+  return f;
 }
 }  // namespace
 
@@ -82,17 +83,17 @@ void PrlFlightData::write_folder(const std::string& dir) const {
                 {"h_m", radar_site.h_m}, {"azimuth_reference_deg", azimuth_reference_deg}};
   j["runway"] = {{"threshold_lat_deg", threshold.lat_deg}, {"threshold_lon_deg", threshold.lon_deg},
                  {"threshold_h_m", threshold.h_m}, {"heading_deg", heading_deg}};
-  std::ofstream(dir + "/site.json") << j.dump(2) << "\n";
-  std::ofstream f(dir + "/radar.csv");
-  f << "t_s,range_m,azimuth_deg,elevation_deg\n";
+  write_file_atomic(dir, "site.json", j.dump(2) + "\n");
+  std::string f = "t_s,range_m,azimuth_deg,elevation_deg\n";
   char b[160];
   for (std::size_t i = 0; i < plots.size(); ++i) {
     std::snprintf(b, sizeof b, "%.6f,%.4f,%.8f,%.8f\n", t_s[i], plots[i].range_m,
                   plots[i].course_rad / kDegToRad, plots[i].glide_rad / kDegToRad);
-    f << b;
+    f += b;
   }
-  write_geo(dir + "/nav.csv", nav);
-  if (!truth.empty()) write_geo(dir + "/truth.csv", truth);
+  write_file_atomic(dir, "radar.csv", f);
+  write_file_atomic(dir, "nav.csv", geo_csv(nav));
+  if (!truth.empty()) write_file_atomic(dir, "truth.csv", geo_csv(truth));
 }
 
 }  // namespace rnav

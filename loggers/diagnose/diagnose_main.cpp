@@ -4,6 +4,7 @@
 // (scripts/run --lcm-log FILE, lcm-logger): one realization (--realization, default 0), its
 // streams checked for loss and order; the site from --scenario (with --set) or else from the
 // log's SIM_SCENARIO. Prints the report; writes JSON.
+#include "atomic_file.hpp"
 #include "config.hpp"
 #include "lcm_log_input.hpp"
 #include "lcm_log_streams.hpp"
@@ -115,10 +116,7 @@ int main(int argc, char** argv) {
     }
     auto write_json = [&](const nlohmann::ordered_json& j) {
       if (json.empty()) return;
-      std::ofstream f(json + ".partial");
-      f << j.dump(2) << "\n";
-      f.close();
-      if (!f || std::rename((json + ".partial").c_str(), json.c_str()) != 0) throw std::runtime_error("cannot write " + json);
+      rnav::write_file_atomic(json, j.dump(2) + "\n");
     };
     if (kind == "multi") {
       if (log_options || !std::filesystem::is_directory(input))

@@ -37,7 +37,8 @@ const char* const kUsage =
     "       rnav_import_autoferry SCENARIO_DIR --sensor eo|ir --target 1|2 --out DIR\n"
     "         one camera's bearings and one target's truth in the azimuth-only format:\n"
     "         observer.csv, bearings.csv, truth.csv\n"
-    "SCENARIO_DIR holds NAME_detections.json and NAME_groundTruth.json, NAME = its folder name.\n";
+    "SCENARIO_DIR holds NAME_detections.json and NAME_groundTruth.json, NAME = its folder name.\n"
+    "DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.\n";
 
 const rnav::LocalLevelFrame& piren() {
   static const rnav::LocalLevelFrame f({63.4389029083, 10.39908278, 39.923}, 0.0);
@@ -247,8 +248,13 @@ int main(int argc, char** argv) {
     if (argc < 2) throw rnav::ConfigError(std::string("no SCENARIO_DIR\n") + kUsage);
     const std::string dir = argv[1];
     std::string sensor, out, target;
+    bool force = false;
     for (int i = 2; i < argc; ++i) {
       const std::string a = argv[i];
+      if (a == "--force") {
+        force = true;
+        continue;
+      }
       if (i + 1 >= argc) throw rnav::ConfigError("import: option " + a + " needs a value");
       if (a == "--sensor") sensor = argv[++i];
       else if (a == "--target") target = argv[++i];
@@ -256,6 +262,7 @@ int main(int argc, char** argv) {
       else throw rnav::ConfigError("import: unknown option " + a);
     }
     if (out.empty()) throw rnav::ConfigError("import: --out DIR is required");
+    rnav::prepare_output_dir(out, force);
     if (sensor.empty() && target.empty()) return import_multi(dir, out);
     return import_azimuth(dir, sensor.empty() ? "eo" : sensor, target.empty() ? 1 : std::stoi(target), out);
   } catch (const rnav::ConfigError& e) {

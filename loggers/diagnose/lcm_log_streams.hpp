@@ -12,6 +12,7 @@
 //   * events on other channels are counted (summary()), not read.
 #pragma once
 
+#include "batch_decode.hpp"
 #include "config.hpp"
 
 #include <rnav/batch_header_t.hpp>
@@ -98,7 +99,7 @@ template <class B> void LcmLogStreams::add_stream(const std::string& channel) {
   s->channel = channel;
   s->decode = [](const void* data, int size, batch_header_t& h, std::shared_ptr<const void>& out) {
     auto b = std::make_shared<B>();
-    if (b->decode(data, 0, size) != size) return false;
+    if (!decode_batch(data, size, *b)) return false;
     h = b->header;
     out = std::move(b);
     return true;

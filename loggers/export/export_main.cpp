@@ -1,6 +1,8 @@
 // rnav_export_prl: simulate one landing-approach realization (optionally with hidden effects,
 // prl_effects.*) and write it as a flight-test CSV folder for scripts/diagnose.
-// Usage: rnav_export_prl --scenario FILE [--set k=v]... [--seed S] [--realization R] --out DIR
+// Usage: rnav_export_prl --scenario FILE [--set k=v]... [--seed S] [--realization R] --out DIR [--force]
+// DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.
+#include "atomic_file.hpp"
 #include "config.hpp"
 #include "prl_export.hpp"
 
@@ -11,6 +13,7 @@ int main(int argc, char** argv) {
     std::string file, out;
     std::vector<std::string> overrides;
     int r = 0;
+    bool force = false;
     std::int64_t seed = 1;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -23,9 +26,11 @@ int main(int argc, char** argv) {
       else if (a == "--seed") seed = std::stoll(value());
       else if (a == "--realization") r = std::stoi(value());
       else if (a == "--out") out = value();
+      else if (a == "--force") force = true;
       else throw rnav::ConfigError("export: unknown option " + a);
     }
     if (file.empty() || out.empty()) throw rnav::ConfigError("export: --scenario and --out are required");
+    rnav::prepare_output_dir(out, force);
     const auto sc = rnav::Scenario::load(file, overrides);
     std::string failure;
     const int rc = rnav::export_prl_flight(sc, seed, r, out, &failure);

@@ -4,6 +4,7 @@
 //        rnav_clock --scenario FILE [--set k=v]... --check   (validate, print, exit)
 //        rnav_clock --print-kind FILE                        (prl or uav)
 #include "approach_trajectory.hpp"
+#include "atomic_file.hpp"
 #include "conductor.hpp"
 #include "lcm_bus.hpp"
 #include "node_main.hpp"
@@ -35,7 +36,7 @@ void write_events(const std::string& file, const rnav::Conductor& c, int n, std:
   j["resends"] = nlohmann::json::array();
   for (const auto& e : c.resends())
     j["resends"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"window", e.window}, {"reason", e.reason}});
-  std::ofstream(file) << j.dump(2) << "\n";
+  rnav::write_file_atomic(file, j.dump(2) + "\n");
 }
 
 }  // namespace
