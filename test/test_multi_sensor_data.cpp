@@ -154,10 +154,18 @@ TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
     CHECK(!fs::exists(dir / "truth.csv"));
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
   }
-  SECTION("a failed write (disk full) throws naming the file") {
-    if (!fs::exists("/dev/full")) return;
-    fs::create_symlink("/dev/full", dir / "detections.csv");
-    CHECK_THROWS_WITH(d.write_folder(dir.string()), Catch::Contains("detections.csv"));
+  SECTION("a link in place of a file is replaced, never written through; a failed write names the file") {
+    // (A full disk: test_integration's 64 kB tmpfs; here the partial file cannot be created.)
+    std::ofstream(dir / "victim.txt") << "precious";
+    fs::create_symlink(dir / "victim.txt", dir / "detections.csv");
+    d.write_folder(dir.string());
+    CHECK(fs::is_regular_file(fs::symlink_status(dir / "detections.csv")));
+    std::ifstream v(dir / "victim.txt");
+    std::string text;
+    v >> text;
+    CHECK(text == "precious");
+    fs::create_directories(dir / ".truth.csv.partial" / "in_the_way");
+    CHECK_THROWS_WITH(d.write_folder(dir.string()), Catch::Contains(".truth.csv.partial"));
   }
   fs::remove_all(dir);
 }

@@ -121,6 +121,7 @@ TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nomin
     return;
   }
   const fs::path out = fs::temp_directory_path() / "rnav_af4";
+  fs::remove_all(out);  // (the importer refuses a folder that is not its own output)
   const std::string cmd = std::string(RNAV_BINARY_DIR) + "/bin/rnav_import_autoferry " + sc +
                           " --sensor eo --target 1 --out " + out.string() + " 2>/dev/null";
   REQUIRE(std::system(cmd.c_str()) == 0);
