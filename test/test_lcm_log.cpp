@@ -302,6 +302,30 @@ TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, win
     CHECK_THAT(with("count.lcmlog", v),
                Catch::Contains("event " + std::to_string(i) + " on channel PRL_APOI does not decode"));
   }
+  SECTION("event headers that lie: a size of 2^31 - 1, a cut file, a lost sync word, a repeated event number") {
+    // The bounded reader checks every size against the file before reading (liblcm's reader
+    // allocated what the header claimed and crashed).
+    const std::string f = (d / "raw.lcmlog").string();
+    write_events(f, ev);
+    std::string bytes = slurp(f);
+    const std::size_t second = 28 + ev[0].channel.size() + ev[0].data.size();  // offset of event 1
+    auto patched = [&](const std::string& name, const std::string& b) {
+      const std::string g = (d / name).string();
+      std::ofstream(g, std::ios::binary) << b;
+      return error_of([&] { read_prl_lcm_log(g, realization(1)); });
+    };
+    std::string huge = bytes;
+    huge[second + 24] = '\x7f', huge[second + 25] = '\xff', huge[second + 26] = '\xff', huge[second + 27] = '\xff';
+    CHECK_THAT(patched("huge.lcmlog", huge), Catch::Contains("huge.lcmlog: event 1 (byte " + std::to_string(second) + ")") &&
+                                                 Catch::Contains("data length 2147483647 outside"));
+    CHECK_THAT(patched("cut.lcmlog", bytes.substr(0, bytes.size() - 5)), Catch::Contains("the log was cut"));
+    std::string nosync = bytes;
+    nosync[second] = 0;
+    CHECK_THAT(patched("nosync.lcmlog", nosync), Catch::Contains("event 1 (byte " + std::to_string(second) + "): no sync word"));
+    std::string renum = bytes;
+    for (int k = 4; k < 12; ++k) renum[second + static_cast<std::size_t>(k)] = 0;  // event 1 numbered 0 again
+    CHECK_THAT(patched("renum.lcmlog", renum), Catch::Contains("event number 0 after 0"));
+  }
   SECTION("a log cut before the clock moved on") {
     auto v = ev;
     // Up to the last window's grant of realization 1 (its batches and the FINISH cut off).

@@ -1,9 +1,9 @@
 #include "lcm_log_streams.hpp"
 
 #include "channels.hpp"
+#include "lcm_event_reader.hpp"
 #include "lockstep_node.hpp"
 
-#include <lcm/lcm-cpp.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -68,8 +68,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
   if (!std::filesystem::exists(file)) throw ConfigError(file + ": no such file");
   if (!is_lcm_log(file))
     throw ConfigError(file + ": not an LCM event log (it does not start with the sync word 0xEDA1DA01)");
-  lcm::LogFile log(file, "r");
-  if (!log.good()) throw ConfigError(file + ": cannot open for reading");
+  LcmEventReader log(file);  // bounded: every size checked against the file before it is read
 
   std::map<int, std::set<int>> attempts;  // realization -> attempts seen (grants and batches)
   std::vector<Grant> grants;               // START grants of `realization`, every attempt
@@ -77,7 +76,10 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
   std::string abort_reason;
   std::set<std::string> channels;
   std::size_t index = 0;
-  while (const lcm::LogEvent* e = log.readNextEvent()) {
+  LcmEvent event;
+  while (log.next(event)) {
+    const LcmEvent* e = &event;
+    const int datalen = static_cast<int>(e->data.size());
     ++index;
     ++n_events_;
     channels.insert(e->channel);
@@ -87,7 +89,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
     };
     if (e->channel == ch::kWindow) {
       sim_window_t w;
-      if (w.decode(e->data, 0, e->datalen) != e->datalen) throw undecodable("sim_window_t");
+      if (w.decode(e->data.data(), 0, datalen) != datalen) throw undecodable("sim_window_t");
       // A RESEND repeats its window's grant (a node that lost the START takes it as the START),
       // so it stands for a START the log lost; repeated grants of one window count once.
       if (w.command == sim_window_t::START || w.command == sim_window_t::RESEND) {
@@ -106,13 +108,13 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
       }
     } else if (e->channel == ch::kScenario) {
       sim_scenario_t s;
-      if (s.decode(e->data, 0, e->datalen) != e->datalen) throw undecodable("sim_scenario_t");
+      if (s.decode(e->data.data(), 0, datalen) != datalen) throw undecodable("sim_scenario_t");
       if (s.realization == realization) scenarios_[s.attempt] = s;
     } else if (Stream* s = find(e->channel)) {
       Item it;
       it.event = e->eventnum;
-      it.digest = message_digest(e->data, e->datalen);
-      if (!s->decode(e->data, e->datalen, it.h, it.msg)) throw undecodable("batch of " + s->channel);
+      it.digest = message_digest(e->data.data(), datalen);
+      if (!s->decode(e->data.data(), datalen, it.h, it.msg)) throw undecodable("batch of " + s->channel);
       attempts[it.h.realization].insert(it.h.attempt);
       if (it.h.realization == realization) s->items.push_back(std::move(it));
       else ++n_other_realizations_;
