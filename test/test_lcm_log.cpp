@@ -374,6 +374,72 @@ TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, win
   }
 }
 
+TEST_CASE("lcm log and CSV: values out of their physical range and corrupt time stamps are named, not used",
+          "[lcm_log][input]") {
+  const auto ev = read_events(paper_log());
+  const fs::path d = scratch("values");
+  auto log_error = [&](const std::string& name, const std::vector<Event>& events) {
+    const std::string f = (d / name).string();
+    write_events(f, events);
+    return error_of([&] { read_prl_lcm_log(f, realization(1)); });
+  };
+  auto with_plot = [&](const std::function<void(rnav::prl_plot_t&)>& change) {
+    auto v = ev;
+    const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 2);
+    auto b = decode<prl_plot_batch_t>(v[i]);
+    REQUIRE(b.plots.size() > 3);
+    change(b.plots[3]);
+    v[i] = encode(ch::kApoi, b);
+    return v;
+  };
+  // One flipped bit (bit 40) in a plot's time stamp: outside its batch's window (was: dropped).
+  CHECK_THAT(log_error("bit.lcmlog", with_plot([](rnav::prl_plot_t& p) { p.utime ^= std::int64_t{1} << 40; })),
+             Catch::Contains("PRL_APOI, realization 1, window 2") && Catch::Contains("outside the batch's window"));
+  CHECK_THAT(log_error("nan.lcmlog", with_plot([](rnav::prl_plot_t& p) { p.range_m = NAN; })),
+             Catch::Contains("radar plot") && Catch::Contains("range nan m outside"));
+  CHECK_THAT(log_error("huge.lcmlog", with_plot([](rnav::prl_plot_t& p) { p.course_rad = 1e6; })),
+             Catch::Contains("azimuth 1000000 rad"));
+
+  // The same layer behind the CSV reader: a nav header with latitude and longitude swapped, an
+  // observer at latitude 95, a range of 1e200 m, a time of 1e300 s.
+  const PrlFlightData ref = read_prl_lcm_log(paper_log(), realization(1));
+  auto csv_error = [&](const std::string& name, const std::function<void(const fs::path&)>& damage) {
+    const fs::path f = d / name;
+    ref.write_folder(f.string());
+    damage(f);
+    return error_of([&] { PrlFlightData::read_folder(f.string()); });
+  };
+  auto replace_first = [](const fs::path& file, const std::string& from, const std::string& to) {
+    std::string text = slurp(file);
+    const auto at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << text;
+  };
+  CHECK_THAT(csv_error("swapped", [&](const fs::path& f) { replace_first(f / "nav.csv", "t_s,lat_deg,lon_deg", "t_s,lon_deg,lat_deg"); }),
+             Catch::Contains("nav solution 0") && Catch::Contains("km from the radar site") && Catch::Contains("swapped"));
+  CHECK_THAT(csv_error("lat95", [&](const fs::path& f) {
+               std::string text = slurp(f / "nav.csv");
+               const auto row = text.find('\n') + 1, c1 = text.find(',', row) + 1, c2 = text.find(',', c1);
+               text.replace(c1, c2 - c1, "95");
+               std::ofstream(f / "nav.csv", std::ios::binary | std::ios::trunc) << text;
+             }),
+             Catch::Contains("nav.csv:2") && Catch::Contains("latitude/longitude out of range"));
+  CHECK_THAT(csv_error("range", [&](const fs::path& f) {
+               std::string text = slurp(f / "radar.csv");
+               const auto row = text.find('\n') + 1, c1 = text.find(',', row) + 1, c2 = text.find(',', c1);
+               text.replace(c1, c2 - c1, "1e200");
+               std::ofstream(f / "radar.csv", std::ios::binary | std::ios::trunc) << text;
+             }),
+             Catch::Contains("radar plot 0") && Catch::Contains("range 1e+200 m outside"));
+  CHECK_THAT(csv_error("time", [&](const fs::path& f) {
+               std::string text = slurp(f / "nav.csv");
+               text += "1e300,48.1,16.5,300\n";
+               std::ofstream(f / "nav.csv", std::ios::binary | std::ios::trunc) << text;
+             }),
+             Catch::Contains("time 1e+300 s"));
+}
+
 TEST_CASE("lcm log azimuth-only: the log gives exactly what the simulation published and the observer is the nav solution",
           "[lcm_log][uav]") {
   const fs::path d = scratch("uav");

@@ -4,6 +4,7 @@
 
 #include "config.hpp"
 #include "csv_table.hpp"
+#include "plausible.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -39,7 +40,29 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
   }
   if (d.observer.size() < 2) throw ConfigError(dir + "/observer.csv: fewer than 2 rows");
   if (d.frames.size() < 10) throw ConfigError(dir + "/bearings.csv: fewer than 10 frames");
+  d.validate(dir);
   return d;
+}
+
+void AzimuthData::validate(const std::string& source) const {
+  namespace pl = plausible;
+  for (std::size_t i = 0; i < observer.size(); ++i) {
+    const std::string at = source + ": observer sample " + std::to_string(i);
+    pl::time(at, observer[i].t_s);
+    pl::geodetic(at, observer[i].g);
+    if (i > 0) pl::near(at, observer[i].g, observer[0].g, "the observer's first position");
+  }
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const std::string at = source + ": bearing frame " + std::to_string(i);
+    pl::time(at, frames[i].t_s);
+    for (double b : frames[i].bearings_rad) pl::angle(at, "bearing", b);
+  }
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const std::string at = source + ": truth sample " + std::to_string(i);
+    pl::time(at, truth[i].t_s);
+    pl::geodetic(at, truth[i].g, false);
+    if (!observer.empty()) pl::near(at, truth[i].g, observer[0].g, "the observer's first position");
+  }
 }
 
 void AzimuthData::write_folder(const std::string& dir) const {

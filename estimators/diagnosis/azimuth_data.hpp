@@ -26,6 +26,10 @@ struct AzimuthData {
   std::vector<GeoSample> truth;  ///< h_m unused; empty without truth.csv
 
   static AzimuthData read_folder(const std::string& dir);
+  /// Every value within its physical range and every position near the observer's first one
+  /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
+  /// and LCM-log readers both call it.
+  void validate(const std::string& source) const;
   void write_folder(const std::string& dir) const;
 };
 

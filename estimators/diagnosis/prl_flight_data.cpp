@@ -3,6 +3,7 @@
 #include "config.hpp"
 #include "atomic_file.hpp"
 #include "csv_table.hpp"
+#include "plausible.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -73,7 +74,33 @@ PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   if (std::filesystem::exists(dir + "/truth.csv")) d.truth = read_geo(dir + "/truth.csv");
   if (d.plots.size() < 10) throw ConfigError(dir + "/radar.csv: fewer than 10 plots");
   if (d.nav.size() < 2) throw ConfigError(dir + "/nav.csv: fewer than 2 solutions");
+  d.validate(dir);
   return d;
+}
+
+void PrlFlightData::validate(const std::string& source) const {
+  namespace pl = plausible;
+  pl::geodetic(source + ": the radar site", radar_site);
+  pl::geodetic(source + ": the runway threshold", threshold);
+  pl::near(source + ": the runway threshold", threshold, radar_site, "the radar site");
+  if (t_s.size() != plots.size())
+    throw std::logic_error(source + ": " + std::to_string(t_s.size()) + " plot times for " + std::to_string(plots.size()) + " plots");
+  for (std::size_t i = 0; i < plots.size(); ++i) {
+    const std::string at = source + ": radar plot " + std::to_string(i);
+    pl::time(at, t_s[i]);
+    pl::range(at, plots[i].range_m);
+    pl::angle(at, "azimuth", plots[i].course_rad);
+    pl::angle(at, "elevation", plots[i].glide_rad);
+    if (i > 0 && t_s[i] < t_s[i - 1])
+      throw ConfigError(at + ": time " + std::to_string(t_s[i]) + " s before the previous plot's " + std::to_string(t_s[i - 1]) + " s");
+  }
+  for (const auto* list : {&nav, &truth})
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const std::string at = source + (list == &nav ? ": nav solution " : ": truth sample ") + std::to_string(i);
+      pl::time(at, (*list)[i].t_s);
+      pl::geodetic(at, (*list)[i].g);
+      pl::near(at, (*list)[i].g, radar_site, "the radar site");
+    }
 }
 
 void PrlFlightData::write_folder(const std::string& dir) const {

@@ -28,6 +28,10 @@ struct PrlFlightData {
   std::vector<GeoSample> truth;  ///< empty when there is no truth.csv
 
   static PrlFlightData read_folder(const std::string& dir);
+  /// Every value within its physical range and every position near the radar site
+  /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
+  /// and LCM-log readers both call it.
+  void validate(const std::string& source) const;
   void write_folder(const std::string& dir) const;
   LocalLevelFrame radar_frame() const { return LocalLevelFrame(radar_site, azimuth_reference_deg); }
 };

@@ -17,6 +17,23 @@ namespace rnav {
 
 namespace {
 
+// A batch holds the samples whose time falls in its window [utime_begin, utime_end): a sample
+// outside it has a corrupt time stamp (e.g. one flipped bit), which must not be dropped silently.
+struct WindowCheck {
+  std::string file, realization;
+  void operator()(const batch_header_t& h, std::int64_t utime, const char* channel) const {
+    if (utime < h.utime_begin || utime >= h.utime_end)
+      throw ConfigError(file + ": " + channel + realization + ", window " + std::to_string(h.window) + " (seq " +
+                        std::to_string(h.seq) + "): a sample at utime " + std::to_string(utime) +
+                        " us outside the batch's window [" + std::to_string(h.utime_begin) + ", " +
+                        std::to_string(h.utime_end) + ") us (a corrupt time stamp)");
+  }
+};
+
+}  // namespace
+
+namespace {
+
 // The scenario of the run: --scenario FILE if given, else the log's SIM_SCENARIO; --set
 // overrides on top. Its sim time 0 must be the log's (else it is another run's scenario).
 template <class Sc>
@@ -81,18 +98,27 @@ PrlFlightData read_prl_lcm_log(const std::string& file, const LcmLogOptions& o, 
   d.threshold = sc.runway.threshold;
   d.heading_deg = sc.runway.heading_deg;
   auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };
+  const std::string r = ", realization " + std::to_string(o.realization);
+  const WindowCheck in_window{file, r};
   for (const auto* b : log.batches<aircraft_truth_batch_t>(ch::kTruth))
-    for (const auto& s : b->states) d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+    for (const auto& s : b->states) {
+      in_window(b->header, s.utime, ch::kTruth);
+      d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+    }
   for (const auto* b : log.batches<prl_plot_batch_t>(ch::kApoi))
     for (const auto& p : b->plots) {
+      in_window(b->header, p.utime, ch::kApoi);
       d.t_s.push_back(t_of(p.utime));
       d.plots.push_back({p.range_m, p.course_rad, p.glide_rad});
     }
   for (const auto* b : log.batches<nav_batch_t>(ch::kNav))
-    for (const auto& n : b->solutions) d.nav.push_back({t_of(n.utime), {n.lat_deg, n.lon_deg, n.h_m}});
-  const std::string r = ", realization " + std::to_string(o.realization);
+    for (const auto& n : b->solutions) {
+      in_window(b->header, n.link_utime, ch::kNav);  // a nav batch holds the solutions received in its window
+      d.nav.push_back({t_of(n.utime), {n.lat_deg, n.lon_deg, n.h_m}});
+    }
   if (d.plots.size() < 10) throw ConfigError(file + ": " + ch::kApoi + r + ": fewer than 10 plots");
   if (d.nav.size() < 2) throw ConfigError(file + ": " + ch::kNav + r + ": fewer than 2 solutions");
+  d.validate(file + r);
   if (summary) *summary = log.summary() + scenario_note(o);
   return d;
 }
@@ -107,20 +133,29 @@ AzimuthData read_uav_lcm_log(const std::string& file, const LcmLogOptions& o, st
 
   AzimuthData d;
   auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };
+  const std::string r = ", realization " + std::to_string(o.realization);
+  const WindowCheck in_window{file, r};
   for (const auto* b : log.batches<observer_batch_t>(ch::kUavNav))
-    for (const auto& s : b->states) d.observer.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+    for (const auto& s : b->states) {
+      in_window(b->header, s.utime, ch::kUavNav);
+      d.observer.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, s.h_m}});
+    }
   std::int64_t last = 0;
   for (const auto* b : log.batches<bearing_batch_t>(ch::kUavBearing))
     for (const auto& x : b->bearings) {
+      in_window(b->header, x.utime, ch::kUavBearing);
       if (d.frames.empty() || x.utime != last) d.frames.push_back({t_of(x.utime), {}});
       last = x.utime;
       d.frames.back().bearings_rad.push_back(x.bearing_rad);
     }
   for (const auto* b : log.batches<target_truth_batch_t>(ch::kTruthTarget))
-    for (const auto& s : b->states) d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, 0.0}});
-  const std::string r = ", realization " + std::to_string(o.realization);
+    for (const auto& s : b->states) {
+      in_window(b->header, s.utime, ch::kTruthTarget);
+      d.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, 0.0}});
+    }
   if (d.observer.size() < 2) throw ConfigError(file + ": " + ch::kUavNav + r + ": fewer than 2 states");
   if (d.frames.size() < 10) throw ConfigError(file + ": " + ch::kUavBearing + r + ": fewer than 10 frames");
+  d.validate(file + r);
   if (summary) *summary = log.summary() + scenario_note(o);
   return d;
 }

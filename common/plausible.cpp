@@ -1,0 +1,57 @@
+#include "plausible.hpp"
+
+#include "config.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace rnav::plausible {
+
+namespace {
+
+std::string num(double x) {
+  std::ostringstream o;
+  o.precision(10);
+  o << x;
+  return o.str();
+}
+
+}  // namespace
+
+void time(const std::string& where, double t_s) {
+  if (!std::isfinite(t_s) || std::abs(t_s) > kMaxAbsTimeS)
+    throw ConfigError(where + ": time " + num(t_s) + " s is not finite or beyond +-" + num(kMaxAbsTimeS) + " s");
+}
+
+void geodetic(const std::string& where, const Geodetic& g, bool check_height) {
+  if (!std::isfinite(g.lat_deg) || std::abs(g.lat_deg) > 90)
+    throw ConfigError(where + ": latitude " + num(g.lat_deg) + " deg outside [-90, 90]");
+  if (!std::isfinite(g.lon_deg) || g.lon_deg < -180 || g.lon_deg > 360)
+    throw ConfigError(where + ": longitude " + num(g.lon_deg) + " deg outside [-180, 360]");
+  if (check_height && (!std::isfinite(g.h_m) || g.h_m < kMinHeightM || g.h_m > kMaxHeightM))
+    throw ConfigError(where + ": height " + num(g.h_m) + " m outside [" + num(kMinHeightM) + ", " + num(kMaxHeightM) + "]");
+}
+
+void range(const std::string& where, double range_m) {
+  if (!std::isfinite(range_m) || range_m <= 0 || range_m > kMaxRangeM)
+    throw ConfigError(where + ": range " + num(range_m) + " m outside (0, " + num(kMaxRangeM) + "]");
+}
+
+void angle(const std::string& where, const std::string& name, double rad) {
+  if (!std::isfinite(rad) || std::abs(rad) > kMaxAbsAngleRad)
+    throw ConfigError(where + ": " + name + " " + num(rad) + " rad is not finite or beyond two turns");
+}
+
+void near(const std::string& where, const Geodetic& g, const Geodetic& c, const std::string& centre_name) {
+  constexpr double kR = 6378137.0, kDeg = 3.14159265358979323846 / 180;
+  const double dlat = (g.lat_deg - c.lat_deg) * kDeg, dlon = (g.lon_deg - c.lon_deg) * kDeg;
+  const double a = std::pow(std::sin(dlat / 2), 2) +
+                   std::cos(g.lat_deg * kDeg) * std::cos(c.lat_deg * kDeg) * std::pow(std::sin(dlon / 2), 2);
+  const double d = 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
+  if (!(d <= kMaxSceneDistanceM))
+    throw ConfigError(where + ": position (" + num(g.lat_deg) + ", " + num(g.lon_deg) + ") is " + num(d / 1000) +
+                      " km from " + centre_name + " (" + num(c.lat_deg) + ", " + num(c.lon_deg) + "), more than " +
+                      num(kMaxSceneDistanceM / 1000) + " km: latitude and longitude swapped, or another place");
+}
+
+}  // namespace rnav::plausible
