@@ -362,6 +362,18 @@ TEST_CASE("Autoferry import: malformed JSON is named by file and record", "[mult
     fails_with(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0],"measurement":0.5})", gt_ok,
                {"scenarioX_detections.json record 1", "ownshipPosition"});
   }
+  SECTION("the azimuth-only mode checks the same (it indexed a short ownshipPosition out of bounds)") {
+    const std::string az = kImport + " " + sc.string() + " --sensor eo --target 1 --out " + (tmp / "out_az").string();
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[0],"measurement":0.5})", gt_ok);
+    CHECK(run(az, tmp, err) != 0);
+    CHECK(err.find("record 1: ownshipPosition has 1 numbers, not 2") != std::string::npos);
+    write(eo_ok, R"([{"targetID":1,"position":[1],"time":10.0}])");
+    CHECK(run(az, tmp, err) != 0);
+    CHECK(err.find("ground-truth record 1: position has 1 numbers") != std::string::npos);
+    write(R"({"sensorID":4,"time":"soon","ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    CHECK(run(az, tmp, err) != 0);
+    CHECK(err.find("record 1: time is not a number") != std::string::npos);
+  }
   SECTION("ragged radar rows") {
     fails_with(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok,
                {"record 1", "differ in length"});

@@ -49,52 +49,7 @@ rnav::Geodetic piren_geo(double n, double e, double d = 0.0) {
   return piren().to_geodetic(Eigen::Vector3d(n, -d, e));
 }
 
-// ---- the azimuth-only mode (unchanged behaviour; scripts/autoferry_study uses it) ----
-int import_azimuth(const std::string& dir, const std::string& sensor, int target, const std::string& out) {
-  if (sensor != "eo" && sensor != "ir") throw rnav::ConfigError("import: --sensor must be eo or ir");
-  if (target != 1 && target != 2) throw rnav::ConfigError("import: --target must be 1 or 2");
-  const std::string name = std::filesystem::path(dir).filename().string();
-  const auto det = rnav::load_json_file(dir + "/" + name + "_detections.json");
-  const auto gt = rnav::load_json_file(dir + "/" + name + "_groundTruth.json");
-  if (!det.is_array() || !gt.is_array() || det.size() != gt.size())
-    throw rnav::ConfigError(dir + ": detections and ground truth must be arrays of equal length");
-  auto geo = [&](double n, double e) { return piren_geo(n, e); };
-  const int sid = sensor == "eo" ? 4 : 3;
-  rnav::AzimuthData d;
-  std::map<double, std::pair<double, double>> truth;
-  for (std::size_t i = 0; i < det.size(); ++i) {
-    const auto& r = det[i];
-    const std::string where = dir + " record " + std::to_string(i);
-    if (!r.contains("sensorID") || !r.contains("time") || !r.contains("ownshipPosition"))
-      throw rnav::ConfigError(where + ": missing sensorID, time or ownshipPosition");
-    for (const auto& g : gt[i])
-      if (g.at("targetID").get<int>() == target)
-        truth[g.at("time").get<double>()] = {g.at("position")[0].get<double>(), g.at("position")[1].get<double>()};
-    if (r["sensorID"].get<int>() != sid) continue;
-    const double t = r["time"].get<double>();
-    const auto& own = r["ownshipPosition"];
-    if (!d.observer.empty() && t <= d.observer.back().t_s) continue;  // keep time order per sensor
-    d.observer.push_back({t, geo(own[0].get<double>(), own[1].get<double>())});
-    const auto& m = r["measurement"];
-    rnav::BearingFrame f{t, {}};
-    if (m.is_number()) f.bearings_rad.push_back(m.get<double>());
-    else if (m.is_array())
-      for (const auto& b : m) f.bearings_rad.push_back(b.get<double>());
-    else throw rnav::ConfigError(where + ": measurement is neither a number nor a list");
-    if (!f.bearings_rad.empty()) d.frames.push_back(f);
-  }
-  for (const auto& [t, p] : truth) {
-    const auto g = geo(p.first, p.second);
-    d.truth.push_back({t, {g.lat_deg, g.lon_deg, 0.0}});
-  }
-  d.write_folder(out);
-  std::cerr << "import: " << d.observer.size() << " observer rows, " << d.frames.size()
-            << " frames with detections, " << d.truth.size() << " truth samples of target " << target << "\n";
-  return 0;
-}
-
-// ---- the multi-sensor mode: every JSON value checked before use ----
-
+// ---- JSON values checked before use (both modes) ----
 /// Throws ConfigError "WHERE: WHAT".
 [[noreturn]] void bad(const std::string& where, const std::string& what) {
   throw rnav::ConfigError(where + ": " + what);
@@ -119,6 +74,58 @@ std::vector<double> finite_list(const json& v, const std::string& where, const s
   for (std::size_t k = 0; k < v.size(); ++k) out.push_back(finite(v[k], where, what + "[" + std::to_string(k) + "]"));
   return out;
 }
+
+
+// ---- the azimuth-only mode (unchanged behaviour; scripts/autoferry_study uses it) ----
+int import_azimuth(const std::string& dir, const std::string& sensor, int target, const std::string& out) {
+  if (sensor != "eo" && sensor != "ir") throw rnav::ConfigError("import: --sensor must be eo or ir");
+  if (target != 1 && target != 2) throw rnav::ConfigError("import: --target must be 1 or 2");
+  const std::string name = std::filesystem::path(dir).filename().string();
+  const auto det = rnav::load_json_file(dir + "/" + name + "_detections.json");
+  const auto gt = rnav::load_json_file(dir + "/" + name + "_groundTruth.json");
+  if (!det.is_array() || !gt.is_array() || det.size() != gt.size())
+    throw rnav::ConfigError(dir + ": detections and ground truth must be arrays of equal length");
+  auto geo = [&](double n, double e) { return piren_geo(n, e); };
+  const int sid = sensor == "eo" ? 4 : 3;
+  rnav::AzimuthData d;
+  std::map<double, std::pair<double, double>> truth;
+  for (std::size_t i = 0; i < det.size(); ++i) {
+    const auto& r = det[i];
+    const std::string where = dir + " record " + std::to_string(i);
+    if (!r.is_object()) bad(where, "not an object");
+    if (!gt[i].is_array()) bad(dir + " ground-truth record " + std::to_string(i), "not a list");
+    for (const auto& g : gt[i]) {
+      const std::string gw = dir + " ground-truth record " + std::to_string(i);
+      if (!g.is_object()) bad(gw, "an entry is not an object");
+      if (finite(member(g, "targetID", gw), gw, "targetID") != target) continue;
+      const auto pos = finite_list(member(g, "position", gw), gw, "position");
+      if (pos.size() < 2) bad(gw, "position has " + std::to_string(pos.size()) + " numbers, not [N, E(, D)]");
+      truth[finite(member(g, "time", gw), gw, "time")] = {pos[0], pos[1]};
+    }
+    if (finite(member(r, "sensorID", where), where, "sensorID") != sid) continue;
+    const double t = finite(member(r, "time", where), where, "time");
+    const auto own = finite_list(member(r, "ownshipPosition", where), where, "ownshipPosition");
+    if (own.size() != 2) bad(where, "ownshipPosition has " + std::to_string(own.size()) + " numbers, not 2 [N, E]");
+    if (!d.observer.empty() && t <= d.observer.back().t_s) continue;  // keep time order per sensor
+    d.observer.push_back({t, geo(own[0], own[1])});
+    const auto& m = member(r, "measurement", where);
+    rnav::BearingFrame f{t, {}};
+    if (m.is_number()) f.bearings_rad.push_back(finite(m, where, "measurement"));
+    else if (m.is_array()) f.bearings_rad = finite_list(m, where, "measurement");
+    else bad(where, "measurement is neither a number nor a list");
+    if (!f.bearings_rad.empty()) d.frames.push_back(f);
+  }
+  for (const auto& [t, p] : truth) {
+    const auto g = geo(p.first, p.second);
+    d.truth.push_back({t, {g.lat_deg, g.lon_deg, 0.0}});
+  }
+  d.write_folder(out);
+  std::cerr << "import: " << d.observer.size() << " observer rows, " << d.frames.size()
+            << " frames with detections, " << d.truth.size() << " truth samples of target " << target << "\n";
+  return 0;
+}
+
+// ---- the multi-sensor mode: every JSON value checked before use ----
 
 /// Rounded to the microsecond that the CSV files hold [s].
 double to_us(double t_s) { return std::round(t_s * 1e6) / 1e6; }
