@@ -6,13 +6,15 @@
 
 namespace rnav {
 
-namespace {
-std::string fmt(double v) {
+std::string value_text(double v) {
   std::ostringstream o;
   o.precision(10);
   o << v;
   return o.str();
 }
+
+namespace {
+std::string fmt(double v) { return value_text(v); }
 }  // namespace
 
 Section::Section(const nlohmann::json& j, std::string path) : j_(j), path_(std::move(path)) {

@@ -63,6 +63,9 @@ class Section {
 };
 
 /// The scenario kind of a file: its top-level "kind" ("prl" when absent).
+/// x with 10 significant digits, as error messages quote values.
+std::string value_text(double x);
+
 std::string scenario_kind(const std::string& file);
 
 /// Load a JSON file; errors name the file and the parse position.

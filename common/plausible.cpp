@@ -3,18 +3,12 @@
 #include "config.hpp"
 
 #include <cmath>
-#include <sstream>
 
 namespace rnav::plausible {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream o;
-  o.precision(10);
-  o << x;
-  return o.str();
-}
+std::string num(double x) { return value_text(x); }
 
 }  // namespace
 

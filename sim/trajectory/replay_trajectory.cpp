@@ -9,12 +9,7 @@
 namespace rnav {
 
 namespace {
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return value_text(v); }
 }  // namespace
 
 ReplayTrajectory::ReplayTrajectory(const std::string& csv_file, const LocalLevelFrame& frame_L,
