@@ -2,9 +2,28 @@
 
 #include <cmath>
 #include <fstream>
+#include <cctype>
 #include <sstream>
 
 namespace rnav {
+
+long long parse_integer(const std::string& option, const std::string& text, long long lo, long long hi) {
+  std::size_t pos = 0;
+  long long x = 0;
+  bool ok = !text.empty() && (std::isdigit(static_cast<unsigned char>(text[0])) || text[0] == '-');
+  if (ok) {
+    try {
+      x = std::stoll(text, &pos);
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || pos != text.size())
+    throw ConfigError(option + ": '" + text + "' is not an integer");
+  if (x < lo || x > hi)
+    throw ConfigError(option + ": " + text + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return x;
+}
 
 std::string value_text(double v) {
   std::ostringstream o;

@@ -63,6 +63,10 @@ class Section {
 };
 
 /// The scenario kind of a file: its top-level "kind" ("prl" when absent).
+/// A command-line integer: the whole text a decimal integer within [lo, hi], else ConfigError
+/// naming the option and the text (no silent truncation: 4294967297 is not 1).
+long long parse_integer(const std::string& option, const std::string& text, long long lo, long long hi);
+
 /// x with 10 significant digits, as error messages quote values.
 std::string value_text(double x);
 

@@ -187,3 +187,16 @@ TEST_CASE("load_json_file and Scenario::load name the file", "[config]") {
   CHECK_THAT(m2, Contains(ok));
   CHECK_THAT(m2, Contains("prl.bias_rang_m"));
 }
+
+TEST_CASE("command-line integers: whole text, in range, never truncated", "[config][input]") {
+  CHECK(rnav::parse_integer("--realizations", "7", 1, 1000000000) == 7);
+  CHECK(rnav::parse_integer("--seed", "-12", -100, 100) == -12);
+  // 4294967297 = 2^32 + 1 used to run one realization (truncated to int).
+  CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "4294967297", 1, 1000000000),
+                    Catch::Contains("--realizations: 4294967297 is outside [1, 1000000000]"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "12x", 1, 10), Catch::Contains("'12x' is not an integer"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "", 1, 10), Catch::Contains("'' is not an integer"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--realizations", " 5", 1, 10), Catch::Contains("is not an integer"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "-3", 1, 10), Catch::Contains("outside [1, 10]"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--seed", "99999999999999999999", -5, 5), Catch::Contains("not an integer"));
+}

@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
     if (out.empty()) throw rnav::ConfigError("import: --out DIR is required");
     rnav::prepare_output_dir(out, force);
     if (sensor.empty() && target.empty()) return import_multi(dir, out);
-    return import_azimuth(dir, sensor.empty() ? "eo" : sensor, target.empty() ? 1 : std::stoi(target), out);
+    return import_azimuth(dir, sensor.empty() ? "eo" : sensor, target.empty() ? 1 : static_cast<int>(rnav::parse_integer("--target", target, 1, 2)), out);
   } catch (const rnav::ConfigError& e) {
     std::cerr << "import: error: " << e.what() << "\n";
     return 2;

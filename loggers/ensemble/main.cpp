@@ -4,6 +4,7 @@
 #include "node_main.hpp"
 
 #include <iostream>
+#include <limits>
 
 int main(int argc, char** argv) {
   try {
@@ -19,8 +20,8 @@ int main(int argc, char** argv) {
       };
       if (a == "--scenario") file = value();
       else if (a == "--set") overrides.push_back(value());
-      else if (a == "--realizations") n = std::stoi(value());
-      else if (a == "--seed") seed = std::stoll(value());
+      else if (a == "--realizations") n = static_cast<int>(rnav::parse_integer(a, value(), 1, 1000000000));
+      else if (a == "--seed") seed = rnav::parse_integer(a, value(), std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
       else if (a == "--out") out = value();
       else if (a == "--drop") drops.push_back(value());
       else throw rnav::ConfigError("inproc: unknown option " + a);

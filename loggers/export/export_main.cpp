@@ -7,6 +7,7 @@
 #include "prl_export.hpp"
 
 #include <iostream>
+#include <limits>
 
 int main(int argc, char** argv) {
   try {
@@ -23,8 +24,8 @@ int main(int argc, char** argv) {
       };
       if (a == "--scenario") file = value();
       else if (a == "--set") overrides.push_back(value());
-      else if (a == "--seed") seed = std::stoll(value());
-      else if (a == "--realization") r = std::stoi(value());
+      else if (a == "--seed") seed = rnav::parse_integer(a, value(), std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+      else if (a == "--realization") r = static_cast<int>(rnav::parse_integer(a, value(), 0, 1000000000));
       else if (a == "--out") out = value();
       else if (a == "--force") force = true;
       else throw rnav::ConfigError("export: unknown option " + a);

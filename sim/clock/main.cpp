@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
       };
       if (a == "--scenario") scenario_file = value();
       else if (a == "--set") overrides.push_back(value());
-      else if (a == "--realizations") o.n_realizations = static_cast<int>(integer(value()));
+      else if (a == "--realizations") o.n_realizations = static_cast<int>(rnav::parse_integer(a, value(), 1, 1000000000));
       else if (a == "--seed") o.seed = integer(value());
       else if (a == "--nodes") nodes = value();
       else if (a == "--realtime") o.realtime = true;
