@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <cctype>
+#include <set>
 #include <sstream>
 
 namespace rnav {
@@ -172,14 +173,41 @@ void Section::finish() const {
   if (!unknown.empty()) throw ConfigError("unknown scenario key(s): " + unknown);
 }
 
+namespace {
+template <class Input>
+nlohmann::json parse_checked(Input&& in, const std::string& source, bool allow_comments) {
+  std::vector<std::set<std::string>> keys;  // of each object being parsed
+  const nlohmann::json::parser_callback_t check = [&](int depth, nlohmann::json::parse_event_t event,
+                                                      nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (depth > kMaxJsonDepth)
+      throw ConfigError(source + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    if (event == E::object_start) keys.emplace_back();
+    else if (event == E::object_end && !keys.empty()) keys.pop_back();
+    else if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
+      throw ConfigError(source + ": key '" + parsed.get<std::string>() + "' appears twice in one object");
+    return true;
+  };
+  try {
+    return nlohmann::json::parse(std::forward<Input>(in), check, true, allow_comments);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ConfigError(source + ": " + e.what());
+  }
+}
+}  // namespace
+
+nlohmann::json parse_json_checked(std::istream& in, const std::string& source, bool allow_comments) {
+  return parse_checked(in, source, allow_comments);
+}
+
+nlohmann::json parse_json_checked(const std::string& text, const std::string& source, bool allow_comments) {
+  return parse_checked(text, source, allow_comments);
+}
+
 nlohmann::json load_json_file(const std::string& file) {
   std::ifstream in(file);
   if (!in) throw ConfigError("cannot open scenario file '" + file + "'");
-  try {
-    return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError("scenario file '" + file + "': " + e.what());
-  }
+  return parse_json_checked(in, "scenario file '" + file + "'", /*allow_comments=*/true);
 }
 
 std::string scenario_kind(const std::string& file) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <set>
 #include <stdexcept>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,14 @@ class Section {
 };
 
 /// The scenario kind of a file: its top-level "kind" ("prl" when absent).
+/// [levels] JSON nesting allowed in any input (scenarios: 4; Autoferry and ADS-B files: 3).
+inline constexpr int kMaxJsonDepth = 64;
+/// Parse JSON text from an input, rejecting a key repeated within one object (naming it and
+/// `source`) and nesting deeper than kMaxJsonDepth (checked while parsing, before a deep value
+/// exists). Throws ConfigError naming `source` on any error.
+nlohmann::json parse_json_checked(std::istream& in, const std::string& source, bool allow_comments);
+nlohmann::json parse_json_checked(const std::string& text, const std::string& source, bool allow_comments);
+
 /// A command-line integer: the whole text a decimal integer within [lo, hi], else ConfigError
 /// naming the option and the text (no silent truncation: 4294967297 is not 1).
 long long parse_integer(const std::string& option, const std::string& text, long long lo, long long hi);

@@ -200,3 +200,16 @@ TEST_CASE("command-line integers: whole text, in range, never truncated", "[conf
   CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "-3", 1, 10), Catch::Contains("outside [1, 10]"));
   CHECK_THROWS_WITH(rnav::parse_integer("--seed", "99999999999999999999", -5, 5), Catch::Contains("not an integer"));
 }
+
+TEST_CASE("JSON input: a repeated key and deep nesting are errors, not the last value or a crash", "[config][input]") {
+  CHECK_THROWS_WITH(rnav::parse_json_checked(std::string(R"({"radar": {"x_m": 1, "x_m": 2}})"), "scenario.json", true),
+                    Catch::Contains("scenario.json: key 'x_m' appears twice in one object"));
+  // The same key in two objects is fine.
+  CHECK(rnav::parse_json_checked(std::string(R"({"a": {"x": 1}, "b": {"x": 2}})"), "s", true)["b"]["x"] == 2);
+  // 70 000 levels (it overflowed the stack): stopped at the limit while parsing.
+  const std::string deep = std::string(70000, '[') + std::string(70000, ']');
+  CHECK_THROWS_WITH(rnav::parse_json_checked(deep, "deep.json", false),
+                    Catch::Contains("deep.json: JSON nested deeper than 64 levels"));
+  const std::string ok = std::string(60, '[') + std::string(60, ']');
+  CHECK_NOTHROW(rnav::parse_json_checked(ok, "ok.json", false));
+}

@@ -56,12 +56,7 @@ Sc scenario_of(const LcmLogStreams& log, const LcmLogOptions& o, const std::stri
       throw ConfigError(log.file() + ": the log holds a '" + s->kind + "' run (SIM_SCENARIO); use diagnose " +
                         s->kind);
     const std::string what = log.file() + ": SIM_SCENARIO (scenario " + s->source + ")";
-    nlohmann::json doc;
-    try {
-      doc = nlohmann::json::parse(s->scenario_json);
-    } catch (const nlohmann::json::exception& e) {
-      throw ConfigError(what + ": not valid JSON: " + e.what());
-    }
+    nlohmann::json doc = parse_json_checked(s->scenario_json, what + ": not valid JSON", /*allow_comments=*/false);
     try {
       for (const auto& ov : o.overrides) apply_override(doc, ov);
       sc = Sc::from_json(doc);

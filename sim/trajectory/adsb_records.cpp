@@ -42,11 +42,7 @@ double required(const nlohmann::json& r, const char* key, const std::string& whe
 
 std::vector<AdsbRecord> parse_adsb_records(const std::string& text, const std::string& source) {
   nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ConfigError(source + ": not valid JSON: " + e.what());
-  }
+  doc = parse_json_checked(text, source + ": not valid JSON", /*allow_comments=*/false);
   if (!doc.is_array()) throw ConfigError(source + ": expected a JSON array of records");
   std::vector<AdsbRecord> out;
   out.reserve(doc.size());
