@@ -1,6 +1,7 @@
 #include "lockstep_node.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -34,10 +35,19 @@ DropSpec DropSpec::parse(const std::string& text) {
 }
 
 std::uint64_t message_digest(const void* data, int size) {
-  // FNV-1a, 64 bit
-  std::uint64_t h = 14695981039346656037ULL;
+  // FNV-1a's scheme over 8-byte words (eight times fewer steps than per byte), each word mixed
+  // by a rotate before the multiply; then the tail bytes. Not cryptographic: it tells a resend
+  // from a different batch, which no adversary chooses.
+  std::uint64_t h = 14695981039346656037ULL ^ static_cast<std::uint64_t>(size);
   const auto* p = static_cast<const std::uint8_t*>(data);
-  for (int i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ULL;
+  int i = 0;
+  for (; i + 8 <= size; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, p + i, 8);
+    h = (h ^ w) * 1099511628211ULL;
+    h ^= h >> 29;
+  }
+  for (; i < size; ++i) h = (h ^ p[i]) * 1099511628211ULL;
   return h;
 }
 

@@ -160,7 +160,7 @@ class LockstepNode {
   int published_ = 0, duplicates_ignored_ = 0, republished_ = 0;
 };
 
-/// FNV-1a 64-bit digest of a message's bytes (tells a resend from a different batch).
+/// A 64-bit digest of a message's bytes (FNV-1a over words; tells a resend from a different batch).
 std::uint64_t message_digest(const void* data, int size);
 
 // ---- template implementation ----
