@@ -31,6 +31,11 @@ void range(const std::string& where, double range_m) {
     throw ConfigError(where + ": range " + num(range_m) + " m outside (0, " + num(kMaxRangeM) + "]");
 }
 
+void after(const std::string& where, double t_s, double prev_t_s) {
+  if (!(t_s > prev_t_s))
+    throw ConfigError(where + ": time " + num(t_s) + " s is not after the previous sample's " + num(prev_t_s) + " s");
+}
+
 void angle(const std::string& where, const std::string& name, double rad) {
   if (!std::isfinite(rad) || std::abs(rad) > kMaxAbsAngleRad)
     throw ConfigError(where + ": " + name + " " + num(rad) + " rad is not finite or beyond two turns");

@@ -28,6 +28,9 @@ inline constexpr double kMaxSceneDistanceM = 2e6;
 void time(const std::string& where, double t_s);
 void geodetic(const std::string& where, const Geodetic& g, bool check_height = true);
 void range(const std::string& where, double range_m);
+/// Strict time order of a sampled stream: t_s after prev_t_s (a corrupt time stamp, or samples
+/// out of order, would otherwise be sorted away or interpolated across silently).
+void after(const std::string& where, double t_s, double prev_t_s);
 void angle(const std::string& where, const std::string& name, double rad);
 /// `g` within kMaxSceneDistanceM of `centre` (the site or first observer position), by the
 /// haversine distance on a sphere of the WGS84 equatorial radius (enough for a bound).

@@ -399,6 +399,24 @@ TEST_CASE("lcm log and CSV: values out of their physical range and corrupt time 
              Catch::Contains("radar plot") && Catch::Contains("range nan m outside"));
   CHECK_THAT(log_error("huge.lcmlog", with_plot([](rnav::prl_plot_t& p) { p.course_rad = 1e6; })),
              Catch::Contains("azimuth 1000000 rad"));
+  // A nav solution's time of validity is not bound by its batch's window (that is its arrival,
+  // link_utime), so a flipped bit there needs its own checks: a time of validity after the
+  // arrival or more than 10 s before it (bit 40: 12.7 days), and one out of order (bit 20:
+  // 1.05 s, the paper's nav solutions are 1 s apart). Was: plots dropped without a word.
+  auto with_nav = [&](const std::function<void(rnav::nav_solution_t&)>& change) {
+    auto v = ev;
+    std::size_t i = 0;
+    nav_batch_t b;
+    for (int w = 1; b.solutions.empty(); ++w) b = decode<nav_batch_t>(v[i = find_batch<nav_batch_t>(v, ch::kNav, 1, 1, w)]);
+    INFO("window " << b.header.window);
+    change(b.solutions[0]);
+    v[i] = encode(ch::kNav, b);
+    return v;
+  };
+  CHECK_THAT(log_error("nav40.lcmlog", with_nav([](rnav::nav_solution_t& n) { n.utime ^= std::int64_t{1} << 40; })),
+             Catch::Contains("NAV_SOLUTION, realization 1, window 1") && Catch::Contains("time of validity"));
+  CHECK_THAT(log_error("nav20.lcmlog", with_nav([](rnav::nav_solution_t& n) { n.utime ^= std::int64_t{1} << 20; })),
+             Catch::Contains("nav solution") && Catch::Contains("not after the previous"));
 
   // The same layer behind the CSV reader: a nav header with latitude and longitude swapped, an
   // observer at latitude 95, a range of 1e200 m, a time of 1e300 s.

@@ -242,6 +242,17 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n", "observer.csv:3", "heading_deg");
     expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n", "observer.csv", "");
   }
+  SECTION("the shared plausibility layer: height, swapped coordinates, far truth, absurd time") {
+    // Each passes the per-cell format checks above and is caught by validate(), naming the sample.
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,10,1e9\n", "observer sample 1: height", "");
+    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,10,63,0\n", "observer sample 1", "");
+    CHECK(read_error(dir).find("latitude and longitude swapped") != std::string::npos);
+    sample_data().write_folder(dir.string());
+    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,1,10,63\n", "truth of target 1 sample 1", "");
+    fs::remove(dir / "truth.csv");
+    det("1,radar,10,20\n1e300,radar,10,20\n");
+    expect("detection 1 (sensor radar): time 1e+300 s", "");
+  }
   SECTION("truth: time order per target, target name; missing truth.csv is fine") {
     std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n2,1,63,10\n";
     CHECK(read_error(dir).empty());
@@ -369,10 +380,27 @@ TEST_CASE("Autoferry import: malformed JSON is named by file and record", "[mult
     CHECK(err.find("record 1: ownshipPosition has 1 numbers, not 2") != std::string::npos);
     write(eo_ok, R"([{"targetID":1,"position":[1],"time":10.0}])");
     CHECK(run(az, tmp, err) != 0);
-    CHECK(err.find("ground-truth record 1: position has 1 numbers") != std::string::npos);
+    CHECK(err.find("scenarioX_groundTruth.json element 1: position has 1 numbers") != std::string::npos);
     write(R"({"sensorID":4,"time":"soon","ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
     CHECK(run(az, tmp, err) != 0);
     CHECK(err.find("record 1: time is not a number") != std::string::npos);
+  }
+  SECTION("positions that cannot belong to the scene: named by the plausibility layer, both modes") {
+    // 3000 km north of Piren: beyond the 2000 km scene bound (a unit or frame mix-up).
+    fails_with(R"({"sensorID":4,"time":10.1,"ownshipPosition":[3e6,0],"measurement":0.5})", gt_ok,
+               {"scenarioX_detections.json (imported): observer sample", "km from the observer's first position"});
+    fails_with(eo_ok, R"([{"targetID":2,"position":[0,3e6,0],"time":10.1}])",
+               {"truth of target 2 sample 1", "km from"});
+    fails_with(eo_ok, R"([{"targetID":2,"position":[0,0,-1e9],"time":10.1}])", {"truth of target 2", "height"});
+    const std::string az = kImport + " " + sc.string() + " --sensor eo --target 1 --out " + (tmp / "out_az").string();
+    write(R"({"sensorID":4,"time":10.1,"ownshipPosition":[3e6,0],"measurement":0.5})", gt_ok);
+    CHECK(run(az, tmp, err) != 0);
+    // The camera's only frame: no first position to be far from, but 3000 km along the local
+    // level frame's tangent plane is also 670 km up.
+    CHECK(err.find("(imported eo): observer sample 0: height") != std::string::npos);
+    write(R"({"sensorID":4,"time":1e300,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    CHECK(run(az, tmp, err) != 0);
+    CHECK(err.find("time 1e+300 s is not finite or beyond") != std::string::npos);
   }
   SECTION("ragged radar rows") {
     fails_with(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok,

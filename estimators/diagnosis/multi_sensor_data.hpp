@@ -44,8 +44,15 @@ struct MultiSensorData {
 
   /// The sensor names of `detections`, sorted and distinct.
   std::vector<std::string> sensors() const;
-  /// Read and validate a folder (see the file comment); ConfigError naming file:line:column.
+  /// Read and validate a folder (see the file comment); ConfigError naming file:line:column for
+  /// a cell the format forbids, then validate(dir).
   static MultiSensorData read_folder(const std::string& dir);
+  /// The shared plausibility layer (common/plausible.hpp) over the data, whatever its source:
+  /// times finite and within +-1e10 s; observer positions in range with a plausible height and
+  /// within 2000 km of the first one; truth positions in range (height where known) and within
+  /// 2000 km of the observer's first position; ranges in (0, 1e6] m, angles finite. ConfigError
+  /// naming `source`, the table and the sample index.
+  void validate(const std::string& source) const;
   /// Write the folder (created if needed): t %.6f s, lat/lon %.10f deg, h %.4f m, range %.3f m,
   /// angles %.6f deg; optional columns only when some value is known; truth.csv only with truth
   /// (a stale one is removed). Throws naming the file when a write fails (e.g. disk full) and

@@ -98,6 +98,7 @@ void PrlFlightData::validate(const std::string& source) const {
     for (std::size_t i = 0; i < list->size(); ++i) {
       const std::string at = source + (list == &nav ? ": nav solution " : ": truth sample ") + std::to_string(i);
       pl::time(at, (*list)[i].t_s);
+      if (i > 0) pl::after(at, (*list)[i].t_s, (*list)[i - 1].t_s);
       pl::geodetic(at, (*list)[i].g);
       pl::near(at, (*list)[i].g, radar_site, "the radar site");
     }

@@ -30,9 +30,21 @@ struct WindowCheck {
   }
 };
 
-}  // namespace
+/// [us] A nav solution reaches the ground after its time of validity, within the data link's
+/// latency (the scenario's snsins.latency_s is in [0, 10] s).
+constexpr double kMaxNavAgeUs = 10e6;
 
-namespace {
+/// The solution's time of validity against its arrival (which WindowCheck bounds).
+void check_nav_age(const std::string& file, const std::string& realization, const batch_header_t& h,
+                   const nav_solution_t& n) {
+  // In double: corrupt values must not overflow the difference.
+  const double age_us = static_cast<double>(n.link_utime) - static_cast<double>(n.utime);
+  if (!(age_us >= 0 && age_us <= kMaxNavAgeUs))
+    throw ConfigError(file + ": " + ch::kNav + realization + ", window " + std::to_string(h.window) + " (seq " +
+                      std::to_string(h.seq) + "): a solution's time of validity utime " + std::to_string(n.utime) +
+                      " us is not within 10 s before its arrival link_utime " + std::to_string(n.link_utime) +
+                      " us (a corrupt time stamp)");
+}
 
 // The scenario of the run: --scenario FILE if given, else the log's SIM_SCENARIO; --set
 // overrides on top. Its sim time 0 must be the log's (else it is another run's scenario).
@@ -109,6 +121,7 @@ PrlFlightData read_prl_lcm_log(const std::string& file, const LcmLogOptions& o, 
   for (const auto* b : log.batches<nav_batch_t>(ch::kNav))
     for (const auto& n : b->solutions) {
       in_window(b->header, n.link_utime, ch::kNav);  // a nav batch holds the solutions received in its window
+      check_nav_age(file, r, b->header, n);
       d.nav.push_back({t_of(n.utime), {n.lat_deg, n.lon_deg, n.h_m}});
     }
   if (d.plots.size() < 10) throw ConfigError(file + ": " + ch::kApoi + r + ": fewer than 10 plots");
