@@ -338,6 +338,29 @@ TEST_CASE("an output folder that is not ours is refused (--out) and left intact"
   CHECK(sh(kRun + "--realizations 2 --no-plots --force --out " + (d / "mine3").string()).status == 0);
   CHECK_FALSE(fs::exists(d / "mine3" / "thesis.txt"));
   CHECK(fs::exists(d / "mine3" / "table2.json"));
+
+  // The single-process ensemble's --out follows the same rule; the ADS-B importer's --out is a
+  // file, which is replaced only with --force.
+  fs::create_directories(d / "mine4");
+  std::ofstream(d / "mine4" / "thesis.txt") << "precious";
+  const std::string inproc = kBuild + "/bin/rnav_inproc --scenario " + kRoot + "/sim/scenarios/paper.json --realizations 2 --out ";
+  const auto in_foreign = sh(inproc + (d / "mine4").string());
+  INFO(in_foreign.output);
+  CHECK(in_foreign.status == 2);
+  CHECK(in_foreign.output.find("thesis.txt") != std::string::npos);
+  CHECK(slurp(d / "mine4" / "thesis.txt") == "precious");
+  CHECK(sh(inproc + (d / "mine4").string() + " --force").status == 0);
+  CHECK(fs::exists(d / "mine4" / "stats_time.csv"));
+  std::ofstream(d / "approach.csv") << "precious";
+  const std::string adsb = kBuild + "/bin/rnav_import_adsb " + kRoot + "/../shared/data/adsb/vienna.json.gz --approach 2 --out " +
+                           (d / "approach.csv").string();
+  const auto ad_exists = sh(adsb);
+  INFO(ad_exists.output);
+  CHECK(ad_exists.status == 2);
+  CHECK(ad_exists.output.find("exists; pass --force") != std::string::npos);
+  CHECK(slurp(d / "approach.csv") == "precious");
+  CHECK(sh(adsb + " --force").status == 0);
+  CHECK(slurp(d / "approach.csv").rfind("t_s,lat_deg,lon_deg,h_m", 0) == 0);
 }
 
 TEST_CASE("a full disk is an error naming the file, not a truncated result", "[integration][files]") {

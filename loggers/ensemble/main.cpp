@@ -1,5 +1,7 @@
 // rnav_inproc: the landing-approach ensemble in one process (same nodes, InprocBus).
-// Usage: rnav_inproc --scenario FILE [--set k=v]... --realizations N --seed S --out DIR
+// Usage: rnav_inproc --scenario FILE [--set k=v]... --realizations N --seed S --out DIR [--force]
+// DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.
+#include "atomic_file.hpp"
 #include "inproc_ensemble.hpp"
 #include "node_main.hpp"
 
@@ -10,10 +12,15 @@ int main(int argc, char** argv) {
   try {
     std::string file, out;
     std::vector<std::string> overrides, drops;
+    bool force = false;
     int n = 1;
     std::int64_t seed = 1;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
+      if (a == "--force") {
+        force = true;
+        continue;
+      }
       auto value = [&]() -> std::string {
         if (i + 1 >= argc) throw rnav::ConfigError("inproc: option " + a + " needs a value");
         return argv[++i];
@@ -27,6 +34,7 @@ int main(int argc, char** argv) {
       else throw rnav::ConfigError("inproc: unknown option " + a);
     }
     if (file.empty()) throw rnav::ConfigError("inproc: --scenario FILE is required");
+    if (!out.empty()) rnav::prepare_output_dir(out, force);
     const double t0 = rnav::wall_seconds();
     const auto r = rnav::scenario_kind(file) == "uav"
                        ? rnav::run_inproc_ensemble(rnav::UavScenario::load(file, overrides), n, seed, out, drops)

@@ -17,11 +17,13 @@
 //   --lead-s S                 also write the S seconds of flight before the approach (default 0)
 //   --end-x-m X                stop the export before the first point with x < X in the landing frame
 //                              (e.g. 0: at the threshold; default: at the approach's lowest point)
+//   --force                    replace an existing --out file (without it, an existing file is an error)
 // Prints how many records each glitch rule removed to stderr. Exit status: 0 ok, 2 bad input.
 #include "adsb_approaches.hpp"
 #include "scenario.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -61,12 +63,13 @@ int main(int argc, char** argv) {
     rnav::GlitchOptions g;
     rnav::ApproachSearchOptions a;
     std::string scenario, out, thr, heading;
-    bool list = false;
+    bool list = false, force = false;
     long approach = 0;
     rnav::ReplayExportOptions ex;
     for (int i = 2; i < argc; ++i) {
       const std::string o = argv[i];
       if (o == "--list") { list = true; continue; }
+      if (o == "--force") { force = true; continue; }
       if (i + 1 >= argc) throw rnav::ConfigError("import: option " + o + " needs a value");
       const std::string v = argv[++i];
       if (o == "--scenario") scenario = v;
@@ -86,11 +89,7 @@ int main(int argc, char** argv) {
       else if (o == "--min-descent-m") a.min_descent_m = number(o, v);
       else if (o == "--min-duration-s") a.min_duration_s = number(o, v);
       else if (o == "--max-gap-s") a.max_gap_s = number(o, v);
-      else if (o == "--approach") {
-        const double n = number(o, v);
-        if (n < 1 || n != std::floor(n)) throw rnav::ConfigError("import: --approach must be a positive integer");
-        approach = static_cast<long>(n);
-      }
+      else if (o == "--approach") approach = static_cast<long>(rnav::parse_integer(o, v, 1, 1000000));
       else if (o == "--out") out = v;
       else if (o == "--lead-s") ex.lead_s = number(o, v);
       else if (o == "--end-x-m") ex.end_x_m = number(o, v);
@@ -98,6 +97,8 @@ int main(int argc, char** argv) {
     }
     if (list == (approach > 0)) throw rnav::ConfigError("import: give exactly one of --list and --approach N");
     if (approach > 0 && out.empty()) throw rnav::ConfigError("import: --approach needs --out FILE.csv");
+    if (!out.empty() && !force && std::filesystem::exists(std::filesystem::symlink_status(out)))
+      throw rnav::ConfigError("import: --out " + out + " exists; pass --force to replace it");
     if (ex.lead_s < 0) throw rnav::ConfigError("import: --lead-s must be >= 0");
     if (!scenario.empty()) {
       const auto sc = rnav::Scenario::load(scenario);
