@@ -26,6 +26,24 @@ long long parse_integer(const std::string& option, const std::string& text, long
   return x;
 }
 
+double parse_number(const std::string& option, const std::string& text, double lo, double hi) {
+  std::size_t pos = 0;
+  double x = 0;
+  bool ok = !text.empty() && !std::isspace(static_cast<unsigned char>(text[0]));
+  if (ok) {
+    try {
+      x = std::stod(text, &pos);
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || pos != text.size() || !std::isfinite(x))
+    throw ConfigError(option + ": '" + text + "' is not a finite number");
+  if (x < lo || x > hi)
+    throw ConfigError(option + ": " + text + " is outside [" + value_text(lo) + ", " + value_text(hi) + "]");
+  return x;
+}
+
 std::string value_text(double v) {
   std::ostringstream o;
   o.precision(10);

@@ -83,7 +83,9 @@ void LcmBus::subscribe_raw(const std::string& channel, RawHandler handler) {
 }
 
 bool LcmBus::handle(int timeout_ms) {
+  errno = 0;
   const int r = lcm_->handleTimeout(timeout_ms);
+  if (r < 0 && errno == EINTR) return false;  // a signal (e.g. SIGTERM to a free-running node)
   if (r < 0) throw std::runtime_error("LCM handle failed");
   if (pending_) std::rethrow_exception(std::exchange(pending_, nullptr));
   return r > 0;

@@ -1,12 +1,10 @@
 // Node "prl_bias": wires PRL_APOI and NAV_SOLUTION to PrlBiasEstimator and publishes
-// PRL_BIAS and PRL_TOI. A plot waits for the nav solution after it (NavBuffer::decide), so a
+// PRL_BIAS and PRL_TOI. A plot waits for the nav solution after it (PrlBiasStream), so a
 // window's output batches hold the plots decided in that window, in plot order.
 #pragma once
 
 #include "lockstep_node.hpp"
-#include "prl_bias_estimator.hpp"
-
-#include <deque>
+#include "prl_bias_stream.hpp"
 
 namespace rnav {
 
@@ -19,11 +17,8 @@ class PrlBiasNode : public LockstepNode {
   int process(const sim_window_t& w) override;
 
  private:
-  Scenario sc_;
-  LocalLevelFrame frame_R_;
-  PrlBiasEstimator est_;
-  NavBuffer nav_;
-  std::deque<prl_plot_t> pending_;
+  PrlBiasStream stream_;
+  std::vector<PrlBiasEstimator::Output> out_;
 };
 
 }  // namespace rnav

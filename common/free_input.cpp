@@ -1,0 +1,48 @@
+#include "free_input.hpp"
+
+namespace rnav {
+
+std::int64_t message_fingerprint(const void* data, int size) {
+  if (size < 8) return 0;
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  std::uint64_t f = 0;
+  for (int i = 0; i < 8; ++i) f = (f << 8) | p[i];
+  return static_cast<std::int64_t>(f);
+}
+
+BatchOrder::Step BatchOrder::see(const batch_header_t& h) {
+  const FlightKey key{h.realization, h.attempt};
+  const auto where = [&] {
+    return channel_ + " (realization " + std::to_string(h.realization) + ", attempt " +
+           std::to_string(h.attempt) + ", window " + std::to_string(h.window) + ", seq " +
+           std::to_string(h.seq) + ")";
+  };
+  if (h.window < 0 || h.realization < 0 || h.attempt < 0 || h.seq < 0)
+    throw std::runtime_error("a batch with a negative index on " + where());
+  if (any_ && key < flight_) return Step::kStale;
+  if (!any_ || key > flight_) {
+    // A new flight: its first window, and seq continuing the publisher's counter.
+    if (h.window != 0)
+      throw std::runtime_error("a flight's first batch is not window 0 on " + where() +
+                               ": its earlier windows were lost");
+    // The publisher's seq runs on across flights: a new realization follows a complete one,
+    // so its seq continues exactly; a repeated attempt may follow batches lost in the failed one.
+    if (any_ && (h.attempt == 0 ? h.seq != next_seq_ : h.seq < next_seq_))
+      throw std::runtime_error("a batch is missing or out of order before " + where() +
+                               ": expected seq " + std::to_string(next_seq_));
+    any_ = true;
+    flight_ = key;
+    next_window_ = 1;
+    next_seq_ = h.seq + 1;
+    return Step::kNext;
+  }
+  if (h.window < next_window_) return Step::kResend;
+  if (h.window != next_window_ || h.seq != next_seq_)
+    throw std::runtime_error("a batch is missing before " + where() + ": expected window " +
+                             std::to_string(next_window_) + ", seq " + std::to_string(next_seq_));
+  ++next_window_;
+  ++next_seq_;
+  return Step::kNext;
+}
+
+}  // namespace rnav

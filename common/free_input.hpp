@@ -1,0 +1,46 @@
+// Consuming a project stream without the lock-step clock (a free-running estimator). A channel
+// carries either its lock-step batch type (a recorded lock-step run replayed by lcm-logplayer)
+// or one sample per message (a real-time run, or a real sensor publishing the sample type);
+// the message's type fingerprint tells which. Batches are checked as the lock-step node checks
+// them: per channel and (realization, attempt), windows and seq in order; a copy of a window
+// already seen is a resend and is skipped; a gap or a step back is an error naming the channel.
+#pragma once
+
+#include "batch_decode.hpp"
+
+#include <rnav/batch_header_t.hpp>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace rnav {
+
+/// The type fingerprint an LCM message starts with (8 bytes, big-endian); 0 if size < 8.
+std::int64_t message_fingerprint(const void* data, int size);
+
+/// (realization, attempt) of a batch: one simulated flight.
+using FlightKey = std::pair<int, int>;
+
+/// Order of one channel's batches (see the file comment).
+class BatchOrder {
+ public:
+  explicit BatchOrder(std::string channel) : channel_(std::move(channel)) {}
+  enum class Step {
+    kNext,     ///< the next window of the current flight (or the first of a new one)
+    kResend,   ///< a window already seen: skip it
+    kStale,    ///< a batch of an older flight than the current one: skip it
+  };
+  /// Check a batch header; throws std::runtime_error naming the channel on a gap or a step back.
+  Step see(const batch_header_t& h);
+
+ private:
+  std::string channel_;
+  bool any_ = false;
+  FlightKey flight_{-1, -1};
+  int next_window_ = 0;
+  std::int64_t next_seq_ = 0;
+};
+
+}  // namespace rnav

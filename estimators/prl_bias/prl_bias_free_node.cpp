@@ -1,0 +1,174 @@
+#include "prl_bias_free_node.hpp"
+
+#include "channels.hpp"
+
+#include <rnav/prl_bias_batch_t.hpp>
+
+#include <algorithm>
+
+namespace rnav {
+
+namespace {
+constexpr std::int64_t kEndOfInput = std::numeric_limits<std::int64_t>::max();
+
+template <class T> T decode_sample(const void* data, int size, const char* channel) {
+  T m;
+  if (m.decode(data, 0, size) != size)
+    throw std::runtime_error(std::string("cannot decode a message on ") + channel + " (corrupt)");
+  return m;
+}
+template <class B> B decode_whole_batch(const void* data, int size, const char* channel) {
+  B b;
+  if (!decode_batch(data, size, b))
+    throw std::runtime_error(std::string("cannot decode a batch on ") + channel + " (corrupt)");
+  return b;
+}
+std::string type_error(const char* channel, const char* batch, const char* sample) {
+  return std::string("a message on ") + channel + " is neither " + batch + " nor " + sample +
+         " (its type fingerprint matches neither)";
+}
+}  // namespace
+
+PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o)
+    : bus_(bus), o_(o), stream_(sc), apoi_order_(ch::kApoi), nav_order_(ch::kNav) {
+  if (!(o.nav_lateness_s >= 0 && o.nav_lateness_s <= 3600))
+    throw std::invalid_argument("nav_lateness_s must be in [0, 3600] s");
+  bus.subscribe_raw(ch::kApoi, [this](const std::string&, const void* d, int n) { on_apoi(d, n); });
+  bus.subscribe_raw(ch::kNav, [this](const std::string&, const void* d, int n) { on_nav(d, n); });
+}
+
+void PrlBiasFreeNode::expect_form(Form f, const char* channel) {
+  if (form_ == Form::kUnknown) form_ = f;
+  if (form_ != f)
+    throw std::runtime_error(std::string(channel) + " sends " + (f == Form::kBatches ? "batches" : "single samples") +
+                             " but the other input sent " + (f == Form::kBatches ? "single samples" : "batches") +
+                             ": all inputs must come in the same form");
+}
+
+void PrlBiasFreeNode::enter_flight(const FlightKey& f) {
+  if (f <= flight_) return;
+  if (!apoi_q_.empty() || !nav_q_.empty() || stream_.pending() > 0) ++incomplete_flights_;
+  apoi_q_.clear();
+  nav_q_.clear();
+  stream_.reset();
+  flight_ = f;
+  ++flights_;
+}
+
+void PrlBiasFreeNode::on_apoi(const void* data, int size) {
+  ++received_;
+  const std::int64_t fp = message_fingerprint(data, size);
+  if (fp == prl_plot_batch_t::getHash()) {
+    expect_form(Form::kBatches, ch::kApoi);
+    auto b = decode_whole_batch<prl_plot_batch_t>(data, size, ch::kApoi);
+    const auto s = apoi_order_.see(b.header);
+    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
+    const FlightKey key{b.header.realization, b.header.attempt};
+    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
+    enter_flight(key);
+    apoi_q_.push_back(std::move(b));
+    drain_windows();
+  } else if (fp == prl_plot_t::getHash()) {
+    expect_form(Form::kSamples, ch::kApoi);
+    const auto p = decode_sample<prl_plot_t>(data, size, ch::kApoi);
+    if (p.utime <= last_plot_utime_)
+      throw std::runtime_error(std::string(ch::kApoi) + ": plot " + std::to_string(p.plot_id) + " at utime " +
+                               std::to_string(p.utime) + " does not follow the previous plot's " +
+                               std::to_string(last_plot_utime_) + " (a new flight needs a new estimator)");
+    last_plot_utime_ = p.utime;
+    stream_.add_plot(p);
+    step_samples(std::max(nav_known_, p.utime - to_us(o_.nav_lateness_s)));
+  } else {
+    throw std::runtime_error(type_error(ch::kApoi, "prl_plot_batch_t", "prl_plot_t"));
+  }
+}
+
+void PrlBiasFreeNode::on_nav(const void* data, int size) {
+  ++received_;
+  const std::int64_t fp = message_fingerprint(data, size);
+  if (fp == nav_batch_t::getHash()) {
+    expect_form(Form::kBatches, ch::kNav);
+    auto b = decode_whole_batch<nav_batch_t>(data, size, ch::kNav);
+    const auto s = nav_order_.see(b.header);
+    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
+    const FlightKey key{b.header.realization, b.header.attempt};
+    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
+    enter_flight(key);
+    nav_q_.push_back(std::move(b));
+    drain_windows();
+  } else if (fp == nav_solution_t::getHash()) {
+    expect_form(Form::kSamples, ch::kNav);
+    const auto n = decode_sample<nav_solution_t>(data, size, ch::kNav);
+    if (n.link_utime < last_nav_link_)
+      throw std::runtime_error(std::string(ch::kNav) + ": a solution reached the ground at " +
+                               std::to_string(n.link_utime) + " us, before the previous one's " +
+                               std::to_string(last_nav_link_) + " (a new flight needs a new estimator)");
+    last_nav_link_ = n.link_utime;
+    stream_.add_nav(n);
+    nav_known_ = std::max(nav_known_, n.link_utime + 1);
+    step_samples(nav_known_);
+  } else {
+    throw std::runtime_error(type_error(ch::kNav, "nav_batch_t", "nav_solution_t"));
+  }
+}
+
+void PrlBiasFreeNode::drain_windows() {
+  while (!apoi_q_.empty() && !nav_q_.empty()) {
+    const prl_plot_batch_t& a = apoi_q_.front();
+    const nav_batch_t& n = nav_q_.front();
+    if (a.header.window != n.header.window)  // BatchOrder keeps both in window order from 0
+      throw std::logic_error("prl_bias --free: PRL_APOI and NAV_SOLUTION windows out of step");
+    for (const auto& p : a.plots) stream_.add_plot(p);
+    for (const auto& x : n.solutions) stream_.add_nav(x);
+    // Every solution that reached the ground before the window's end is in this batch or earlier.
+    out_.clear();
+    stream_.process_ready(n.header.utime_end, out_);
+    prl_bias_batch_t bias;
+    prl_plot_batch_t toi;
+    bias.header = toi.header = a.header;
+    bias.header.seq = bias_seq_++;
+    toi.header.seq = toi_seq_++;
+    for (const auto& o : out_) {
+      bias.estimates.push_back(o.estimate);
+      toi.plots.push_back(o.compensated);
+    }
+    bias.n = static_cast<int>(bias.estimates.size());
+    toi.n = static_cast<int>(toi.plots.size());
+    bus_.publish(ch::kBias, bias);
+    bus_.publish(ch::kToi, toi);
+    published_ += toi.n;
+    apoi_q_.pop_front();
+    nav_q_.pop_front();
+  }
+}
+
+void PrlBiasFreeNode::step_samples(std::int64_t now_utime) {
+  out_.clear();
+  stream_.process_ready(now_utime, out_);
+  for (const auto& o : out_) {
+    bus_.publish(ch::kBias, o.estimate);
+    bus_.publish(ch::kToi, o.compensated);
+    ++published_;
+  }
+}
+
+void PrlBiasFreeNode::flush() {
+  // Single samples: the feed has ended, every waiting plot is decided with what arrived.
+  // Batches: the lock-step run decided everything by its last window; what waits belongs to
+  // an incomplete flight (reported).
+  if (form_ == Form::kSamples) step_samples(kEndOfInput);
+  else if (!apoi_q_.empty() || !nav_q_.empty() || stream_.pending() > 0) ++incomplete_flights_;
+}
+
+std::string PrlBiasFreeNode::summary() const {
+  std::string s = std::to_string(received_) + " message(s) received";
+  if (form_ == Form::kBatches)
+    s += " as batches: " + std::to_string(flights_) + " flight(s), " + std::to_string(incomplete_flights_) +
+         " of them incomplete, " + std::to_string(skipped_resends_) + " resent and " +
+         std::to_string(skipped_stale_) + " stale batch(es) skipped";
+  else if (form_ == Form::kSamples)
+    s += " as single samples";
+  return s + "; " + std::to_string(published_) + " plot(s) estimated and published";
+}
+
+}  // namespace rnav

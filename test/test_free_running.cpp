@@ -1,0 +1,325 @@
+// The free-running radar bias estimator (PrlBiasFreeNode, `rnav_prl_bias --free`): driven by the
+// messages' own time stamps, it must give the lock-step node's estimates byte for byte, whether
+// its inputs come as the lock-step batches of a recorded run or one sample per message in
+// arrival order; and it must name what is wrong with a stream (a gap, a step back, a foreign
+// type). The last test plays a lock-step run's LCM log with lcm-logplayer over LCM.
+#include "bus.hpp"
+#include "channels.hpp"
+#include "lcm_event_reader.hpp"
+#include "lcm_log_export.hpp"
+#include "prl_bias_free_node.hpp"
+
+#include <rnav/nav_batch_t.hpp>
+#include <rnav/prl_bias_batch_t.hpp>
+#include <rnav/prl_plot_batch_t.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+namespace fs = std::filesystem;
+using namespace rnav;
+
+namespace {
+
+const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.json";
+// Nav drop-outs during estimation (before the 400 s switch), so the drop-out decisions are tested.
+const std::vector<std::string> kDropouts = {"snsins.dropouts=[[100,130],[250,252.5]]"};
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("rnav_test_free_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<LcmEvent> read_log(const std::string& file) {
+  LcmEventReader r(file);
+  std::vector<LcmEvent> out;
+  LcmEvent e;
+  while (r.next(e)) out.push_back(e);
+  return out;
+}
+
+template <class T> std::vector<std::uint8_t> encode(const T& m) {
+  std::vector<std::uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+  REQUIRE(m.encode(b.data(), 0, static_cast<int>(b.size())) == static_cast<int>(b.size()));
+  return b;
+}
+
+// The lock-step run's bias estimates, in order: each realization's PRL_BIAS batches flattened
+// (a resent copy of a window skipped), encoded, per realization.
+std::map<int, std::vector<std::vector<std::uint8_t>>> lockstep_estimates(const std::vector<LcmEvent>& log) {
+  std::map<int, std::vector<std::vector<std::uint8_t>>> out;
+  std::map<int, int> next_window;
+  for (const auto& e : log) {
+    if (e.channel != ch::kBias) continue;
+    prl_bias_batch_t b;
+    REQUIRE(b.decode(e.data.data(), 0, static_cast<int>(e.data.size())) == static_cast<int>(e.data.size()));
+    REQUIRE(b.header.attempt == 0);  // a clean run
+    if (b.header.window < next_window[b.header.realization]) continue;
+    next_window[b.header.realization] = b.header.window + 1;
+    for (const auto& x : b.estimates) out[b.header.realization].push_back(encode(x));
+  }
+  return out;
+}
+
+// The lock-step run's PRL_BIAS messages as published (a resent copy skipped).
+std::vector<std::vector<std::uint8_t>> lockstep_bias_messages(const std::vector<LcmEvent>& log) {
+  std::vector<std::vector<std::uint8_t>> out;
+  std::int64_t next_seq = 0;
+  for (const auto& e : log) {
+    if (e.channel != ch::kBias) continue;
+    prl_bias_batch_t b;
+    REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+    if (b.header.seq < next_seq) continue;
+    next_seq = b.header.seq + 1;
+    out.push_back(e.data);
+  }
+  return out;
+}
+
+// What the free-running node publishes on an in-process bus.
+struct Capture {
+  std::vector<std::vector<std::uint8_t>> bias, toi;
+  explicit Capture(InprocBus& bus) {
+    bus.subscribe_raw(ch::kBias, [this](const std::string&, const void* d, int n) {
+      const auto* p = static_cast<const std::uint8_t*>(d);
+      bias.emplace_back(p, p + n);
+    });
+    bus.subscribe_raw(ch::kToi, [this](const std::string&, const void* d, int n) {
+      const auto* p = static_cast<const std::uint8_t*>(d);
+      toi.emplace_back(p, p + n);
+    });
+  }
+};
+
+void feed(InprocBus& bus, const std::string& channel, const std::vector<std::uint8_t>& bytes) {
+  bus.publish_raw(channel, bytes.data(), static_cast<int>(bytes.size()));
+  bus.run_until_idle();
+}
+
+bool is_input(const std::string& c) { return c == ch::kApoi || c == ch::kNav; }
+
+// One sample per message, in the order they would reach the ground station: a plot at its
+// utime, a nav solution at its link_utime (+ extra_nav_delay_us); at equal times, nav first.
+std::vector<std::pair<std::string, std::vector<std::uint8_t>>> live_feed(const std::vector<LcmEvent>& log, int realization,
+                                                                         std::int64_t extra_nav_delay_us) {
+  struct Item {
+    std::int64_t arrival;
+    int order;
+    std::string channel;
+    std::vector<std::uint8_t> bytes;
+  };
+  std::vector<Item> items;
+  std::map<std::string, int> next_window;
+  for (const auto& e : log) {
+    if (!is_input(e.channel)) continue;
+    if (e.channel == ch::kApoi) {
+      prl_plot_batch_t b;
+      REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+      if (b.header.realization != realization || b.header.window < next_window[e.channel]) continue;
+      next_window[e.channel] = b.header.window + 1;
+      for (const auto& p : b.plots) items.push_back({p.utime, 1, e.channel, encode(p)});
+    } else {
+      nav_batch_t b;
+      REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+      if (b.header.realization != realization || b.header.window < next_window[e.channel]) continue;
+      next_window[e.channel] = b.header.window + 1;
+      for (const auto& n : b.solutions) items.push_back({n.link_utime + extra_nav_delay_us, 0, e.channel, encode(n)});
+    }
+  }
+  std::stable_sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+    return a.arrival != b.arrival ? a.arrival < b.arrival : a.order < b.order;
+  });
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> out;
+  for (auto& i : items) out.emplace_back(i.channel, std::move(i.bytes));
+  return out;
+}
+
+const std::string& shared_log() {
+  static std::string file;
+  if (file.empty()) {
+    const fs::path d = scratch("log");
+    file = (d / "run.lcmlog").string();
+    std::string failure;
+    REQUIRE(export_lcm_log(kPaper, kDropouts, 5, 2, file, {}, &failure) == 0);
+  }
+  return file;
+}
+
+// Index of the first estimate that differs (or the shorter length if one is a prefix); -1 if equal.
+// (Catch would print both vectors whole.)
+long first_difference(const std::vector<std::vector<std::uint8_t>>& a, const std::vector<std::vector<std::uint8_t>>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (a[i] != b[i]) return static_cast<long>(i);
+  return a.size() == b.size() ? -1 : static_cast<long>(n);
+}
+
+int count_mode(const std::vector<std::vector<std::uint8_t>>& estimates, std::int8_t mode) {
+  int n = 0;
+  for (const auto& b : estimates) {
+    prl_bias_estimate_t e;
+    REQUIRE(e.decode(b.data(), 0, static_cast<int>(b.size())) == static_cast<int>(b.size()));
+    n += e.mode == mode;
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("free-running on a lock-step log's batches, the lock-step node's own messages, byte for byte", "[free]") {
+  const auto log = read_log(shared_log());
+  const auto expected = lockstep_bias_messages(log);
+  const Scenario sc = Scenario::load(kPaper, kDropouts);
+  InprocBus bus;
+  Capture got(bus);
+  PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+  for (const auto& e : log)
+    if (is_input(e.channel)) feed(bus, e.channel, e.data);
+  node.flush();
+  REQUIRE(expected.size() > 2);
+  CHECK(first_difference(got.bias, expected) == -1);
+  CHECK(got.toi.size() == expected.size());
+  // The drop-outs were exercised: some plots decided without nav during estimation.
+  const auto flat = lockstep_estimates(log);
+  CHECK(count_mode(flat.at(0), prl_bias_estimate_t::NAV_DROPOUT) > 0);
+  CHECK(count_mode(flat.at(0), prl_bias_estimate_t::ESTIMATING) > 0);
+  INFO(node.summary());
+  CHECK(node.summary().find("2 flight(s), 0 of them incomplete") != std::string::npos);
+}
+
+TEST_CASE("free-running, a resent copy of a batch is skipped; a lost batch is an error naming the channel", "[free]") {
+  const auto log = read_log(shared_log());
+  const Scenario sc = Scenario::load(kPaper, kDropouts);
+  std::vector<const LcmEvent*> inputs;
+  for (const auto& e : log)
+    if (is_input(e.channel)) inputs.push_back(&e);
+  SECTION("every input sent twice, the same estimates") {
+    InprocBus bus;
+    Capture got(bus);
+    PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+    for (const auto* e : inputs) {
+      feed(bus, e->channel, e->data);
+      feed(bus, e->channel, e->data);
+    }
+    node.flush();
+    CHECK(first_difference(got.bias, lockstep_bias_messages(log)) == -1);
+    CHECK(node.summary().find(std::to_string(inputs.size()) + " resent and 0 stale batch(es) skipped") != std::string::npos);
+  }
+  SECTION("one PRL_APOI batch missing") {
+    InprocBus bus;
+    PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+    bool skipped = false;
+    try {
+      for (const auto* e : inputs) {
+        prl_plot_batch_t b;
+        if (e->channel == ch::kApoi && !skipped &&
+            decode_batch(e->data.data(), static_cast<int>(e->data.size()), b) && b.header.window == 2) {
+          skipped = true;
+          continue;
+        }
+        feed(bus, e->channel, e->data);
+      }
+      FAIL("no error");
+    } catch (const std::runtime_error& err) {
+      const std::string m = err.what();
+      INFO(m);
+      CHECK(m.find("PRL_APOI") != std::string::npos);
+      CHECK(m.find("expected window 2") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("free-running on one sample per message in arrival order, the lock-step estimates", "[free]") {
+  const auto log = read_log(shared_log());
+  const auto expected = lockstep_estimates(log).at(1);
+  const Scenario sc = Scenario::load(kPaper, kDropouts);
+  auto run = [&](std::int64_t extra_nav_delay_us, double lateness_s) {
+    InprocBus bus;
+    Capture got(bus);
+    PrlBiasFreeOptions o;
+    o.nav_lateness_s = lateness_s;
+    PrlBiasFreeNode node(bus, sc, o);
+    for (const auto& [c, bytes] : live_feed(log, 1, extra_nav_delay_us)) feed(bus, c, bytes);
+    node.flush();
+    return got.bias;
+  };
+  // Each solution arrives at its link time: `now` from the nav stream and from the plots agree.
+  CHECK(first_difference(run(0, 1.0), expected) == -1);
+  CHECK(first_difference(run(0, 0.0), expected) == -1);
+  // The link lags 3 s more than the scenario's latency: a lateness allowance of 1 s decides
+  // drop-outs while solutions are still on their way (the documented assumption fails) ...
+  const auto late = run(3'000'000, 1.0);
+  REQUIRE(late.size() == expected.size());
+  CHECK(count_mode(late, prl_bias_estimate_t::ESTIMATING) < count_mode(expected, prl_bias_estimate_t::ESTIMATING));
+  // ... and an allowance above the lag gives the lock-step estimates again.
+  CHECK(first_difference(run(3'000'000, 3.5), expected) == -1);
+}
+
+TEST_CASE("free-running, a step back in time or a foreign type is an error naming the channel", "[free]") {
+  const Scenario sc = Scenario::load(kPaper, {});
+  InprocBus bus;
+  PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+  prl_plot_t p{};
+  p.utime = sc.runner.epoch_utime + 10'000'000;
+  p.range_m = 20000;
+  feed(bus, ch::kApoi, encode(p));
+  p.plot_id = 1;
+  p.utime -= 1;
+  try {
+    feed(bus, ch::kApoi, encode(p));
+    FAIL("no error");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("PRL_APOI: plot 1") != std::string::npos);
+  }
+  nav_solution_t n{};
+  n.utime = n.link_utime = sc.runner.epoch_utime;
+  try {
+    feed(bus, ch::kApoi, encode(n));
+    FAIL("no error");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("on PRL_APOI is neither prl_plot_batch_t nor prl_plot_t") != std::string::npos);
+  }
+  CHECK_THROWS_WITH(PrlBiasFreeNode(bus, sc, PrlBiasFreeOptions{-1}), Catch::Contains("nav_lateness_s"));
+}
+
+// The recording is the in-process lock-step run's (export_lcm_log: the same nodes and messages
+// as `scripts/run --lcm-log`, but complete by construction: lcm-logger in a multi-process run
+// on a loaded machine can miss a batch, which the replay then names as missing).
+TEST_CASE("rnav_prl_bias --free fed by lcm-logplayer from a lock-step run's log, the same estimates",
+          "[free][integration]") {
+  const fs::path d = scratch("replay");
+  const std::string run_log = (d / "run.lcmlog").string(), free_log = (d / "free.lcmlog").string();
+  const std::vector<std::string> dropouts = {"snsins.dropouts=[[100,130]]"};
+  REQUIRE(export_lcm_log(kPaper, dropouts, 2, 3, run_log) == 0);
+  auto sh = [&](const std::string& cmd) {
+    std::string out;
+    FILE* p = popen(("RNAV_BUILD='" + std::string(RNAV_BINARY_DIR) + "' " + cmd + " 2>&1").c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::array<char, 4096> buf{};
+    while (fgets(buf.data(), buf.size(), p)) out += buf.data();
+    const int st = pclose(p);
+    INFO(cmd << "\n" << out);
+    REQUIRE(WIFEXITED(st));
+    REQUIRE(WEXITSTATUS(st) == 0);
+    return out;
+  };
+  const std::string rep = sh(std::string(RNAV_SOURCE_DIR) + "/scripts/replay paper " + run_log + " --set '" +
+                             dropouts[0] + "' --out " + free_log);
+  CHECK(rep.find("3 flight(s), 0 of them incomplete") != std::string::npos);
+  const auto expected = lockstep_bias_messages(read_log(run_log));
+  std::vector<std::vector<std::uint8_t>> got;
+  for (const auto& e : read_log(free_log))
+    if (e.channel == ch::kBias) got.push_back(e.data);
+  REQUIRE(expected.size() > 3);
+  CHECK(first_difference(got, expected) == -1);
+}
