@@ -16,4 +16,5 @@ inline constexpr const char* kTruthTarget = "TRUTH_TARGET";   // rnav::target_tr
 inline constexpr const char* kTruthUav = "TRUTH_UAV";         // rnav::observer_batch_t, the UAV's true state
 inline constexpr const char* kUavNav = "UAV_NAV";             // rnav::observer_batch_t, its navigation solution
 inline constexpr const char* kUavBearing = "UAV_BEARING";     // rnav::bearing_batch_t
+inline constexpr const char* kUavTma = "UAV_TMA";             // rnav::tma_batch_t, the estimates
 }  // namespace rnav::ch

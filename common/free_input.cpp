@@ -45,4 +45,17 @@ BatchOrder::Step BatchOrder::see(const batch_header_t& h) {
   return Step::kNext;
 }
 
+void InputForm::expect(Form f, const std::string& channel) {
+  if (form_ == Form::kUnknown) form_ = f;
+  if (form_ != f)
+    throw std::runtime_error(channel + " sends " + (f == Form::kBatches ? "batches" : "single samples") +
+                             " but another input sent " + (f == Form::kBatches ? "single samples" : "batches") +
+                             ": all inputs must come in the same form");
+}
+
+std::string foreign_type_error(const std::string& channel, const char* batch_type, const char* sample_type) {
+  return "a message on " + channel + " is neither " + batch_type + " nor " + sample_type +
+         " (its type fingerprint matches neither)";
+}
+
 }  // namespace rnav

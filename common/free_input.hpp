@@ -43,4 +43,32 @@ class BatchOrder {
   std::int64_t next_seq_ = 0;
 };
 
+/// Decode one sample of type T, or throw naming the channel.
+template <class T> T decode_sample(const void* data, int size, const std::string& channel) {
+  T m;
+  if (m.decode(data, 0, size) != size) throw std::runtime_error("cannot decode a message on " + channel + " (corrupt)");
+  return m;
+}
+/// Decode a batch of type B (sizes checked first, see batch_decode.hpp), or throw naming the channel.
+template <class B> B decode_whole_batch(const void* data, int size, const std::string& channel) {
+  B b;
+  if (!decode_batch(data, size, b)) throw std::runtime_error("cannot decode a batch on " + channel + " (corrupt)");
+  return b;
+}
+
+/// The form a free-running node's inputs come in: the first message sets it for all inputs.
+class InputForm {
+ public:
+  enum class Form { kUnknown, kBatches, kSamples };
+  /// Record `f` for `channel`; throws naming it if the inputs came in the other form before.
+  void expect(Form f, const std::string& channel);
+  Form form() const { return form_; }
+
+ private:
+  Form form_ = Form::kUnknown;
+};
+
+/// The error for a message whose fingerprint is neither the batch nor the sample type.
+std::string foreign_type_error(const std::string& channel, const char* batch_type, const char* sample_type);
+
 }  // namespace rnav

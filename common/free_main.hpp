@@ -22,6 +22,7 @@ struct FreeArgs {
   std::vector<std::string> overrides;  // --set key=value
   std::string lcm_url;                 // --lcm-url
   double idle_exit_s = 0;              // [s wall] --idle-exit-s: 0 = run until a signal
+  std::string record_file;             // --record FILE: every published message, as an LCM log
   std::vector<std::string> extra;      // the node's own options, as (name, value) pairs
 };
 
@@ -32,7 +33,8 @@ inline constexpr int kDrainQuietMs = 200;
 void install_stop_signals();
 bool stop_requested();
 
-/// Usage: NAME --free --scenario FILE [--set k=v]... [--lcm-url URL] [--idle-exit-s S] [node options]
+/// Usage: NAME --free --scenario FILE [--set k=v]... [--lcm-url URL] [--idle-exit-s S]
+///        [--record FILE] [node options]
 /// `make` builds the node on the bus from the scenario and the node's own options (it throws
 /// ConfigError on one it does not know). Returns the process exit code; never calls exit().
 template <class Sc>
@@ -50,6 +52,7 @@ int run_free_main(int argc, char** argv, const std::string& name,
       if (a == "--scenario") args.scenario_file = value();
       else if (a == "--set") args.overrides.push_back(value());
       else if (a == "--lcm-url") args.lcm_url = value();
+      else if (a == "--record") args.record_file = value();
       else if (a == "--idle-exit-s") args.idle_exit_s = parse_number("--idle-exit-s", value(), 0, 1e6);
       else if (a.rfind("--", 0) == 0) { args.extra.push_back(a); args.extra.push_back(value()); }
       else throw ConfigError("unexpected argument '" + a + "'");
@@ -59,6 +62,7 @@ int run_free_main(int argc, char** argv, const std::string& name,
     std::cerr << name << ": free-running (no lock-step clock); options\n";
     sc.print(std::cerr);
     LcmBus bus(args.lcm_url);
+    if (!args.record_file.empty()) bus.record_publishes(args.record_file);
     auto node = make(bus, sc, args);
     install_stop_signals();
     long seen = -1;
@@ -73,6 +77,7 @@ int run_free_main(int argc, char** argv, const std::string& name,
     // Take what is still queued (until the input pauses for kDrainQuietMs), then decide the rest.
     while (bus.handle(kDrainQuietMs)) {}
     node->flush();
+    bus.finish_record();
     std::cerr << name << ": finished: " << node->summary() << "\n";
     return 0;
   } catch (const ConfigError& e) {

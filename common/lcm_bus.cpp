@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -57,12 +58,39 @@ void LcmBus::publish_raw(const std::string& channel, const void* data, int size)
   int err = 0;
   for (int attempt = 0; attempt < kPublishAttempts; ++attempt) {
     errno = 0;
-    if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) == 0) return;
+    if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) == 0) {
+      if (record_) record(channel, data, size);
+      return;
+    }
     err = errno;
     std::this_thread::sleep_for(std::chrono::milliseconds(1 << attempt));
   }
   throw std::runtime_error("LCM publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) " +
                            std::to_string(kPublishAttempts) + " times: " + (err ? std::strerror(err) : "no reason given"));
+}
+
+void LcmBus::record_publishes(const std::string& file) {
+  record_ = std::make_unique<lcm::LogFile>(file, "w");
+  if (!record_->good()) throw std::runtime_error("cannot create the record file " + file);
+  record_file_ = file;
+}
+
+void LcmBus::record(const std::string& channel, const void* data, int size) {
+  lcm::LogEvent e;
+  e.eventnum = record_events_++;
+  e.timestamp = std::chrono::duration_cast<std::chrono::microseconds>(
+                    std::chrono::system_clock::now().time_since_epoch()).count();
+  e.channel = channel;
+  e.datalen = size;
+  e.data = const_cast<void*>(data);
+  if (record_->writeEvent(&e) != 0) throw std::runtime_error("cannot write to the record file " + record_file_);
+}
+
+void LcmBus::finish_record() {
+  if (!record_) return;
+  const bool ok = std::fflush(record_->getFilePtr()) == 0 && std::ferror(record_->getFilePtr()) == 0;
+  record_.reset();
+  if (!ok) throw std::runtime_error("cannot write to the record file " + record_file_);
 }
 
 void LcmBus::dispatch(const lcm::ReceiveBuffer* rbuf, const std::string& channel, Sub* sub) {

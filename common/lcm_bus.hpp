@@ -26,6 +26,12 @@ class LcmBus : public Bus {
   void subscribe_raw(const std::string& channel, RawHandler handler) override;
   /// Wait up to timeout_ms for messages and dispatch them; returns false on timeout.
   bool handle(int timeout_ms);
+  /// Also write every message this bus publishes into the LCM event log `file` (created or
+  /// replaced), as sent: a record that cannot miss what a separate lcm-logger might under load.
+  /// Throws std::runtime_error naming the file if it cannot be created or written.
+  void record_publishes(const std::string& file);
+  /// Flush and close the record; throws naming the file on a write error (e.g. a full disk).
+  void finish_record();
 
  private:
   struct Sub {
@@ -36,6 +42,10 @@ class LcmBus : public Bus {
   std::unique_ptr<lcm::LCM> lcm_;
   std::exception_ptr pending_;      // an exception thrown by a handler, rethrown by handle()
   std::list<Sub> subs_;  // stable addresses for LCM's context pointers
+  void record(const std::string& channel, const void* data, int size);
+  std::unique_ptr<lcm::LogFile> record_;
+  std::string record_file_;
+  std::int64_t record_events_ = 0;
 };
 
 }  // namespace rnav

@@ -1,4 +1,5 @@
-// The free-running radar bias estimator (PrlBiasFreeNode, `rnav_prl_bias --free`): driven by the
+// The free-running estimators (PrlBiasFreeNode, `rnav_prl_bias --free`; UavTmaFreeNode,
+// `rnav_uav_tma --free`), first the radar bias estimator: driven by the
 // messages' own time stamps, it must give the lock-step node's estimates byte for byte, whether
 // its inputs come as the lock-step batches of a recorded run or one sample per message in
 // arrival order; and it must name what is wrong with a stream (a gap, a step back, a foreign
@@ -8,10 +9,12 @@
 #include "lcm_event_reader.hpp"
 #include "lcm_log_export.hpp"
 #include "prl_bias_free_node.hpp"
+#include "uav_tma_free_node.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 #include <rnav/prl_bias_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>
+#include <rnav/tma_batch_t.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -186,6 +189,7 @@ TEST_CASE("free-running on a lock-step log's batches, the lock-step node's own m
   for (const auto& e : log)
     if (is_input(e.channel)) feed(bus, e.channel, e.data);
   node.flush();
+  bus.run_until_idle();
   REQUIRE(expected.size() > 2);
   CHECK(first_difference(got.bias, expected) == -1);
   CHECK(got.toi.size() == expected.size());
@@ -212,6 +216,7 @@ TEST_CASE("free-running, a resent copy of a batch is skipped; a lost batch is an
       feed(bus, e->channel, e->data);
     }
     node.flush();
+    bus.run_until_idle();
     CHECK(first_difference(got.bias, lockstep_bias_messages(log)) == -1);
     CHECK(node.summary().find(std::to_string(inputs.size()) + " resent and 0 stale batch(es) skipped") != std::string::npos);
   }
@@ -251,6 +256,7 @@ TEST_CASE("free-running on one sample per message in arrival order, the lock-ste
     PrlBiasFreeNode node(bus, sc, o);
     for (const auto& [c, bytes] : live_feed(log, 1, extra_nav_delay_us)) feed(bus, c, bytes);
     node.flush();
+    bus.run_until_idle();
     return got.bias;
   };
   // Each solution arrives at its link time: `now` from the nav stream and from the plots agree.
@@ -322,4 +328,152 @@ TEST_CASE("rnav_prl_bias --free fed by lcm-logplayer from a lock-step run's log,
     if (e.channel == ch::kBias) got.push_back(e.data);
   REQUIRE(expected.size() > 3);
   CHECK(first_difference(got, expected) == -1);
+}
+
+// ---- The azimuth-only estimators (UavTmaFreeNode, `rnav_uav_tma --free`) ----
+
+namespace {
+
+const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json";
+
+const std::string& shared_uav_log() {
+  static std::string file;
+  if (file.empty()) {
+    const fs::path d = scratch("uav_log");
+    file = (d / "uav.lcmlog").string();
+    REQUIRE(export_lcm_log(kUav, {}, 4, 2, file) == 0);
+  }
+  return file;
+}
+
+// The lock-step run's UAV_TMA messages (a resent copy skipped), and realization r's estimates.
+std::vector<std::vector<std::uint8_t>> lockstep_tma_messages(const std::vector<LcmEvent>& log, int only_realization,
+                                                             bool flatten) {
+  std::vector<std::vector<std::uint8_t>> out;
+  std::int64_t next_seq = 0;
+  for (const auto& e : log) {
+    if (e.channel != ch::kUavTma) continue;
+    tma_batch_t b;
+    REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+    if (b.header.seq < next_seq) continue;
+    next_seq = b.header.seq + 1;
+    if (only_realization >= 0 && b.header.realization != only_realization) continue;
+    if (!flatten) out.push_back(e.data);
+    else
+      for (const auto& x : b.estimates) out.push_back(encode(x));
+  }
+  return out;
+}
+
+std::vector<std::vector<std::uint8_t>> run_uav_free(const std::vector<std::pair<std::string, std::vector<std::uint8_t>>>& msgs,
+                                                    std::string* summary = nullptr) {
+  const UavScenario sc = UavScenario::load(kUav, {});
+  InprocBus bus;
+  std::vector<std::vector<std::uint8_t>> got;
+  bus.subscribe_raw(ch::kUavTma, [&](const std::string&, const void* d, int n) {
+    const auto* p = static_cast<const std::uint8_t*>(d);
+    got.emplace_back(p, p + n);
+  });
+  UavTmaFreeNode node(bus, sc, UavTmaFreeOptions{});
+  for (const auto& [c, bytes] : msgs) feed(bus, c, bytes);
+  node.flush();
+  bus.run_until_idle();
+  if (summary) *summary = node.summary();
+  return got;
+}
+
+}  // namespace
+
+TEST_CASE("uav_tma free-running on a lock-step log's batches, the lock-step node's own messages", "[free][uav]") {
+  const auto log = read_log(shared_uav_log());
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> inputs;
+  for (const auto& e : log)
+    if (e.channel == ch::kUavNav || e.channel == ch::kUavBearing) inputs.emplace_back(e.channel, e.data);
+  std::string summary;
+  const auto got = run_uav_free(inputs, &summary);
+  const auto expected = lockstep_tma_messages(log, -1, false);
+  REQUIRE(expected.size() > 2);
+  CHECK(first_difference(got, expected) == -1);
+  INFO(summary);
+  CHECK(summary.find("2 flight(s), 0 of them incomplete") != std::string::npos);
+}
+
+TEST_CASE("uav_tma free-running on one nav state and one bearing per message, the lock-step estimates", "[free][uav]") {
+  const auto log = read_log(shared_uav_log());
+  // Realization 1's samples in time order (at equal times the bearings first, then the other way).
+  for (const bool bearing_first : {true, false}) {
+    struct Item {
+      std::int64_t t;
+      int order;
+      std::string channel;
+      std::vector<std::uint8_t> bytes;
+    };
+    std::vector<Item> items;
+    std::map<std::string, std::int64_t> next_seq;
+    for (const auto& e : log) {
+      if (e.channel == ch::kUavNav) {
+        observer_batch_t b;
+        REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+        if (b.header.realization != 1 || b.header.seq < next_seq[e.channel]) continue;
+        next_seq[e.channel] = b.header.seq + 1;
+        for (const auto& o : b.states) items.push_back({o.utime, bearing_first ? 1 : 0, e.channel, encode(o)});
+      } else if (e.channel == ch::kUavBearing) {
+        bearing_batch_t b;
+        REQUIRE(decode_batch(e.data.data(), static_cast<int>(e.data.size()), b));
+        if (b.header.realization != 1 || b.header.seq < next_seq[e.channel]) continue;
+        next_seq[e.channel] = b.header.seq + 1;
+        for (const auto& x : b.bearings) items.push_back({x.utime, bearing_first ? 0 : 1, e.channel, encode(x)});
+      }
+    }
+    std::stable_sort(items.begin(), items.end(),
+                     [](const Item& a, const Item& b) { return a.t != b.t ? a.t < b.t : a.order < b.order; });
+    std::vector<std::pair<std::string, std::vector<std::uint8_t>>> msgs;
+    for (auto& i : items) msgs.emplace_back(i.channel, std::move(i.bytes));
+    const auto expected = lockstep_tma_messages(log, 1, true);
+    REQUIRE(expected.size() > 100);
+    const auto got = run_uav_free(msgs);
+    const long at = first_difference(got, expected);
+    if (at >= 0 && static_cast<std::size_t>(at) < std::min(got.size(), expected.size())) {
+      tma_estimate_t a, b;
+      a.decode(got[at].data(), 0, static_cast<int>(got[at].size()));
+      b.decode(expected[at].data(), 0, static_cast<int>(expected[at].size()));
+      UNSCOPED_INFO("free " << a.estimator << " utime " << a.utime << " updated " << a.updated << " x0 " << a.x[0]
+                    << "; lock-step " << b.estimator << " utime " << b.utime << " updated " << b.updated << " x0 " << b.x[0]);
+    }
+    UNSCOPED_INFO("sizes " << got.size() << " " << expected.size());
+    CHECK(at == -1);
+  }
+}
+
+TEST_CASE("uav_tma free-running, a bearing with no nav state at its time is an error naming it", "[free][uav]") {
+  const UavScenario sc = UavScenario::load(kUav, {});
+  observer_state_t o{};
+  o.utime = sc.runner.epoch_utime + 1'000'000;
+  bearing_t b{};
+  b.utime = o.utime - 500'000;
+  b.sigma_rad = 0.01;
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> msgs = {{ch::kUavBearing, encode(b)},
+                                                                         {ch::kUavNav, encode(o)}};
+  CHECK_THROWS_WITH(run_uav_free(msgs), Catch::Contains("UAV_BEARING at utime " + std::to_string(b.utime) +
+                                                        " has no UAV_NAV state"));
+}
+
+TEST_CASE("rnav_uav_tma --free fed by lcm-logplayer from a lock-step run's log, the same estimates",
+          "[free][uav][integration]") {
+  const fs::path d = scratch("uav_replay");
+  const std::string out = (d / "free.lcmlog").string();
+  std::string text;
+  FILE* p = popen(("RNAV_BUILD='" + std::string(RNAV_BINARY_DIR) + "' " + RNAV_SOURCE_DIR + "/scripts/replay uav " +
+                   shared_uav_log() + " --out " + out + " 2>&1").c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), p)) text += buf.data();
+  const int st = pclose(p);
+  INFO(text);
+  REQUIRE(WIFEXITED(st));
+  REQUIRE(WEXITSTATUS(st) == 0);
+  std::vector<std::vector<std::uint8_t>> got;
+  for (const auto& e : read_log(out))
+    if (e.channel == ch::kUavTma) got.push_back(e.data);
+  CHECK(first_difference(got, lockstep_tma_messages(read_log(shared_uav_log()), -1, false)) == -1);
 }

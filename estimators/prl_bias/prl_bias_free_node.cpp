@@ -11,22 +11,6 @@ namespace rnav {
 namespace {
 constexpr std::int64_t kEndOfInput = std::numeric_limits<std::int64_t>::max();
 
-template <class T> T decode_sample(const void* data, int size, const char* channel) {
-  T m;
-  if (m.decode(data, 0, size) != size)
-    throw std::runtime_error(std::string("cannot decode a message on ") + channel + " (corrupt)");
-  return m;
-}
-template <class B> B decode_whole_batch(const void* data, int size, const char* channel) {
-  B b;
-  if (!decode_batch(data, size, b))
-    throw std::runtime_error(std::string("cannot decode a batch on ") + channel + " (corrupt)");
-  return b;
-}
-std::string type_error(const char* channel, const char* batch, const char* sample) {
-  return std::string("a message on ") + channel + " is neither " + batch + " nor " + sample +
-         " (its type fingerprint matches neither)";
-}
 }  // namespace
 
 PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o)
@@ -35,14 +19,6 @@ PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFree
     throw std::invalid_argument("nav_lateness_s must be in [0, 3600] s");
   bus.subscribe_raw(ch::kApoi, [this](const std::string&, const void* d, int n) { on_apoi(d, n); });
   bus.subscribe_raw(ch::kNav, [this](const std::string&, const void* d, int n) { on_nav(d, n); });
-}
-
-void PrlBiasFreeNode::expect_form(Form f, const char* channel) {
-  if (form_ == Form::kUnknown) form_ = f;
-  if (form_ != f)
-    throw std::runtime_error(std::string(channel) + " sends " + (f == Form::kBatches ? "batches" : "single samples") +
-                             " but the other input sent " + (f == Form::kBatches ? "single samples" : "batches") +
-                             ": all inputs must come in the same form");
 }
 
 void PrlBiasFreeNode::enter_flight(const FlightKey& f) {
@@ -59,7 +35,7 @@ void PrlBiasFreeNode::on_apoi(const void* data, int size) {
   ++received_;
   const std::int64_t fp = message_fingerprint(data, size);
   if (fp == prl_plot_batch_t::getHash()) {
-    expect_form(Form::kBatches, ch::kApoi);
+    form_.expect(InputForm::Form::kBatches, ch::kApoi);
     auto b = decode_whole_batch<prl_plot_batch_t>(data, size, ch::kApoi);
     const auto s = apoi_order_.see(b.header);
     if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
@@ -69,7 +45,7 @@ void PrlBiasFreeNode::on_apoi(const void* data, int size) {
     apoi_q_.push_back(std::move(b));
     drain_windows();
   } else if (fp == prl_plot_t::getHash()) {
-    expect_form(Form::kSamples, ch::kApoi);
+    form_.expect(InputForm::Form::kSamples, ch::kApoi);
     const auto p = decode_sample<prl_plot_t>(data, size, ch::kApoi);
     if (p.utime <= last_plot_utime_)
       throw std::runtime_error(std::string(ch::kApoi) + ": plot " + std::to_string(p.plot_id) + " at utime " +
@@ -79,7 +55,7 @@ void PrlBiasFreeNode::on_apoi(const void* data, int size) {
     stream_.add_plot(p);
     step_samples(std::max(nav_known_, p.utime - to_us(o_.nav_lateness_s)));
   } else {
-    throw std::runtime_error(type_error(ch::kApoi, "prl_plot_batch_t", "prl_plot_t"));
+    throw std::runtime_error(foreign_type_error(ch::kApoi, "prl_plot_batch_t", "prl_plot_t"));
   }
 }
 
@@ -87,7 +63,7 @@ void PrlBiasFreeNode::on_nav(const void* data, int size) {
   ++received_;
   const std::int64_t fp = message_fingerprint(data, size);
   if (fp == nav_batch_t::getHash()) {
-    expect_form(Form::kBatches, ch::kNav);
+    form_.expect(InputForm::Form::kBatches, ch::kNav);
     auto b = decode_whole_batch<nav_batch_t>(data, size, ch::kNav);
     const auto s = nav_order_.see(b.header);
     if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
@@ -97,7 +73,7 @@ void PrlBiasFreeNode::on_nav(const void* data, int size) {
     nav_q_.push_back(std::move(b));
     drain_windows();
   } else if (fp == nav_solution_t::getHash()) {
-    expect_form(Form::kSamples, ch::kNav);
+    form_.expect(InputForm::Form::kSamples, ch::kNav);
     const auto n = decode_sample<nav_solution_t>(data, size, ch::kNav);
     if (n.link_utime < last_nav_link_)
       throw std::runtime_error(std::string(ch::kNav) + ": a solution reached the ground at " +
@@ -108,7 +84,7 @@ void PrlBiasFreeNode::on_nav(const void* data, int size) {
     nav_known_ = std::max(nav_known_, n.link_utime + 1);
     step_samples(nav_known_);
   } else {
-    throw std::runtime_error(type_error(ch::kNav, "nav_batch_t", "nav_solution_t"));
+    throw std::runtime_error(foreign_type_error(ch::kNav, "nav_batch_t", "nav_solution_t"));
   }
 }
 
@@ -156,17 +132,17 @@ void PrlBiasFreeNode::flush() {
   // Single samples: the feed has ended, every waiting plot is decided with what arrived.
   // Batches: the lock-step run decided everything by its last window; what waits belongs to
   // an incomplete flight (reported).
-  if (form_ == Form::kSamples) step_samples(kEndOfInput);
+  if (form_.form() == InputForm::Form::kSamples) step_samples(kEndOfInput);
   else if (!apoi_q_.empty() || !nav_q_.empty() || stream_.pending() > 0) ++incomplete_flights_;
 }
 
 std::string PrlBiasFreeNode::summary() const {
   std::string s = std::to_string(received_) + " message(s) received";
-  if (form_ == Form::kBatches)
+  if (form_.form() == InputForm::Form::kBatches)
     s += " as batches: " + std::to_string(flights_) + " flight(s), " + std::to_string(incomplete_flights_) +
          " of them incomplete, " + std::to_string(skipped_resends_) + " resent and " +
          std::to_string(skipped_stale_) + " stale batch(es) skipped";
-  else if (form_ == Form::kSamples)
+  else if (form_.form() == InputForm::Form::kSamples)
     s += " as single samples";
   return s + "; " + std::to_string(published_) + " plot(s) estimated and published";
 }

@@ -42,11 +42,8 @@ class PrlBiasFreeNode : public FreeNode {
   std::string summary() const override;
 
  private:
-  enum class Form { kUnknown, kBatches, kSamples };
   void on_apoi(const void* data, int size);
   void on_nav(const void* data, int size);
-  /// The inputs' form: the first message sets it; the other form later is an error.
-  void expect_form(Form f, const char* channel);
   /// A batch of flight `f` arrived: a newer flight ends the current one.
   void enter_flight(const FlightKey& f);
   /// Batches: process every window both inputs hold.
@@ -57,7 +54,7 @@ class PrlBiasFreeNode : public FreeNode {
   Bus& bus_;
   PrlBiasFreeOptions o_;
   PrlBiasStream stream_;
-  Form form_ = Form::kUnknown;
+  InputForm form_;
   BatchOrder apoi_order_, nav_order_;
   FlightKey flight_{-1, -1};
   std::deque<prl_plot_batch_t> apoi_q_;  // batches of the current flight not yet processed

@@ -3,9 +3,17 @@
 #pragma once
 
 #include "lockstep_node.hpp"
-#include "tma_estimators.hpp"
+#include "tma_frame.hpp"
+
+#include <rnav/bearing_batch_t.hpp>
+#include <rnav/observer_batch_t.hpp>
 
 namespace rnav {
+
+/// One window of batches: every nav state's frame (with the bearings at its time) in order;
+/// a bearing with no nav state at its time is an error.
+void tma_window(std::vector<std::unique_ptr<tma::TmaEstimator>>& est, std::int64_t epoch_utime,
+                const observer_batch_t& nav, const bearing_batch_t& bearings, std::vector<tma_estimate_t>& out);
 
 class UavTmaNode : public LockstepNode {
  public:

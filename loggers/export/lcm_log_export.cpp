@@ -9,6 +9,7 @@
 #include "target_node.hpp"
 #include "trajectory_node.hpp"
 #include "uav_node.hpp"
+#include "uav_tma_node.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -49,6 +50,7 @@ int export_lcm_log(const std::string& scenario_file, const std::vector<std::stri
     const UavScenario sc = UavScenario::load(scenario_file, overrides);
     nodes.push_back(std::make_unique<TargetNode>(bus, sc));
     nodes.push_back(std::make_unique<UavNode>(bus, sc));
+    nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
     LcmLogTap tap(bus, log_file, sc.runner.epoch_utime);
     r = run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops, base);
   } else {

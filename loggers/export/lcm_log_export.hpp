@@ -36,8 +36,8 @@ class LcmLogTap {
 
 /// Run realizations 0..n-1 of a scenario file (with overrides, as `scripts/run` would) in one
 /// process and record every message into `log_file`, including the clock's SIM_SCENARIO.
-/// prl: trajectory, snsins, prl, prl_bias; uav: target, uav (the data nodes, no estimator or
-/// logger). `drops`: CHANNEL:R:W[:A] losses injected at every publisher (repeated attempts).
+/// prl: trajectory, snsins, prl, prl_bias; uav: target, uav, uav_tma (no logger).
+/// `drops`: CHANNEL:R:W[:A] losses injected at every publisher (repeated attempts).
 /// Returns 0 on success, else the in-process clock's exit code (and `failure`).
 int export_lcm_log(const std::string& scenario_file, const std::vector<std::string>& overrides,
                    std::int64_t seed, int n, const std::string& log_file,
