@@ -1,5 +1,7 @@
 #include "config.hpp"
 
+#include "did_you_mean.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <cctype>
@@ -167,9 +169,12 @@ Section Section::section(const std::string& key) {
 }
 
 void Section::finish() const {
+  std::vector<std::string> known;  // every key this section's reader asked for
+  for (const auto& k : used_) known.push_back(key_path(k));
   std::string unknown;
   for (auto it = j_.begin(); it != j_.end(); ++it)
-    if (!used_.count(it.key())) unknown += (unknown.empty() ? "" : ", ") + key_path(it.key());
+    if (!used_.count(it.key()))
+      unknown += (unknown.empty() ? "" : ", ") + key_path(it.key()) + did_you_mean(key_path(it.key()), known);
   if (!unknown.empty()) throw ConfigError("unknown scenario key(s): " + unknown);
 }
 
