@@ -1,5 +1,7 @@
 #include "config.hpp"
 
+#include "did_you_mean.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <cctype>
@@ -23,24 +25,6 @@ long long parse_integer(const std::string& option, const std::string& text, long
     throw ConfigError(option + ": '" + text + "' is not an integer");
   if (x < lo || x > hi)
     throw ConfigError(option + ": " + text + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  return x;
-}
-
-double parse_number(const std::string& option, const std::string& text, double lo, double hi) {
-  std::size_t pos = 0;
-  double x = 0;
-  bool ok = !text.empty() && !std::isspace(static_cast<unsigned char>(text[0]));
-  if (ok) {
-    try {
-      x = std::stod(text, &pos);
-    } catch (const std::exception&) {
-      ok = false;
-    }
-  }
-  if (!ok || pos != text.size() || !std::isfinite(x))
-    throw ConfigError(option + ": '" + text + "' is not a finite number");
-  if (x < lo || x > hi)
-    throw ConfigError(option + ": " + text + " is outside [" + value_text(lo) + ", " + value_text(hi) + "]");
   return x;
 }
 
@@ -185,9 +169,12 @@ Section Section::section(const std::string& key) {
 }
 
 void Section::finish() const {
+  std::vector<std::string> known;  // every key this section's reader asked for
+  for (const auto& k : used_) known.push_back(key_path(k));
   std::string unknown;
   for (auto it = j_.begin(); it != j_.end(); ++it)
-    if (!used_.count(it.key())) unknown += (unknown.empty() ? "" : ", ") + key_path(it.key());
+    if (!used_.count(it.key()))
+      unknown += (unknown.empty() ? "" : ", ") + key_path(it.key()) + did_you_mean(key_path(it.key()), known);
   if (!unknown.empty()) throw ConfigError("unknown scenario key(s): " + unknown);
 }
 

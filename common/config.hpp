@@ -75,9 +75,6 @@ nlohmann::json parse_json_checked(const std::string& text, const std::string& so
 /// A command-line integer: the whole text a decimal integer within [lo, hi], else ConfigError
 /// naming the option and the text (no silent truncation: 4294967297 is not 1).
 long long parse_integer(const std::string& option, const std::string& text, long long lo, long long hi);
-/// A command-line real number: the whole text a finite number within [lo, hi], else ConfigError
-/// naming the option and the text.
-double parse_number(const std::string& option, const std::string& text, double lo, double hi);
 
 /// x with 10 significant digits, as error messages quote values.
 std::string value_text(double x);

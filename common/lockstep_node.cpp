@@ -1,5 +1,7 @@
 #include "lockstep_node.hpp"
 
+#include "config.hpp"
+
 #include <algorithm>
 #include <cstring>
 #include <sstream>
@@ -28,7 +30,7 @@ DropSpec DropSpec::parse(const std::string& text) {
     if (parts.size() == 5) d.transmissions = number(parts[4]);
     if (d.transmissions == 0) throw std::invalid_argument("K");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--drop '" + text +
+    throw ConfigError("--drop '" + text +
                                 "': expected CHANNEL:REALIZATION:WINDOW[:ATTEMPT[:K]] (non-negative integers, K >= 1)");
   }
   return d;

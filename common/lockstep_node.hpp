@@ -43,6 +43,7 @@ struct DropSpec {
   int realization = 0, window = 0;
   int attempt = -1;       ///< -1 = every attempt
   int transmissions = -1; ///< drop the first K transmissions (the original, then resends); -1 = every one
+  /// From "CHANNEL:R:W[:A[:K]]"; a ConfigError naming the text otherwise.
   static DropSpec parse(const std::string& text);
 };
 

@@ -2,6 +2,7 @@
 // print the options, run the node over LCM until FINISH/ABORT. Process mains stay thin.
 #pragma once
 
+#include "cli.hpp"
 #include "lcm_bus.hpp"
 #include "lockstep_node.hpp"
 #include "scenario.hpp"
@@ -16,40 +17,46 @@ namespace rnav {
 struct NodeArgs {
   std::string scenario_file;
   std::vector<std::string> overrides;   // --set key=value
-  std::vector<DropSpec> drops;          // --drop CHANNEL:R:W[:A]
+  std::vector<DropSpec> drops;          // --drop CHANNEL:R:W[:A[:K]]
   std::string lcm_url;                  // --lcm-url
-  std::string out_dir;                  // --out (logger)
-  std::vector<std::string> extra;       // anything else, for the node
+  std::string out_dir;                  // --out (loggers only)
+};
+
+/// What a node's process is, for its --help and its messages.
+struct NodeProgram {
+  std::string program;      ///< the binary's name, e.g. "rnav_prl": usage line and errors
+  std::string name;         ///< the node's name in its log lines, e.g. "prl"
+  std::string does;         ///< what it does, for --help
+  bool writes_out = false;  ///< a logger: --out DIR (required) is where it writes its results
+  bool has_free_mode = false;  ///< an estimator: --free runs it without the clock (free_main.hpp)
 };
 
 /// Monotonic wall time [s].
 double wall_seconds();
 
-/// Usage: NAME --scenario FILE [--set k=v]... [--drop CH:R:W[:A]]... [--lcm-url URL] [--out DIR]
+/// The option table every node shares (--scenario, --set, --drop, --lcm-url, --print-options;
+/// --out for a logger), filling `args`; `print_options` is set by --print-options.
+cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_options);
+
+/// Usage: PROGRAM --scenario FILE [--set k=v]... [--drop CH:R:W[:A[:K]]]... [--lcm-url URL] [--out DIR]
 /// Sc is the scenario type (Scenario, UavScenario): Sc::load(file, overrides), Sc::print(os).
 /// `make` builds the node on the bus. Returns the process exit code; never calls exit().
 template <class Sc>
-int run_node_main(int argc, char** argv, const std::string& name,
+int run_node_main(int argc, char** argv, const NodeProgram& p,
                   const std::function<std::unique_ptr<LockstepNode>(Bus&, const Sc&,
                                                                     const NodeArgs&)>& make) {
-  try {
+  return cli::guarded_main(p.program, [&]() -> int {
     NodeArgs args;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw ConfigError(name + ": option " + a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--scenario") args.scenario_file = value();
-      else if (a == "--set") args.overrides.push_back(value());
-      else if (a == "--drop") args.drops.push_back(DropSpec::parse(value()));
-      else if (a == "--lcm-url") args.lcm_url = value();
-      else if (a == "--out") args.out_dir = value();
-      else args.extra.push_back(a);
-    }
-    if (args.scenario_file.empty()) throw ConfigError(name + ": --scenario FILE is required");
+    bool print_options = false;
+    if (!node_parser(p, args, print_options).parse(argc, argv, std::cout)) return 0;
+    if (args.scenario_file.empty()) throw ConfigError("--scenario FILE is required (see " + p.program + " --help)");
+    if (p.writes_out && args.out_dir.empty()) throw ConfigError("--out DIR is required");
     const Sc sc = Sc::load(args.scenario_file, args.overrides);
-    std::cerr << name << ": options\n";
+    if (print_options) {
+      sc.print(std::cout);
+      return 0;
+    }
+    std::cerr << p.name << ": options\n";
     sc.print(std::cerr);
     LcmBus bus(args.lcm_url);
     auto node = make(bus, sc, args);
@@ -59,18 +66,14 @@ int run_node_main(int argc, char** argv, const std::string& name,
       node->poll(wall_seconds());
     }
     if (node->exit_code() == 0)
-      std::cerr << name << ": finished (" << node->duplicates_ignored() << " resent batch(es) ignored, "
+      std::cerr << p.name << ": finished (" << node->duplicates_ignored() << " resent batch(es) ignored, "
                 << node->republished() << " republished)\n";
+    else if (node->exit_code() == 3)  // aborted by the clock, which says why
+      std::cerr << p.name << ": " << node->failure() << "\n";
     else
-      std::cerr << name << ": " << (node->exit_code() == 3 ? "" : "error: ") << node->failure() << "\n";
+      std::cerr << cli::error_line(p.program, node->failure()) << "\n";
     return node->exit_code();
-  } catch (const ConfigError& e) {
-    std::cerr << name << ": error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << name << ": error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "config.hpp"
+#include "did_you_mean.hpp"
 #include "scenario.hpp"
 
 #include <array>
@@ -37,7 +38,8 @@ struct Reader {
       if (a == x) return;
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list);
+    throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list +
+                      did_you_mean(x, allowed));
   }
   void list(const char* k, std::vector<double>& x, double lo, double hi) {
     x = s.numbers(k, x, lo, hi);

@@ -4,9 +4,12 @@
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::Scenario>(
-      argc, argv, "logger",
+      argc, argv,
+      rnav::NodeProgram{"rnav_logger", "logger",
+                        "The landing-radar ensemble's statistics: Table 2 (table2.json, table2.txt), "
+                        "stats_time.csv, stats_range.csv in --out DIR.",
+                        true},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs& a) {
-        if (a.out_dir.empty()) throw rnav::ConfigError("logger: --out DIR is required");
         return std::make_unique<rnav::PrlLoggerNode>(bus, sc, a.out_dir);
       });
 }

@@ -91,10 +91,14 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
   std::ostringstream o;
   o << "Table 2: systematic error (ensemble mean over " << n_real_ << " realizations, seed "
     << seed << "), metres, landing frame\n";
-  o << "range (from " << sc_.logger.table_range_origin << ")\n";
-  o << "range            row    X (+-95%)            Z (+-95%)            Y (+-95%)           "
-       "| paper X   Z      Y\n";
+  o << "range: distance from the " << sc_.logger.table_range_origin << " [m]; +- half-width of the 95 % band [m]\n";
   const char* rows[2] = {"APOI", "TOI"};
+  {
+    char b[256];
+    std::snprintf(b, sizeof b, "%-10s  %6s %8s +- %-8s %8s +- %-8s %8s +- %-8s | paper X, Z, Y [m]\n", "range", "row",
+                  "X [m]", "95 %", "Z [m]", "95 %", "Y [m]", "95 %");
+    o << b;
+  }
   for (std::size_t i = 0; i < sc_.logger.table_ranges_m.size(); ++i) {
     const double r = sc_.logger.table_ranges_m[i];
     for (int row = 0; row < 2; ++row) {

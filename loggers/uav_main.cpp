@@ -4,9 +4,12 @@
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::UavScenario>(
-      argc, argv, "uav_logger",
+      argc, argv,
+      rnav::NodeProgram{"rnav_uav_logger", "uav_logger",
+                        "The azimuth-only ensemble's statistics: RMSE, PCRB, NEES/NIS with chi-square bands "
+                        "(summary.json, summary.txt, uav_stats_time.csv) in --out DIR.",
+                        true},
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs& a) {
-        if (a.out_dir.empty()) throw rnav::ConfigError("uav_logger: --out DIR is required");
         return std::make_unique<rnav::UavLoggerNode>(bus, sc, a.out_dir);
       });
 }

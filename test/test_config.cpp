@@ -76,6 +76,23 @@ TEST_CASE("unknown keys throw ConfigError naming the full key path", "[config]")
              Contains("snsins.latncy_s"));
 }
 
+TEST_CASE("an unknown key names the nearest known key of its section, if one is near", "[config]") {
+  CHECK_THAT(from_json_error(json::parse(R"({"radar": {"x_n": -900}})")),
+             Contains("radar.x_n (did you mean 'radar.x_m'?)"));
+  CHECK_THAT(from_json_error(json::parse(R"({"trajectroy": {}})")),
+             Contains("trajectroy (did you mean 'trajectory'?)"));
+  CHECK_THAT(from_json_error(json::parse(R"({"prl": {"bias_rang_m": 1}})")),
+             Contains("(did you mean 'prl.bias_range_m'?)"));
+  // Far from every key of its section: no guess (x_m is a radar key, not a prl one).
+  const std::string far = from_json_error(json::parse(R"({"prl": {"x_m": 1}})"));
+  CHECK_THAT(far, Contains("prl.x_m"));
+  CHECK_THAT(far, !Contains("did you mean"));
+  // Each of several unknown keys gets its own guess.
+  const std::string two = from_json_error(json::parse(R"({"radar": {"x_n": 1, "z_n": 2}})"));
+  CHECK_THAT(two, Contains("radar.x_n (did you mean 'radar.x_m'?)"));
+  CHECK_THAT(two, Contains("radar.z_n (did you mean 'radar.z_m'?)"));
+}
+
 TEST_CASE("bad values throw ConfigError naming the key", "[config]") {
   SECTION("string \"NaN\"") {
     const std::string m = from_json_error(json::parse(R"({"prl": {"bias_range_m": "NaN"}})"));

@@ -300,3 +300,25 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   const CsvTable t = CsvTable::read((d / "nav_extra.csv").string(), {"t_s", "lat_deg"});
   CHECK(t.col("lat_deg").at(0) == 48.1);
 }
+
+TEST_CASE("the text report shows angles in degrees and every gain with its unit; the JSON keeps radians",
+          "[diagnose][units]") {
+  DiagnoseReport rep;
+  EffectResult bias;
+  bias.name = "azimuth_bias";
+  bias.params = {"rad"};
+  bias.estimate = {M_PI / 180 * 0.5};
+  bias.stderr_ = {M_PI / 180 * 0.25};
+  bias.nominal = true;
+  rep.effects.push_back(bias);
+  rep.gain["course"] = {10, "rad", M_PI / 180 * 0.3, M_PI / 180 * 0.2, 0, 0};
+  rep.gain["range"] = {10, "m", 12.5, 11.5, 0, 0};
+  const std::string t = rep.text();
+  INFO(t);
+  CHECK(t.find("azimuth_bias: deg=0.5 +- 0.25") != std::string::npos);
+  CHECK(t.find("gain course: RMS 0.3 -> 0.2 deg (n 10)") != std::string::npos);
+  CHECK(t.find("gain range: RMS 12.5 -> 11.5 m (n 10)") != std::string::npos);
+  const auto j = rep.to_json();
+  CHECK(j["effects"][0]["estimate"].get<double>() == Approx(M_PI / 180 * 0.5));
+  CHECK(j["gain"]["course"]["nominal_rms"].get<double>() == Approx(M_PI / 180 * 0.3));
+}

@@ -201,7 +201,7 @@ TEST_CASE("free-running on a lock-step log's batches, the lock-step node's own m
   CHECK(node.summary().find("2 flight(s), 0 of them incomplete") != std::string::npos);
 }
 
-TEST_CASE("free-running, a resent copy of a batch is skipped; a lost batch is an error naming the channel", "[free]") {
+TEST_CASE("free-running, a resent copy of a batch is skipped and a lost batch is an error naming the channel", "[free]") {
   const auto log = read_log(shared_log());
   const Scenario sc = Scenario::load(kPaper, kDropouts);
   std::vector<const LcmEvent*> inputs;

@@ -5,6 +5,7 @@
 #include "effect_search.hpp"
 #include "noise_id.hpp"
 #include "coloured_noise.hpp"
+#include "shown_unit.hpp"
 #include "stats.hpp"
 
 #include <catch2/catch.hpp>
@@ -485,4 +486,20 @@ TEST_CASE("effect search: bad problems are named") {
   SearchOptions bad;
   bad.alpha = 0.7;
   CHECK_THROWS_WITH(search_effects(make(1, 0, 0, 0, 0, 0.5).pb, bad), Catch::Contains("alpha"));
+}
+
+TEST_CASE("text reports show angles in degrees, other units as they are", "[model_id][units]") {
+  const double deg = 180.0 / M_PI;
+  CHECK(shown_unit("rad").name == "deg");
+  CHECK(shown_unit("rad").factor == Approx(deg));
+  CHECK(shown_unit("k_rad").name == "k_deg");
+  CHECK(shown_unit("amplitude_glide_rad").name == "amplitude_glide_deg");
+  CHECK(shown_unit("rad_per_s").name == "deg_per_s");
+  CHECK(shown_unit("course_radps").name == "course_degps");
+  CHECK(shown_unit("course_radps").factor == Approx(deg));
+  CHECK(shown_unit("1").name == "ratio");
+  for (const char* same : {"m", "tau_s", "along_m", "g", "radar", "t_s"}) {
+    CHECK(shown_unit(same).name == same);
+    CHECK(shown_unit(same).factor == 1.0);
+  }
 }

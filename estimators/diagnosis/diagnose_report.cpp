@@ -4,6 +4,7 @@
 
 #include "config.hpp"
 #include "search_json.hpp"
+#include "shown_unit.hpp"
 #include "stats.hpp"
 
 #include <cmath>
@@ -106,7 +107,7 @@ void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseRepor
   for (std::size_t c = 0; c < r.gain.size(); ++c) {
     const SeriesGain& s = r.gain[c];
     if (s.n == 0) continue;
-    rep.gain[pb.channels[c].name] = {s.n, s.nominal_rms, s.extended_rms, s.nominal_loglik, s.extended_loglik};
+    rep.gain[pb.channels[c].name] = {s.n, pb.channels[c].unit, s.nominal_rms, s.extended_rms, s.nominal_loglik, s.extended_loglik};
   }
   rep.gain_effects = r.holdout_effects;
   rep.gain_fit = gain_fit_json(pb, r);
@@ -198,9 +199,11 @@ std::string DiagnoseReport::text() const {
     o << "plots used " << plots_used << ", dropped (no nav around them) " << plots_dropped << "\n";
   for (const auto& e : effects) {
     o << (e.nominal ? "  nominal  " : "  EFFECT   ") << e.name << (e.channel.empty() ? "" : " [" + e.channel + "]") << ":";
-    for (std::size_t i = 0; i < e.estimate.size(); ++i)
-      o << " " << (i < e.params.size() ? e.params[i] + "=" : "") << short_num(e.estimate[i]) << " +- "
-        << short_num(e.stderr_[i]);
+    for (std::size_t i = 0; i < e.estimate.size(); ++i) {
+      const ShownUnit u = shown_unit(i < e.params.size() ? e.params[i] : "");
+      o << " " << (u.name.empty() ? "" : u.name + "=") << short_num(u.factor * e.estimate[i]) << " +- "
+        << short_num(u.factor * e.stderr_[i]);
+    }
     if (!e.nominal) {
       o << "  (2 log LR " << short_num(e.evidence_lr) << ", log10 p " << short_num(e.log10_p);
       if (e.channel.empty()) o << "; kept at " << short_num(e.kept_lr) << ", log10 p " << short_num(e.kept_log10_p);
@@ -209,9 +212,11 @@ std::string DiagnoseReport::text() const {
     if (!e.confounded_with.empty()) o << "  confounded with " << e.confounded_with.front();
     o << "\n";
   }
-  for (const auto& [k, g] : gain)
-    o << "  gain " << k << ": RMS " << short_num(g.nominal_rms) << " -> " << short_num(g.extended_rms) << " (n " << g.n
-      << ")\n";
+  for (const auto& [k, g] : gain) {
+    const ShownUnit u = shown_unit(g.unit);
+    o << "  gain " << k << ": RMS " << short_num(u.factor * g.nominal_rms) << " -> " << short_num(u.factor * g.extended_rms)
+      << (u.name.empty() ? "" : " " + u.name) << " (n " << g.n << ")\n";
+  }
   if (!gain.empty()) {
     o << "  gain window: fit on t < " << short_num(split_time_s) << " s with";
     o << gain_fit_line;

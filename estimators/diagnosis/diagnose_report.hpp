@@ -33,6 +33,7 @@ struct EffectResult {
 
 struct ChannelGain {
   int n = 0;
+  std::string unit;                                ///< the channel's unit ("m", "rad")
   double nominal_rms = 0, extended_rms = 0;        ///< [channel unit] held-out residual RMS
   double nominal_loglik = 0, extended_loglik = 0;  ///< held-out predictive log-likelihood (0: not scored)
 };

@@ -178,6 +178,7 @@ void truth_gain(const PrlFlightData& data, const std::vector<Plot>& pl, const Se
   for (const auto& s : data.truth) tr_R.push_back(R.from_geodetic(s.g));
   const auto n = static_cast<Eigen::Index>(pl.size());
   ChannelGain g;
+  g.unit = "m";
   double a = 0, b = 0;
   std::size_t k = 0;
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -115,6 +115,7 @@ void extrapolated_track_gain(const Problem& pb, const SearchResult& r, const CvT
     return p;
   };
   ChannelGain g;
+  g.unit = "m";
   double a = 0, b = 0;
   for (std::size_t i = 0; i < pb.size(); ++i) {
     const double t = pb.t_s[i];

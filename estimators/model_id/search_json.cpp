@@ -1,5 +1,6 @@
 #include "search_json.hpp"
 
+#include "shown_unit.hpp"
 #include "stats.hpp"
 
 #include <cmath>
@@ -146,8 +147,11 @@ std::string gain_fit_text(const Problem& pb, const SearchResult& r) {
   for (const auto& [e, v] : r.holdout_entries) {
     const Candidate& c = pb.catalogue[e];
     o << " " << c.name << "@" << c.scope.label() << " (";
-    for (std::size_t j = 0; j < c.params.size(); ++j, ++col)
-      o << (j ? " " : "") << c.params[j] << "=" << short_num(r.extended_oos_beta(col)) << " +- " << short_num(r.extended_oos_se(col));
+    for (std::size_t j = 0; j < c.params.size(); ++j, ++col) {
+      const ShownUnit u = shown_unit(c.params[j]);
+      o << (j ? " " : "") << u.name << "=" << short_num(u.factor * r.extended_oos_beta(col)) << " +- "
+        << short_num(u.factor * r.extended_oos_se(col));
+    }
     o << ")";
   }
   return o.str();
@@ -157,8 +161,10 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
   std::ostringstream o;
   for (const auto& e : r.effects) {
     o << "  EFFECT   " << e.name << " [" << e.scope.label() << "]:";
-    for (std::size_t i = 0; i < e.estimate.size(); ++i)
-      o << " " << e.params[i] << "=" << short_num(e.estimate[i]) << " +- " << short_num(e.stderr_[i]);
+    for (std::size_t i = 0; i < e.estimate.size(); ++i) {
+      const ShownUnit u = shown_unit(e.params[i]);
+      o << " " << u.name << "=" << short_num(u.factor * e.estimate[i]) << " +- " << short_num(u.factor * e.stderr_[i]);
+    }
     if (!e.scan_param.empty()) o << " at " << e.scan_param << "=" << short_num(e.scan_value) << " +- " << short_num(e.scan_se);
     o << "  (2 log LR " << short_num(e.lr) << ", log10 p " << short_num(e.log10_p) << "; kept at " << short_num(e.kept_lr)
       << ", log10 p " << short_num(e.kept_log10_p) << ")";
@@ -167,8 +173,9 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
   }
   for (std::size_t c = 0; c < r.noise.size(); ++c) {
     const auto& n = r.noise[c];
-    o << "  noise    " << pb.channels[c].name << ": " << n.fit.params.kind() << " sigma " << short_num(std::sqrt(n.fit.params.s2))
-      << " " << pb.channels[c].unit << " (" << short_num(n.noise_scale) << "x nominal" << (n.scale_named ? ", named" : "") << ")";
+    const ShownUnit u = shown_unit(pb.channels[c].unit);
+    o << "  noise    " << pb.channels[c].name << ": " << n.fit.params.kind() << " sigma "
+      << short_num(u.factor * std::sqrt(n.fit.params.s2)) << " " << u.name << " (" << short_num(n.noise_scale) << "x nominal" << (n.scale_named ? ", named" : "") << ")";
     if (n.fit.correlated) o << ", tau " << short_num(n.fit.params.tau_s) << " +- " << short_num(n.fit.se_tau_s) << " s";
     if (n.outliers_named) o << ", outliers " << short_num(100 * n.fit.params.p_out) << " %";
     o << "\n";

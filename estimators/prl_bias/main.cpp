@@ -8,21 +8,28 @@
 #include <cstring>
 
 int main(int argc, char** argv) {
+  const rnav::NodeProgram program = {"rnav_prl_bias", "prl_bias",
+                          "Estimates the radar's systematic error from the navigation solution (one scalar Kalman "
+                          "filter per channel) and compensates the plots: PRL_APOI and NAV_SOLUTION in, PRL_TOI and "
+                          "PRL_BIAS out.",
+                          false, true};
   for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], "--free") == 0)
+    if (std::strcmp(argv[i], "--free") == 0) {
+      rnav::PrlBiasFreeOptions o;
       return rnav::run_free_main<rnav::Scenario>(
-          argc, argv, "rnav_prl_bias",
-          [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::FreeArgs& a) -> std::unique_ptr<rnav::FreeNode> {
-            rnav::PrlBiasFreeOptions o;
-            for (std::size_t k = 0; k + 1 < a.extra.size(); k += 2) {
-              if (a.extra[k] == "--nav-lateness-s") o.nav_lateness_s = rnav::parse_number(a.extra[k], a.extra[k + 1], 0, 3600);
-              else throw rnav::ConfigError("unknown option " + a.extra[k]);
-            }
+          argc, argv, program,
+          [&o](rnav::cli::Parser& p) {
+            p.value("--nav-lateness-s", "S", "[s] single samples: how far the nav link may lag the radar; a silent link counts as a drop-out once a plot this much later than the wait has arrived", "1",
+                    [&o](const std::string& v) { o.nav_lateness_s = rnav::cli::number("--nav-lateness-s", v, 0, 3600); });
+          },
+          [&o](rnav::Bus& bus, const rnav::Scenario& sc) -> std::unique_ptr<rnav::FreeNode> {
             std::cerr << "rnav_prl_bias: nav_lateness_s " << o.nav_lateness_s << "\n";
             return std::make_unique<rnav::PrlBiasFreeNode>(bus, sc, o);
           });
-  return rnav::run_node_main<rnav::Scenario>(argc, argv, "prl_bias",
-                             [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-                               return std::make_unique<rnav::PrlBiasNode>(bus, sc);
-                             });
+    }
+  return rnav::run_node_main<rnav::Scenario>(
+      argc, argv, program,
+      [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
+        return std::make_unique<rnav::PrlBiasNode>(bus, sc);
+      });
 }

@@ -8,22 +8,27 @@
 #include <cstring>
 
 int main(int argc, char** argv) {
+  const rnav::NodeProgram program = {"rnav_uav_tma", "uav_tma",
+                          "Azimuth-only estimates of the object's position and velocity with covariance: the "
+                          "paper's linearised Kalman filter (ekf) and the range-parameterised bank (rpekf).",
+                          false, true};
   for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], "--free") == 0)
+    if (std::strcmp(argv[i], "--free") == 0) {
+      rnav::UavTmaFreeOptions o;
       return rnav::run_free_main<rnav::UavScenario>(
-          argc, argv, "rnav_uav_tma",
-          [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::FreeArgs& a) -> std::unique_ptr<rnav::FreeNode> {
-            rnav::UavTmaFreeOptions o;
-            for (std::size_t k = 0; k + 1 < a.extra.size(); k += 2) {
-              if (a.extra[k] == "--bearing-lateness-s")
-                o.bearing_lateness_s = rnav::parse_number(a.extra[k], a.extra[k + 1], 0, 3600);
-              else throw rnav::ConfigError("unknown option " + a.extra[k]);
-            }
+          argc, argv, program,
+          [&o](rnav::cli::Parser& p) {
+            p.value("--bearing-lateness-s", "S", "[s] single samples: how far the bearings may lag the nav states; a frame is processed once a nav state this much later has arrived", "1",
+                    [&o](const std::string& v) { o.bearing_lateness_s = rnav::cli::number("--bearing-lateness-s", v, 0, 3600); });
+          },
+          [&o](rnav::Bus& bus, const rnav::UavScenario& sc) -> std::unique_ptr<rnav::FreeNode> {
             std::cerr << "rnav_uav_tma: bearing_lateness_s " << o.bearing_lateness_s << "\n";
             return std::make_unique<rnav::UavTmaFreeNode>(bus, sc, o);
           });
+    }
   return rnav::run_node_main<rnav::UavScenario>(
-      argc, argv, "uav_tma", [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
+      argc, argv, program,
+      [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
         return std::make_unique<rnav::UavTmaNode>(bus, sc);
       });
 }

@@ -173,8 +173,8 @@ MultiSensorData autoferry_to_multi(const AutoferryRecords& r) {
 }
 
 AzimuthData autoferry_to_azimuth(const AutoferryRecords& r, const std::string& sensor, int target) {
-  if (sensor != "eo" && sensor != "ir") throw ConfigError("import: sensor must be eo or ir, got '" + sensor + "'");
-  if (target != 1 && target != 2) throw ConfigError("import: target must be 1 or 2, got " + std::to_string(target));
+  if (sensor != "eo" && sensor != "ir") throw ConfigError("sensor must be eo or ir, got '" + sensor + "'");
+  if (target != 1 && target != 2) throw ConfigError("target must be 1 or 2, got " + std::to_string(target));
   check_shape(r);
   const int sid = sensor == "eo" ? kEo : kIr;
   AzimuthData d;

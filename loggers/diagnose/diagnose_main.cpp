@@ -1,10 +1,11 @@
-// rnav_diagnose prl|uav INPUT [--json FILE] [--split-time S] [--alpha A] [...]
-//               [--realization R] [--scenario FILE] [--set key=value]...
+// rnav_diagnose prl|uav|multi INPUT [options] (one option table below; --help prints it).
 // INPUT: a CSV folder (README, "Measured data") or an LCM event log of a simulation run
 // (scripts/run --lcm-log FILE, lcm-logger): one realization (--realization, default 0), its
 // streams checked for loss and order; the site from --scenario (with --set) or else from the
 // log's SIM_SCENARIO. Prints the report; writes JSON.
 #include "atomic_file.hpp"
+#include "cli.hpp"
+#include "did_you_mean.hpp"
 #include "config.hpp"
 #include "lcm_log_input.hpp"
 #include "lcm_log_streams.hpp"
@@ -16,26 +17,9 @@
 #include <fstream>
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace {
-
-const char* kUsage =
-    "usage: rnav_diagnose prl|uav|multi INPUT [--json FILE] [--residuals FILE] [--split-time S] [--alpha A]\n"
-    "         [--nav-sigma M] [--nav-tau S] [--confound-corr C] [--gate-deg D] [--sigma-deg D]\n"
-    "         [--split-fraction F] [--ignore-truth] [--seed N] [--noise-set-q Q]\n"
-    "         [--realization R] [--scenario FILE] [--set key=value]...\n"
-    "  prl: --split-time (default 400 s), --nav-sigma (default 1.9 m), --nav-tau (default 120 s); uav: --gate-deg, --sigma-deg, --split-fraction,\n"
-    "  --ignore-truth (diagnose on a track fitted to the bearings; truth only scores the gain),\n"
-    "  --seed (of that fit's initialisation)\n"
-    "  --noise-set-q: an effect stays named only if its 2 log LR, least over each channel's noise\n"
-    "  models within Q / 2 of the best REML log-likelihood, still passes (default 4; 0: plug-in\n"
-    "  noise estimate only)\n"
-    "  multi: a multi-sensor folder (observer.csv, detections.csv, truth.csv); --gate-deg (bearing\n"
-    "  gate, default 3), --gate-m (range sensors' position gate, default 20), --sigma-deg (nominal\n"
-    "  bearing sigma, default 0.5), --sigma-range-m (default 1), --split-fraction (default 0.6)\n"
-    "  INPUT: a CSV folder, or an LCM event log (scripts/run --lcm-log FILE); for a log,\n"
-    "  --realization picks one (default 0) and --scenario/--set give the site (default: the\n"
-    "  scenario the log carries on SIM_SCENARIO)";
 
 // A CSV folder, an LCM event log, or an error naming INPUT.
 bool is_log_input(const std::string& input) {
@@ -48,79 +32,103 @@ bool is_log_input(const std::string& input) {
   return true;
 }
 
-int integer(const std::string& opt, const std::string& v) {
-  std::size_t pos = 0;
-  int x = 0;
-  try {
-    x = std::stoi(v, &pos);
-  } catch (const std::exception&) {
-    pos = 0;
-  }
-  if (v.empty() || pos != v.size() || x < 0)
-    throw rnav::ConfigError(opt + " '" + v + "' is not a non-negative integer");
-  return x;
-}
-
-// A finite number, or an error naming the option.
-double number(const std::string& opt, const std::string& v) {
-  std::size_t pos = 0;
-  double x = 0;
-  try {
-    x = std::stod(v, &pos);
-  } catch (const std::exception&) {
-    pos = 0;
-  }
-  if (v.empty() || pos != v.size() || !std::isfinite(x)) throw rnav::ConfigError(opt + " '" + v + "' is not a finite number");
-  return x;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    if (argc < 3) throw rnav::ConfigError(kUsage);
-    const std::string kind = argv[1], input = argv[2];
-    if (kind != "prl" && kind != "uav" && kind != "multi")
-      throw rnav::ConfigError("diagnose: kind must be prl, uav or multi, got '" + kind + "'");
+  return rnav::cli::guarded_main("rnav_diagnose", [&]() -> int {
+    std::vector<std::string> pos;
     std::string json, residuals;
     rnav::DiagnoseOptions o;
     rnav::UavDiagnoseOptions uo;
     rnav::MultiDiagnoseOptions mo;
     rnav::LcmLogOptions lo;
     bool log_options = false;
-    for (int i = 3; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw rnav::ConfigError("diagnose: option " + a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--json") json = value();
-      else if (a == "--split-time") o.split_time_s = number(a, value());
-      else if (a == "--alpha") o.search.alpha = uo.search.alpha = mo.search.alpha = number(a, value());
-      else if (a == "--gate-deg") uo.gate_deg = mo.association.gate_bearing_deg = number(a, value());
-      else if (a == "--gate-m") mo.association.gate_position_m = number(a, value());
-      else if (a == "--sigma-deg") uo.sigma_deg = mo.sigma_bearing_deg = number(a, value());
-      else if (a == "--sigma-range-m") mo.sigma_range_m = number(a, value());
-      else if (a == "--residuals") residuals = value();
-      else if (a == "--noise-set-q") o.search.noise_set_q = uo.search.noise_set_q = mo.search.noise_set_q = number(a, value());
-      else if (a == "--confound-corr") o.search.confound_corr = uo.search.confound_corr = mo.search.confound_corr = number(a, value());
-      else if (a == "--split-fraction") uo.split_fraction = mo.split_fraction = number(a, value());
-      else if (a == "--ignore-truth") uo.ignore_truth = true;
-      else if (a == "--seed") uo.seed = static_cast<std::uint64_t>(integer(a, value()));
-      else if (a == "--nav-sigma") o.nav_sigma_m = number(a, value());
-      else if (a == "--nav-tau") o.nav_tau_s = number(a, value());
-      else if (a == "--realization") lo.realization = integer(a, value()), log_options = true;
-      else if (a == "--scenario") lo.scenario_file = value(), log_options = true;
-      else if (a == "--set") lo.overrides.push_back(value()), log_options = true;
-      else throw rnav::ConfigError("diagnose: unknown option " + a);
-    }
+    constexpr double kBig = std::numeric_limits<double>::max();
+    auto num = [](const char* opt, double& a) {
+      return [opt, &a](const std::string& v) { a = rnav::cli::number(opt, v, -kBig, kBig); };
+    };
+    auto num_all = [](const char* opt, double& a, double& b, double& c) {
+      return [opt, &a, &b, &c](const std::string& v) { a = b = c = rnav::cli::number(opt, v, -kBig, kBig); };
+    };
+    auto num_two = [](const char* opt, double& a, double& b) {
+      return [opt, &a, &b](const std::string& v) { a = b = rnav::cli::number(opt, v, -kBig, kBig); };
+    };
+    rnav::cli::Parser p(
+        "rnav_diagnose", "prl|uav|multi INPUT [options]",
+        "Shows what the nominal (paper's) model gets wrong in measured data: fits it to the residuals, names "
+        "the effects of the catalogue the data support (estimate +- standard error, evidence), says which "
+        "ones the geometry cannot tell apart, and measures the extended model's gain out of sample. Prints "
+        "the report; --json writes it as JSON. scripts/diagnose adds plots.");
+    p.positionals("KIND INPUT",
+                  "KIND: prl (landing radar), uav (azimuth-only) or multi (multi-sensor, multi-target). INPUT: a CSV "
+                  "folder (README, 'Measured data'), or for prl and uav an LCM event log of a simulation run "
+                  "(scripts/run --lcm-log FILE)",
+                  [&](const std::string& v) {
+                    if (pos.size() == 2) throw rnav::ConfigError("unexpected argument '" + v + "' (KIND and INPUT already given)");
+                    pos.push_back(v);
+                  });
+    p.value("--json", "FILE", "write the report as JSON to FILE", "none", json)
+        .value("--residuals", "FILE", "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE",
+               "none", residuals)
+        .value("--alpha", "A", "familywise false-alarm level, (0, 0.5)", "0.01",
+               num_all("--alpha", o.search.alpha, uo.search.alpha, mo.search.alpha))
+        .value("--noise-set-q", "Q",
+               "an effect stays named only if its 2 log LR, least over each channel's noise models within Q / 2 of "
+               "the best REML log-likelihood, still passes; 0: the plug-in noise estimate only",
+               "4", num_all("--noise-set-q", o.search.noise_set_q, uo.search.noise_set_q, mo.search.noise_set_q))
+        .value("--confound-corr", "C", "canonical correlation above which two effects are reported as confounded, (0, 1)",
+               "0.9", num_all("--confound-corr", o.search.confound_corr, uo.search.confound_corr, mo.search.confound_corr))
+        .value("--split-time", "S", "prl: fit on t < S [s], score the gain after it", "400 s, the paper's switch",
+               num("--split-time", o.split_time_s))
+        .value("--nav-sigma", "M", "prl: the nav solution's time-correlated position error per axis [m], 1 sigma", "1.9 m",
+               num("--nav-sigma", o.nav_sigma_m))
+        .value("--nav-tau", "S", "prl: its correlation time [s]", "120 s", num("--nav-tau", o.nav_tau_s))
+        .value("--gate-deg", "D", "uav, multi: association gate of bearings around the reference bearing [deg]",
+               "4 deg (uav), 3 deg (multi)", num_two("--gate-deg", uo.gate_deg, mo.association.gate_bearing_deg))
+        .value("--gate-m", "M", "multi: association gate of range sensors around the reference position [m]", "20 m",
+               num("--gate-m", mo.association.gate_position_m))
+        .value("--sigma-deg", "D", "uav, multi: nominal bearing noise, 1 sigma [deg]", "0.5 deg",
+               num_two("--sigma-deg", uo.sigma_deg, mo.sigma_bearing_deg))
+        .value("--sigma-range-m", "M", "multi: nominal range noise of range sensors, 1 sigma [m]", "1 m",
+               num("--sigma-range-m", mo.sigma_range_m))
+        .value("--split-fraction", "F", "uav, multi: fit on the first fraction F of the span, score the rest, (0.2, 0.9)",
+               "0.6", num_two("--split-fraction", uo.split_fraction, mo.split_fraction))
+        .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",
+              uo.ignore_truth)
+        .value("--seed", "N", "uav: seed of that track fit's initialisation, >= 0", "1",
+               [&](const std::string& v) { uo.seed = static_cast<std::uint64_t>(rnav::parse_integer("--seed", v, 0, std::numeric_limits<long long>::max())); })
+        .value("--realization", "R", "LCM log: which realization to diagnose, >= 0", "0",
+               [&](const std::string& v) {
+                 lo.realization = static_cast<int>(rnav::parse_integer("--realization", v, 0, 1000000000));
+                 log_options = true;
+               })
+        .value("--scenario", "FILE", "LCM log: the scenario giving the radar's site and sim time 0",
+               "the scenario the log carries on SIM_SCENARIO", [&](const std::string& v) {
+                 lo.scenario_file = v;
+                 log_options = true;
+               })
+        .repeated("--set", "key=value", "LCM log: override a key of that scenario",
+               [&](const std::string& v) {
+                 lo.overrides.push_back(v);
+                 log_options = true;
+               })
+        .epilog("Units: the text report shows angles in degrees, as the CSV inputs and the options give them "
+                "(parameters and units named deg, X_deg, X_degps), every other value in the unit its name ends "
+                "with (_m, _s, _mps); the JSON report keeps radians (rad, X_rad). Exit status: 0 ok, 2 bad "
+                "input, 1 other failure.");
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    if (pos.size() < 2) throw rnav::ConfigError("KIND and INPUT are required (see rnav_diagnose --help)");
+    const std::string kind = pos[0], input = pos[1];
+    if (kind != "prl" && kind != "uav" && kind != "multi")
+      throw rnav::ConfigError("KIND must be prl, uav or multi, got '" + kind + "'" +
+                              rnav::did_you_mean(kind, {"prl", "uav", "multi"}));
     auto write_json = [&](const nlohmann::ordered_json& j) {
       if (json.empty()) return;
       rnav::write_file_atomic(json, j.dump(2) + "\n");
     };
     if (kind == "multi") {
       if (log_options || !std::filesystem::is_directory(input))
-        throw rnav::ConfigError("multi: INPUT must be a multi-sensor CSV folder ('" + input + "' is not a folder, or LCM-log options were given)");
+        throw rnav::ConfigError("KIND multi: INPUT must be a multi-sensor CSV folder ('" + input + "' is not a folder, or LCM-log options were given)");
       const auto rep = rnav::diagnose_multi(rnav::MultiSensorData::read_folder(input), mo);
       std::cout << rep.text();
       if (!residuals.empty()) rep.write_residuals_csv(residuals);
@@ -141,11 +149,5 @@ int main(int argc, char** argv) {
     if (!residuals.empty()) rep.write_residuals_csv(residuals);
     write_json(rep.to_json());
     return 0;
-  } catch (const rnav::ConfigError& e) {
-    std::cerr << "diagnose: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "diagnose: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

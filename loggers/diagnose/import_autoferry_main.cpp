@@ -9,25 +9,17 @@
 //     the azimuth-only format (azimuth_data.hpp): the ferry's positions at that camera's frames,
 //     all its bearings with their clutter and one target's truth. (Either option alone selects
 //     this mode; the other defaults to eo / 1.)
-// The conversion (frames, checks) is autoferry_import.hpp; this main only wires options to it.
+// The conversion (frames, checks) is autoferry_import.hpp; this main only wires options to it
+// (one table below; --help prints it).
 #include "atomic_file.hpp"
 #include "autoferry_import.hpp"
+#include "cli.hpp"
 #include "config.hpp"
 
 #include <iostream>
 #include <map>
 
 namespace {
-
-const char* const kUsage =
-    "usage: rnav_import_autoferry SCENARIO_DIR --out DIR\n"
-    "         all four sensors (radar, lidar, eo, ir) and both targets (1, 2) in the\n"
-    "         multi-sensor format: observer.csv, detections.csv, truth.csv\n"
-    "       rnav_import_autoferry SCENARIO_DIR --sensor eo|ir --target 1|2 --out DIR\n"
-    "         one camera's bearings and one target's truth in the azimuth-only format:\n"
-    "         observer.csv, bearings.csv, truth.csv\n"
-    "SCENARIO_DIR holds NAME_detections.json and NAME_groundTruth.json, NAME = its folder name.\n"
-    "DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.\n";
 
 /// Counts of what was imported, on stderr.
 void report(const rnav::AzimuthData& d, int target) {
@@ -53,32 +45,35 @@ void report(const rnav::MultiSensorData& d) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    for (int i = 1; i < argc; ++i)
-      if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-        std::cout << kUsage;
-        return 0;
-      }
-    if (argc < 2) throw rnav::ConfigError(std::string("no SCENARIO_DIR\n") + kUsage);
-    const std::string dir = argv[1];
-    std::string sensor, out, target;
+  return rnav::cli::guarded_main("rnav_import_autoferry", [&]() -> int {
+    std::string dir, sensor, out, target;
     bool force = false;
-    for (int i = 2; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--force") {
-        force = true;
-        continue;
-      }
-      if (i + 1 >= argc) throw rnav::ConfigError("import: option " + a + " needs a value");
-      if (a == "--sensor") sensor = argv[++i];
-      else if (a == "--target") target = argv[++i];
-      else if (a == "--out") out = argv[++i];
-      else throw rnav::ConfigError("import: unknown option " + a);
-    }
-    if (out.empty()) throw rnav::ConfigError("import: --out DIR is required");
-    rnav::prepare_output_dir(out, force);
+    rnav::cli::Parser p("rnav_import_autoferry",
+                        "SCENARIO_DIR --out DIR [--force]\n"
+                        "SCENARIO_DIR --sensor eo|ir --target 1|2 --out DIR [--force]",
+                        "One scenario of the Autoferry dataset (../shared/data/autoferry) as a CSV folder. Without "
+                        "--sensor and --target: all four sensors (radar, lidar, eo, ir) and both targets (1, 2) in "
+                        "the multi-sensor format (observer.csv, detections.csv, truth.csv; for scripts/diagnose "
+                        "multi). With either: one camera's bearings and one target's truth in the azimuth-only "
+                        "format (observer.csv, bearings.csv, truth.csv; for scripts/diagnose uav); the other "
+                        "defaults to eo / 1. Counts of what was imported go to stderr.");
+    p.positionals("SCENARIO_DIR", "a folder holding NAME_detections.json and NAME_groundTruth.json, NAME = its folder name",
+                  [&](const std::string& v) {
+                    if (!dir.empty()) throw rnav::ConfigError("unexpected argument '" + v + "' (SCENARIO_DIR already given)");
+                    dir = v;
+                  });
+    p.value("--out", "DIR", "output folder; it must be new, empty or an earlier output (its .rnav-output marker) unless --force",
+            "required", out)
+        .flag("--force", "write into --out DIR whatever it holds", force)
+        .value("--sensor", "eo|ir", "azimuth-only format: the camera whose bearings are written", "eo (with --target)", sensor)
+        .value("--target", "1|2", "azimuth-only format: the boat whose truth is written", "1 (with --sensor)", target);
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    if (dir.empty()) throw rnav::ConfigError("SCENARIO_DIR is required (see rnav_import_autoferry --help)");
+    if (out.empty()) throw rnav::ConfigError("--out DIR is required");
     if (!sensor.empty() && sensor != "eo" && sensor != "ir")
-      throw rnav::ConfigError("import: --sensor must be eo or ir, got '" + sensor + "'");
+      throw rnav::ConfigError("--sensor must be eo or ir, got '" + sensor + "'");
+    const int tgt = target.empty() ? 1 : static_cast<int>(rnav::parse_integer("--target", target, 1, 2));
+    rnav::prepare_output_dir(out, force);
     const rnav::AutoferryRecords records = rnav::load_autoferry(dir);
     if (sensor.empty() && target.empty()) {
       const rnav::MultiSensorData d = rnav::autoferry_to_multi(records);
@@ -87,16 +82,9 @@ int main(int argc, char** argv) {
       report(d);
       return 0;
     }
-    const int tgt = target.empty() ? 1 : static_cast<int>(rnav::parse_integer("--target", target, 1, 2));
     const rnav::AzimuthData d = rnav::autoferry_to_azimuth(records, sensor.empty() ? "eo" : sensor, tgt);
     d.write_folder(out);
     report(d, tgt);
     return 0;
-  } catch (const rnav::ConfigError& e) {
-    std::cerr << "import: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "import: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

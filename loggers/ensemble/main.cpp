@@ -1,7 +1,7 @@
 // rnav_inproc: the landing-approach ensemble in one process (same nodes, InprocBus).
-// Usage: rnav_inproc --scenario FILE [--set k=v]... --realizations N --seed S --out DIR [--force]
-// DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.
+// Options: one table below (rnav_inproc --help prints it).
 #include "atomic_file.hpp"
+#include "cli.hpp"
 #include "inproc_ensemble.hpp"
 #include "node_main.hpp"
 
@@ -9,48 +9,46 @@
 #include <limits>
 
 int main(int argc, char** argv) {
-  try {
+  return rnav::cli::guarded_main("rnav_inproc", [&]() -> int {
     std::string file, out;
     std::vector<std::string> overrides, drops;
     bool force = false;
     int n = 1;
     std::int64_t seed = 1;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--force") {
-        force = true;
-        continue;
-      }
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw rnav::ConfigError("inproc: option " + a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--scenario") file = value();
-      else if (a == "--set") overrides.push_back(value());
-      else if (a == "--realizations") n = static_cast<int>(rnav::parse_integer(a, value(), 1, 1000000000));
-      else if (a == "--seed") seed = rnav::parse_integer(a, value(), std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
-      else if (a == "--out") out = value();
-      else if (a == "--drop") drops.push_back(value());
-      else throw rnav::ConfigError("inproc: unknown option " + a);
-    }
-    if (file.empty()) throw rnav::ConfigError("inproc: --scenario FILE is required");
+    rnav::cli::Parser p("rnav_inproc", "--scenario FILE [--set key=value]... [--realizations N] [--seed S] [--out DIR] [--force]",
+                        "The whole ensemble (landing radar or azimuth-only, as the scenario's kind says) in one process: "
+                        "the same nodes as scripts/run, over an in-process bus instead of LCM. Its statistics are "
+                        "byte-identical to the multi-process run's for the same seed (benchmark, determinism reference).");
+    p.value("--scenario", "FILE", "scenario JSON file (sim/scenarios/*.json)", "required", file)
+        .repeated("--set", "key=value", "override a scenario key, e.g. --set radar.x_m=-1200", overrides)
+        .value("--realizations", "N", "ensemble size, 1 ... 1e9", "1",
+               [&](const std::string& v) { n = static_cast<int>(rnav::parse_integer("--realizations", v, 1, 1000000000)); })
+        .value("--seed", "S", "ensemble seed (an integer)", "1",
+               [&](const std::string& v) {
+                 seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+               })
+        .value("--out", "DIR",
+               "results folder; it must be new, empty or an earlier output (its .rnav-output marker) unless --force",
+               "none: statistics are computed but not written", out)
+        .flag("--force", "write into --out DIR whatever it holds", force)
+        .repeated("--drop", "CH:R:W[:A[:K]]",
+                  "fault injection: channel CH's batch of realization R, window W is not published (attempt A, "
+                  "default every attempt; its first K transmissions, default every one)",
+                  drops)
+        .epilog("Scenario keys: see rnav_clock --scenario FILE --check (every key with its value) or the README.");
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    if (file.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_inproc --help)");
     if (!out.empty()) rnav::prepare_output_dir(out, force);
     const double t0 = rnav::wall_seconds();
     const auto r = rnav::scenario_kind(file) == "uav"
                        ? rnav::run_inproc_ensemble(rnav::UavScenario::load(file, overrides), n, seed, out, drops)
                        : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops);
     if (r.exit_code != 0) {
-      std::cerr << "inproc: run failed: " << r.failure << "\n";
+      std::cerr << rnav::cli::error_line("rnav_inproc", "run failed: " + r.failure) << "\n";
       return r.exit_code;
     }
     std::cerr << "inproc: " << n << " realizations in " << rnav::wall_seconds() - t0 << " s, "
               << r.retries << " repeated\n";
     return 0;
-  } catch (const rnav::ConfigError& e) {
-    std::cerr << "inproc: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "inproc: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -1,8 +1,8 @@
 // rnav_export_prl: simulate one landing-approach realization (optionally with hidden effects,
 // prl_effects.*) and write it as a flight-test CSV folder for scripts/diagnose.
-// Usage: rnav_export_prl --scenario FILE [--set k=v]... [--seed S] [--realization R] --out DIR [--force]
-// DIR must be new, empty or an earlier output (its .rnav-output marker); --force writes into any.
+// Options: one table below (rnav_export_prl --help prints it).
 #include "atomic_file.hpp"
+#include "cli.hpp"
 #include "config.hpp"
 #include "prl_export.hpp"
 
@@ -10,41 +10,38 @@
 #include <limits>
 
 int main(int argc, char** argv) {
-  try {
+  return rnav::cli::guarded_main("rnav_export_prl", [&]() -> int {
     std::string file, out;
     std::vector<std::string> overrides;
     int r = 0;
     bool force = false;
     std::int64_t seed = 1;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw rnav::ConfigError("export: option " + a + " needs a value");
-        return argv[++i];
-      };
-      if (a == "--scenario") file = value();
-      else if (a == "--set") overrides.push_back(value());
-      else if (a == "--seed") seed = rnav::parse_integer(a, value(), std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
-      else if (a == "--realization") r = static_cast<int>(rnav::parse_integer(a, value(), 0, 1000000000));
-      else if (a == "--out") out = value();
-      else if (a == "--force") force = true;
-      else throw rnav::ConfigError("export: unknown option " + a);
-    }
-    if (file.empty() || out.empty()) throw rnav::ConfigError("export: --scenario and --out are required");
+    rnav::cli::Parser p("rnav_export_prl", "--scenario FILE [--set key=value]... [--seed S] [--realization R] --out DIR [--force]",
+                        "Simulates one landing-approach realization (with any hidden effects set by --set prl_effects.*) "
+                        "and writes it as a flight-test CSV folder for scripts/diagnose prl: site.json, radar.csv "
+                        "(t_s, range_m, azimuth_deg, elevation_deg), nav.csv and truth.csv (t_s, lat_deg, lon_deg, h_m).");
+    p.value("--scenario", "FILE", "landing-radar scenario JSON file (e.g. sim/scenarios/paper.json)", "required", file)
+        .repeated("--set", "key=value", "override a scenario key, e.g. --set prl_effects.time_offset_s=0.4", overrides)
+        .value("--seed", "S", "ensemble seed (an integer)", "1",
+               [&](const std::string& v) {
+                 seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+               })
+        .value("--realization", "R", "which realization of that seed's ensemble, 0 ... 1e9", "0",
+               [&](const std::string& v) { r = static_cast<int>(rnav::parse_integer("--realization", v, 0, 1000000000)); })
+        .value("--out", "DIR", "output folder; it must be new, empty or an earlier output (its .rnav-output marker) unless --force",
+               "required", out)
+        .flag("--force", "write into --out DIR whatever it holds", force)
+        .epilog("Scenario keys: see rnav_clock --scenario FILE --check (every key with its value) or the README.");
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    if (file.empty() || out.empty()) throw rnav::ConfigError("--scenario FILE and --out DIR are required (see rnav_export_prl --help)");
     rnav::prepare_output_dir(out, force);
     const auto sc = rnav::Scenario::load(file, overrides);
     std::string failure;
     const int rc = rnav::export_prl_flight(sc, seed, r, out, &failure);
     if (rc != 0) {
-      std::cerr << "export: failed: " << failure << "\n";
+      std::cerr << rnav::cli::error_line("rnav_export_prl", "failed: " + failure) << "\n";
       return rc;
     }
     return 0;
-  } catch (const rnav::ConfigError& e) {
-    std::cerr << "export: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "export: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -1,10 +1,8 @@
 // Process "clock": drives the lock-step protocol over LCM (Conductor) and shows progress.
-// Usage: rnav_clock --scenario FILE [--set k=v]... --realizations N --seed S
-//                   --nodes a,b,c [--realtime [--speed X]] [--events FILE] [--lcm-url URL]
-//        rnav_clock --scenario FILE [--set k=v]... --check   (validate, print, exit)
-//        rnav_clock --print-kind FILE                        (prl or uav)
+// Options: one table below (rnav_clock --help prints it).
 #include "approach_trajectory.hpp"
 #include "atomic_file.hpp"
+#include "cli.hpp"
 #include "conductor.hpp"
 #include "lcm_bus.hpp"
 #include "node_main.hpp"
@@ -16,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 namespace {
@@ -42,45 +41,49 @@ void write_events(const std::string& file, const rnav::Conductor& c, int n, std:
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    std::string scenario_file, events, url, nodes;
+  return rnav::cli::guarded_main("rnav_clock", [&]() -> int {
+    std::string scenario_file, events, url, nodes, print_kind, speed;
     std::vector<std::string> overrides;
     rnav::ConductorOptions o;
     bool check = false;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw rnav::ConfigError("clock: option " + a + " needs a value");
-        return argv[++i];
-      };
-      auto integer = [&](const std::string& v) -> long {
-        std::size_t pos = 0;
-        long x = 0;
-        try {
-          x = std::stol(v, &pos);
-        } catch (const std::exception&) {
-          pos = 0;
-        }
-        if (pos != v.size() || v.empty()) throw rnav::ConfigError("clock: " + a + " '" + v + "' is not an integer");
-        return x;
-      };
-      if (a == "--scenario") scenario_file = value();
-      else if (a == "--set") overrides.push_back(value());
-      else if (a == "--realizations") o.n_realizations = static_cast<int>(rnav::parse_integer(a, value(), 1, 1000000000));
-      else if (a == "--seed") o.seed = integer(value());
-      else if (a == "--nodes") nodes = value();
-      else if (a == "--realtime") o.realtime = true;
-      else if (a == "--speed") o.speed = std::stod(value());
-      else if (a == "--events") events = value();
-      else if (a == "--lcm-url") url = value();
-      else if (a == "--check") check = true;
-      else if (a == "--print-kind") {
-        std::cout << rnav::scenario_kind(value()) << "\n";
-        return 0;
-      }
-      else throw rnav::ConfigError("clock: unknown option " + a);
+    rnav::cli::Parser p(
+        "rnav_clock",
+        "--scenario FILE [--set key=value]... --realizations N --seed S --nodes a,b,c [options]\n"
+        "--scenario FILE [--set key=value]... --check\n"
+        "--print-kind FILE",
+        "The clock of the lock-step simulation: grants windows of simulated time to the nodes over LCM, "
+        "collects their acks, asks again for what was lost (RESEND) and repeats a realization only when a "
+        "window cannot be completed; shows progress (a bar redrawn in place on a terminal, a line per 10 % "
+        "otherwise). scripts/run starts it with the right arguments.");
+    p.value("--scenario", "FILE", "scenario JSON file (sim/scenarios/*.json)", "required", scenario_file)
+        .repeated("--set", "key=value", "override a scenario key, e.g. --set runner.window_s=10", overrides)
+        .value("--realizations", "N", "ensemble size, 1 ... 1e9", "1",
+               [&](const std::string& v) { o.n_realizations = static_cast<int>(rnav::parse_integer("--realizations", v, 1, 1000000000)); })
+        .value("--seed", "S", "ensemble seed (an integer); the same seed gives byte-identical statistics", "1",
+               [&](const std::string& v) {
+                 o.seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+               })
+        .value("--nodes", "a,b,c", "names of the nodes that must say HELLO before the run starts, comma-separated",
+               "required", nodes)
+        .flag("--realtime", "pace the simulation to the wall clock (to watch it in lcm-spy)", o.realtime)
+        .value("--speed", "X", "with --realtime: simulated seconds per wall-clock second, > 0", "1", speed)
+        .value("--events", "FILE", "write run_events.json (wall time [s], RESENDs, repeated realizations) to FILE",
+               "none", events)
+        .value("--lcm-url", "URL", "LCM provider URL", "$LCM_DEFAULT_URL, else LCM's default", url)
+        .flag("--check", "validate the scenario, print it and its derived times [s], and exit", check)
+        .value("--print-kind", "FILE", "print the scenario kind of FILE (prl or uav) and exit", "", print_kind)
+        .epilog("Scenario keys: see --check (every key with its value) or the README; units are in the key names.");
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    if (!print_kind.empty()) {
+      std::cout << rnav::scenario_kind(print_kind) << "\n";
+      return 0;
     }
-    if (scenario_file.empty()) throw rnav::ConfigError("clock: --scenario FILE is required");
+    if (!speed.empty()) {
+      if (!o.realtime) throw rnav::ConfigError("--speed applies only with --realtime");
+      o.speed = rnav::cli::number("--speed", speed, 1e-6, 1e6);
+    }
+    if (scenario_file.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_clock --help)");
+    if (!check && nodes.empty()) throw rnav::ConfigError("--nodes a,b,c is required (see rnav_clock --help)");
     // What the clock needs of a scenario: lock-step options, truth step, duration.
     rnav::RunnerOptions runner;
     double step_s = 0, duration_s = 0;
@@ -138,17 +141,11 @@ int main(int argc, char** argv) {
       std::cerr << "clock: realization " << e.realization << " attempt " << e.attempt
                 << " repeated: " << e.reason << "\n";
     if (c.exit_code() != 0) {
-      std::cerr << "clock: run failed: " << c.failure() << "\n";
+      std::cerr << rnav::cli::error_line("rnav_clock", "run failed: " + c.failure()) << "\n";
       return c.exit_code();
     }
     std::cerr << "clock: " << o.n_realizations << " realizations in " << wall << " s, "
               << c.resends().size() << " RESEND(s), " << c.retries().size() << " repeated\n";
     return 0;
-  } catch (const rnav::ConfigError& e) {
-    std::cerr << "clock: error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "clock: error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

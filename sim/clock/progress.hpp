@@ -1,22 +1,28 @@
-// Progress bar with ETA on stderr (a bar redrawn in place on a terminal, a line per 10 %
-// otherwise).
+// Progress bar with ETA: a bar redrawn in place ('\r') when the output is a terminal, otherwise
+// a plain line at 0 % and at every further 10 % (logs and pipes get no control characters).
 #pragma once
 
+#include <cstdio>
 #include <string>
 
 namespace rnav {
 
 class ProgressBar {
  public:
+  /// On stderr, redrawn in place only if stderr is a terminal (isatty).
   explicit ProgressBar(std::string label);
-  /// done of total finished at wall time now_s (monotonic); `retries` so far.
+  /// On `out`; `redraw`: a bar redrawn in place, else a line per 10 %.
+  ProgressBar(std::string label, std::FILE* out, bool redraw);
+  /// done of total finished at wall time now_s [s] (monotonic); `retries` so far.
   void update(int done, int total, int retries, double now_s);
 
  private:
   std::string label_;
-  bool tty_;
+  std::FILE* out_;
+  bool redraw_;
   double start_s_ = -1;
   int last_decile_ = -1;
+  bool finished_ = false;
 };
 
 }  // namespace rnav

@@ -3,8 +3,13 @@
 #include "snsins_node.hpp"
 
 int main(int argc, char** argv) {
-  return rnav::run_node_main<rnav::Scenario>(argc, argv, "snsins",
-                             [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-                               return std::make_unique<rnav::SnsinsNode>(bus, sc);
-                             });
+  return rnav::run_node_main<rnav::Scenario>(
+      argc, argv,
+      rnav::NodeProgram{"rnav_snsins", "snsins",
+                        "The navigation solution the ground receives (SNS/INS error model, link rate and latency, "
+                        "drop-outs), from TRUTH_AIRCRAFT, published on NAV_SOLUTION.",
+                        false},
+      [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
+        return std::make_unique<rnav::SnsinsNode>(bus, sc);
+      });
 }

@@ -5,7 +5,12 @@
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::UavScenario>(
-      argc, argv, "target", [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
+      argc, argv,
+      rnav::NodeProgram{"rnav_target", "target",
+                        "The object's true state (constant velocity, scripted manoeuvres target.manoeuvres), "
+                        "published on TRUTH_TARGET.",
+                        false},
+      [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
         return std::make_unique<rnav::TargetNode>(bus, sc);
       });
 }

@@ -3,8 +3,14 @@
 #include "trajectory_node.hpp"
 
 int main(int argc, char** argv) {
-  return rnav::run_node_main<rnav::Scenario>(argc, argv, "trajectory",
-                             [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-                               return std::make_unique<rnav::TrajectoryNode>(bus, sc);
-                             });
+  return rnav::run_node_main<rnav::Scenario>(
+      argc, argv,
+      rnav::NodeProgram{"rnav_trajectory", "trajectory",
+                        "The aircraft's true path (landing frame L and WGS84) on the truth grid, published on "
+                        "TRUTH_AIRCRAFT: the approach of the scenario, or a replayed flight "
+                        "(trajectory.replay_csv).",
+                        false},
+      [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
+        return std::make_unique<rnav::TrajectoryNode>(bus, sc);
+      });
 }

@@ -4,7 +4,12 @@
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::UavScenario>(
-      argc, argv, "uav", [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
+      argc, argv,
+      rnav::NodeProgram{"rnav_uav", "uav",
+                        "The UAV: its true path, its navigation solution (UAV_NAV) and the passive sensor's "
+                        "bearings to the object (UAV_BEARING).",
+                        false},
+      [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
         return std::make_unique<rnav::UavNode>(bus, sc);
       });
 }

@@ -1,0 +1,174 @@
+# Command-line handling shared by the bash scripts (sourced, not run): one option table per
+# script both parses the arguments and prints --help, so the help cannot drift from the parser;
+# errors print as "PROGRAM: error: message"; an unknown option names the nearest known one.
+#
+# A script sets, then calls cli_parse "$@":
+#   CLI_PROG=run                           its name, as in errors
+#   CLI_USAGE='SCENARIO [options]'          what follows "Usage: PROGRAM" (lines: several usages)
+#   CLI_ABOUT='what it does'                printed after the usage, wrapped
+#   CLI_POS_HELP='SCENARIO|paper, ...'      METAVAR|HELP of the positional arguments; empty: none
+#   CLI_EPILOG='...'                        printed after the options (optional)
+#   CLI_OPTS=(                              one entry per option: NAME|VAR|METAVAR|HELP|DEFAULT
+#     '--realizations|N|N|ensemble size|500'   a value: VAR=value
+#     '--set|SETS+|key=value|override a key|'  VAR ending in +: each value appended to array VAR
+#     '--realtime|REALTIME||pace it|'          no METAVAR: a flag, VAR=1
+#   )                                          (no '|' inside a field; HELP '-' hides an entry,
+#                                              VAR starting with @: NAME and value appended to
+#                                              that array, to pass them on to another program)
+# cli_parse handles -h/--help (usage on stdout, exit 0), --list-options (each NAME [METAVAR],
+# exit 0), NAME VALUE and NAME=VALUE; positional arguments land in the array CLI_POS.
+# A script that passes its arguments on (scripts/test, scripts/sanitize: to ctest) has no table:
+# it sets CLI_PASS_THROUGH=1 and calls cli_help itself for -h/--help.
+
+CLI_WIDTH=100   # help is wrapped at this many columns
+CLI_COLUMN=26   # option descriptions start in this column
+
+# "PROGRAM: error: message" on stderr, exit status 2 (bad input).
+cli_die() {
+  echo "${CLI_PROG:-${0##*/}}: error: $*" >&2
+  exit 2
+}
+
+# The candidate nearest to WORD by edit distance (insertions, deletions, substitutions and swaps
+# of adjacent characters) if it is at most max(1, n / 3) edits away, n the length of WORD without
+# leading '-'; nothing otherwise. The rule of common/did_you_mean.hpp.
+cli_closest() {
+  local word=$1; shift
+  (($#)) || return 0
+  printf '%s\n' "$@" | awk -v w="$word" '
+    function dist(a, b,    n, m, i, j, c, d, x) {
+      n = length(a); m = length(b)
+      for (i = 0; i <= n; i++) d[i, 0] = i
+      for (j = 0; j <= m; j++) d[0, j] = j
+      for (i = 1; i <= n; i++)
+        for (j = 1; j <= m; j++) {
+          c = substr(a, i, 1) == substr(b, j, 1) ? 0 : 1
+          x = d[i - 1, j] + 1
+          if (d[i, j - 1] + 1 < x) x = d[i, j - 1] + 1
+          if (d[i - 1, j - 1] + c < x) x = d[i - 1, j - 1] + c
+          if (i > 1 && j > 1 && substr(a, i, 1) == substr(b, j - 1, 1) && substr(a, i - 1, 1) == substr(b, j, 1) && d[i - 2, j - 2] + 1 < x)
+            x = d[i - 2, j - 2] + 1
+          d[i, j] = x
+        }
+      return d[n, m]
+    }
+    BEGIN { core = w; sub(/^-+/, "", core); limit = int(length(core) / 3); if (limit < 1) limit = 1; best = ""; bd = limit + 1 }
+    $0 != w { x = dist(w, $0); if (x < bd) { bd = x; best = $0 } }
+    END { if (best != "") print best }'
+}
+
+# " (did you mean 'X'?)" for the nearest candidate, or nothing.
+cli_did_you_mean() {
+  local c
+  c=$(cli_closest "$@")
+  [[ -n $c ]] && printf " (did you mean '%s'?)" "$c"
+  return 0
+}
+
+# Words of stdin wrapped at CLI_WIDTH, continuation lines indented by $1 spaces, the first line
+# starting at column $2.
+cli_wrap() {
+  awk -v indent="$1" -v first="$2" -v width="$CLI_WIDTH" '
+    { for (i = 1; i <= NF; i++) words[++n] = $i }
+    END {
+      col = first; empty = 1; pad = sprintf("%" indent "s", "")
+      for (i = 1; i <= n; i++) {
+        if (!empty && col + 1 + length(words[i]) > width) { printf "\n%s", pad; col = indent; empty = 1 }
+        if (!empty) { printf " "; col++ }
+        printf "%s", words[i]; col += length(words[i]); empty = 0
+      }
+      printf "\n"
+    }'
+}
+
+# One "  LEFT   text" entry of the help, text wrapped under CLI_COLUMN.
+cli_entry() {
+  local left="  $1" text=$2
+  if ((${#left} + 2 > CLI_COLUMN)); then
+    printf '%s\n%*s' "$left" "$CLI_COLUMN" ''
+  else
+    printf '%s%*s' "$left" $((CLI_COLUMN - ${#left})) ''
+  fi
+  cli_wrap "$CLI_COLUMN" "$CLI_COLUMN" <<<"$text"
+}
+
+# Fields of option entry $1 into the globals O_NAME O_VAR O_META O_HELP O_DEF (or die: a
+# developer's error, caught by the help test).
+cli_fields() {
+  local rest
+  IFS='|' read -r O_NAME O_VAR O_META O_HELP O_DEF rest <<<"$1"
+  [[ -z $rest && -n $O_NAME && -n $O_VAR ]] || cli_die "internal: bad option table entry '$1'"
+}
+
+cli_help() {
+  local first=1 line e
+  while IFS= read -r line; do
+    if ((first)); then echo "Usage: $CLI_PROG${line:+ $line}"; first=0; else echo "       $CLI_PROG${line:+ $line}"; fi
+  done <<<"${CLI_USAGE:-}"
+  if [[ -n ${CLI_ABOUT:-} ]]; then echo; cli_wrap 0 0 <<<"$CLI_ABOUT"; fi
+  if [[ -n ${CLI_POS_HELP:-} ]]; then
+    echo; echo "Arguments:"
+    cli_entry "${CLI_POS_HELP%%|*}" "${CLI_POS_HELP#*|}"
+  fi
+  echo; echo "Options:"
+  for e in "${CLI_OPTS[@]}"; do
+    cli_fields "$e"
+    [[ $O_HELP == - ]] && continue
+    local text=$O_HELP
+    [[ $O_VAR == *+ ]] && text+=" (repeatable)"
+    if [[ $O_DEF == required ]]; then text+=" (required)"; elif [[ -n $O_DEF ]]; then text+=" (default $O_DEF)"; fi
+    cli_entry "$O_NAME${O_META:+ $O_META}" "$text"
+  done
+  cli_entry "-h, --help" "print this help and exit"
+  [[ -n ${CLI_PASS_THROUGH:-} ]] || cli_entry "--list-options" "print the option names, one per line, and exit"
+  if [[ -n ${CLI_EPILOG:-} ]]; then echo; printf '%s\n' "$CLI_EPILOG"; fi
+}
+
+cli_list() {
+  local e
+  for e in "${CLI_OPTS[@]}"; do cli_fields "$e"; echo "$O_NAME${O_META:+ $O_META}"; done
+  printf '%s\n' -h --help --list-options
+}
+
+cli_parse() {
+  CLI_POS=()
+  local a e name value found names=(--help --list-options)
+  for a in "$@"; do
+    case $a in
+      -h|--help) cli_help; exit 0 ;;
+      --list-options) cli_list; exit 0 ;;
+    esac
+  done
+  for e in "${CLI_OPTS[@]}"; do cli_fields "$e"; names+=("$O_NAME"); done
+  while (($#)); do
+    a=$1; shift
+    if [[ $a != -?* || $a == -[0-9]* ]]; then
+      [[ -n ${CLI_POS_HELP:-} ]] || cli_die "unexpected argument '$a' (see $CLI_PROG --help)"
+      CLI_POS+=("$a"); continue
+    fi
+    name=${a%%=*} found=""
+    for e in "${CLI_OPTS[@]}"; do
+      cli_fields "$e"
+      [[ $O_NAME == "$name" ]] && { found=1; break; }
+    done
+    if [[ -z $found ]]; then
+      local hint
+      hint=$(cli_did_you_mean "$name" "${names[@]}")
+      cli_die "unknown option '$a'${hint:- (see $CLI_PROG --help)}"
+    fi
+    if [[ -z $O_META ]]; then
+      [[ $a == *=* ]] && cli_die "option $name takes no value, got '$a'"
+      value=1
+    elif [[ $a == *=* ]]; then
+      value=${a#*=}
+    else
+      (($#)) || cli_die "option $name needs a value ($O_META)"
+      value=$1; shift
+    fi
+    case $O_VAR in
+      @*) local -n cli_ref=${O_VAR#@}; cli_ref+=("$name"); [[ -n $O_META ]] && cli_ref+=("$value"); unset -n cli_ref ;;
+      *+) local -n cli_ref=${O_VAR%+}; cli_ref+=("$value"); unset -n cli_ref ;;
+      *) printf -v "$O_VAR" '%s' "$value" ;;
+    esac
+  done
+}
