@@ -301,7 +301,7 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   CHECK(t.col("lat_deg").at(0) == 48.1);
 }
 
-TEST_CASE("the text report shows angles in degrees and every gain with its unit; the JSON keeps radians",
+TEST_CASE("the text report shows angles in degrees and every gain with its unit, the JSON keeps radians",
           "[diagnose][units]") {
   DiagnoseReport rep;
   EffectResult bias;

@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
                num("--nav-sigma", o.nav_sigma_m))
         .value("--nav-tau", "S", "prl: its correlation time [s]", "120 s", num("--nav-tau", o.nav_tau_s))
         .value("--gate-deg", "D", "uav, multi: association gate of bearings around the reference bearing [deg]",
-               "4 deg (uav), 3 deg (multi)", num_two("--gate-deg", uo.gate_deg, mo.association.gate_bearing_deg))
+               "4 deg for uav, 3 deg for multi", num_two("--gate-deg", uo.gate_deg, mo.association.gate_bearing_deg))
         .value("--gate-m", "M", "multi: association gate of range sensors around the reference position [m]", "20 m",
                num("--gate-m", mo.association.gate_position_m))
         .value("--sigma-deg", "D", "uav, multi: nominal bearing noise, 1 sigma [deg]", "0.5 deg",
