@@ -1,0 +1,255 @@
+#!/usr/bin/env python3
+"""ctest readme.examples: the README's examples run as written and give the figures it quotes.
+
+Each example below is found in README.md by the first line of its command block (an indented
+block); its commands are taken from the README, not from this file, so an edited command is the
+one that runs. Two rewrites only, so that parallel tests cannot collide: `/tmp/` and a leading
+`out/` become folders of this test's own scratch directory. The figures are read from the
+README's prose and tables by the patterns below and compared with what the commands wrote:
+a figure quoted with d decimals matches if it is the value rounded to d decimals (|value -
+quoted| <= 0.5e-d, plus 1e-9 for the decimal representation). A README edit that changes a
+figure without the code, or the code without the README, fails here, naming the figure.
+
+Usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...]   (no EXAMPLE: all of them)
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SRC, BUILD = sys.argv[1], sys.argv[2]
+ONLY = sys.argv[3:]
+README = open(os.path.join(SRC, "README.md"), encoding="utf-8").read()
+FAILS = []
+
+
+def fail(what):
+    FAILS.append(what)
+    print("FAIL: " + what, flush=True)
+
+
+def block_after(first_line):
+    """The indented command block starting with `first_line` and the README text after it."""
+    i = README.find("\n    " + first_line)
+    if i < 0:
+        raise SystemExit("check_readme: the README no longer has the example '%s' "
+                         "(update test/check_readme.py with it)" % first_line)
+    lines, rest = [], README[i + 1:]
+    while rest.startswith("    ") or rest.startswith("\n    "):
+        line, _, rest = rest.lstrip("\n").partition("\n")
+        lines.append(line[4:])
+        if not rest.startswith("    ") and not rest.startswith("\n    "):
+            break
+    return lines, rest
+
+
+def commands(lines):
+    """Shell commands of a block, backslash continuations joined."""
+    out, cur = [], ""
+    for line in lines:
+        if line.endswith("\\"):
+            cur += line[:-1] + " "
+        else:
+            out.append(cur + line)
+            cur = ""
+    return out
+
+
+def localize(cmd, tmp):
+    cmd = cmd.replace("/tmp/", tmp + "/")
+    return re.sub(r"(?<=\s)out/", tmp + "/out/", cmd)
+
+
+def run(cmd, tmp, what):
+    env = dict(os.environ, RNAV_BUILD=BUILD)
+    r = subprocess.run(["bash", "-c", localize(cmd, tmp)], cwd=SRC, env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return r
+
+
+def run_ok(cmd, tmp, what):
+    r = run(cmd, tmp, what)
+    if r.returncode != 0:
+        fail("%s: '%s' exited %d: %s" % (what, cmd, r.returncode, r.stderr.strip()[-600:]))
+        raise RuntimeError(what)
+    return r.stdout
+
+
+def number(text):
+    """A quoted figure: its value and the half-width of its last decimal."""
+    t = text.replace("−", "-").replace(" ", "")
+    decimals = len(t.split(".")[1]) if "." in t else 0
+    return float(t), 0.5 * 10 ** -decimals + 1e-9
+
+
+def agree(what, quoted, value, scale=1.0):
+    q, tol = number(quoted)
+    if abs(value / scale - q) > tol:
+        fail("%s: the README quotes %s, the run gives %.10g" % (what, quoted, value / scale))
+
+
+def find(pattern, text, what, flags=0):
+    m = re.search(pattern, text, flags)
+    if not m:
+        raise SystemExit("check_readme: the README's wording for %s changed (pattern %r); "
+                         "update test/check_readme.py" % (what, pattern))
+    return m
+
+
+def effect(report, name):
+    for e in report["effects"]:
+        if e["name"] == name:
+            return e
+    return None
+
+
+# ---- the examples ----
+
+def ex_errors(tmp):
+    """'$ command' lines followed by the error they print ('...' stands for any text)."""
+    lines, _ = block_after("$ scripts/run pape")
+    i = 0
+    while i < len(lines):
+        cmd = lines[i][2:]
+        expected = []
+        i += 1
+        while i < len(lines) and not lines[i].startswith("$ "):
+            expected.append(lines[i])
+            i += 1
+        r = run(cmd, tmp, cmd)
+        got = (r.stdout + r.stderr).strip().splitlines()
+        pattern = "^" + ".*".join(re.escape(p) for p in "\n".join(expected).split("...")) + "$"
+        if r.returncode == 0 or not re.match(pattern, "\n".join(got), re.S):
+            fail("'%s' prints %r (exit %d); the README shows %r" % (cmd, got, r.returncode, expected))
+
+
+def ex_table2(tmp):
+    i = README.index("## Results: the paper scenario")
+    cmd = find(r"`(scripts/run paper [^`]*)`", README[i:], "Table 2's command").group(1)
+    run_ok(cmd, tmp, "Table 2")
+    out = find(r"--out (\S+)", cmd, "Table 2's --out").group(1)
+    d = json.load(open(os.path.join(localize(" " + out, tmp).strip(), "table2_detail.json")))
+    table = README[README.index("| range from threshold", i):]
+    table = table[:table.index("\n\n")]  # the first table of the section: Table 2
+    rows = re.findall(r"^\| (\d+) km +\| (APOI|TOI) +\| ([^|]+)\| ([^|]+)\| ([^|]+)\|", table, re.M)
+    if len(rows) != 4:
+        raise SystemExit("check_readme: expected 4 rows of Table 2 in the README, found %d" % len(rows))
+    for km, row, *cells in rows:
+        b = d[row][str(int(km) * 1000)]
+        for axis, cell in enumerate(cells):
+            mean, band = cell.split("±")
+            what = "Table 2 %s km %s %s" % (km, row, "XZY"[axis])
+            agree(what + " mean", mean, b["mean"][axis])
+            agree(what + " 95 % band", band, b["band95_halfwidth"][axis])
+
+
+def ex_diagnose_csv(tmp):
+    lines, after = block_after("build/bin/rnav_export_prl --scenario sim/scenarios/paper.json --seed 5")
+    text = ""
+    for c in commands(lines):
+        text += run_ok(c, tmp, "the diagnosis example")
+    rep = json.load(open(tmp + "/flight.json"))
+    m = find(r"finds `time_offset` ([\d.]+) ± ([\d.]+) s", after, "the time offset")
+    e = effect(rep, "time_offset")
+    if e is None:
+        fail("diagnosis example: time_offset not named")
+    else:
+        agree("time_offset", m.group(1), e["estimate"])
+        agree("time_offset SE", m.group(2), e["stderr"])
+    m = find(r"`elevation_refraction` \(([\d.]+) ± ([\d.]+)\)·10⁻⁴ rad", after, "the refraction")
+    e = effect(rep, "elevation_refraction")
+    if e is None:
+        fail("diagnosis example: elevation_refraction not named")
+    else:
+        agree("elevation_refraction [1e-4 rad]", m.group(1), e["estimate"], 1e-4)
+        agree("elevation_refraction SE [1e-4 rad]", m.group(2), e["stderr"], 1e-4)
+    m = find(r"`(k_deg=[\d.]+ \+- [\d.]+)`", after, "the text report's k_deg")
+    if m.group(1) not in text:
+        fail("diagnosis example: the text report does not show '%s'" % m.group(1))
+    m = find(r"from ([\d.]+) m to ([\d.]+) m RMS", after, "the out-of-sample gain")
+    g = find(r"gain truth_position_m: RMS ([\d.]+) -> ([\d.]+) m", text, "the report's truth gain")
+    agree("truth position RMS, nominal", m.group(1), float(g.group(1)))
+    agree("truth position RMS, extended", m.group(2), float(g.group(2)))
+
+
+def ex_diagnose_log(tmp):
+    lines, after = block_after("scripts/run paper --realizations 2 --set prl_effects.range_gain=0.002")
+    text = ""
+    for c in commands(lines):
+        text += run_ok(c, tmp, "the LCM log example")
+    m = find(r"names `(\w+)` ([−\-\d.]+) ± ([\d.]+) m/s on the range and lists `(\w+)` as "
+             r"`confounded_with`", after, "the LCM log example's finding")
+    f = find(r"EFFECT +%s: range_mps=(\S+) \+- (\S+) .*confounded with (.*)" % m.group(1), text,
+             "the named effect in the report")
+    agree(m.group(1), m.group(2), float(f.group(1)))
+    agree(m.group(1) + " SE", m.group(3), float(f.group(2)))
+    if m.group(4) not in f.group(3):
+        fail("LCM log example: %s is not listed as confounded with %s (%s)" % (m.group(1), m.group(4), f.group(3)))
+
+
+def ex_autoferry(tmp):
+    lines, after = block_after("build/bin/rnav_import_autoferry ../shared/data/autoferry/scenario4")
+    if not os.path.isdir(os.path.join(SRC, "../shared/data/autoferry/scenario4")):
+        print("readme: autoferry example skipped: ../shared/data/autoferry is not beside the checkout")
+        return
+    for c in commands(lines):
+        run_ok(c, tmp, "the Autoferry example")
+    rep = json.load(open(tmp + "/out/af4.json"))
+    row = [c.strip() for c in find(r"^\| 4 \| ([^|]+)\| ([^|]+)\| ([^|]+)\| ([^|]+)\|", after, "scenario 4's row", re.M).groups()]
+    # The row as scripts/autoferry_study --multi words it (the README says it regenerates the table).
+    mean = [e for e in rep["effects"] if e["name"] not in ("noise_scale", "correlated_noise", "outliers", "target_maneuver")]
+    scope = lambda e: ":".join(x for x in (e["scope"]["sensor"], e["scope"]["target"]) if x) or "common"
+    named = ", ".join("%s[%s]" % (e["name"], scope(e)) for e in mean) or "–"
+    clock = next((q["supported"] for q in rep["scope_support"] if q["question"].startswith("which clock")), "–")
+    rc = next((e for e in mean if e["name"] == "time_offset" and e["scope"]["sensor"] == "radar"), None)
+    radar = "%.2f ± %.2f" % (rc["estimate"], rc["stderr"]) if rc else "—"
+    for what, quoted, got in (("named effects", row[0], named), ("clock question", row[1], clock),
+                              ("radar time_offset", row[2], radar)):
+        if quoted != got:
+            fail("Autoferry scenario 4, %s: the README shows '%s', the diagnosis gives '%s'" % (what, quoted, got))
+    quoted_gain = dict(p.strip().split(" ", 1) for p in row[3].split(","))
+    for k in sorted(rep["gain"]):
+        g = rep["gain"][k]
+        if g["n"] < 5:
+            continue
+        if k not in quoted_gain:
+            fail("Autoferry scenario 4: held-out channel %s is missing from the README's row" % k)
+            continue
+        before, after_ = quoted_gain.pop(k).split("→")
+        agree("Autoferry scenario 4 %s nominal RMS" % k, before, g["nominal_rms"])
+        agree("Autoferry scenario 4 %s extended RMS" % k, after_, g["extended_rms"])
+    for k in quoted_gain:
+        fail("Autoferry scenario 4: the README quotes held-out channel %s, the diagnosis has none" % k)
+
+
+def ex_replay(tmp):
+    """No figures quoted: the commands run and the replay writes its log."""
+    lines, _ = block_after("scripts/run paper --realizations 3 --lcm-log /tmp/run.lcmlog")
+    for c in commands(lines):
+        run_ok(c, tmp, "the replay example")
+    if not os.path.getsize(tmp + "/free.lcmlog"):
+        fail("the replay example wrote an empty log")
+
+
+EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
+            "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
+            "replay": ex_replay}
+
+for name, f in EXAMPLES.items():
+    if ONLY and name not in ONLY:
+        continue
+    tmp = tempfile.mkdtemp(prefix="rnav-readme-")
+    try:
+        n = len(FAILS)
+        try:
+            f(tmp)
+        except RuntimeError:
+            pass
+        print("readme: %s %s" % (name, "ok" if len(FAILS) == n else "FAILED"), flush=True)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+print("%d failure(s)" % len(FAILS))
+sys.exit(1 if FAILS else 0)
