@@ -1,5 +1,7 @@
 #include "free_input.hpp"
 
+#include "lockstep_node.hpp"  // message_digest
+
 namespace rnav {
 
 std::int64_t message_fingerprint(const void* data, int size) {
@@ -56,6 +58,18 @@ void InputForm::expect(Form f, const std::string& channel) {
 std::string foreign_type_error(const std::string& channel, const char* batch_type, const char* sample_type) {
   return "a message on " + channel + " is neither " + batch_type + " nor " + sample_type +
          " (its type fingerprint matches neither)";
+}
+
+bool RecentCopies::seen(const void* data, int size) {
+  const std::uint64_t d = message_digest(data, size);
+  if (set_.count(d)) return true;
+  set_.insert(d);
+  order_.push_back(d);
+  if (order_.size() > kCapacity) {
+    set_.erase(order_.front());
+    order_.pop_front();
+  }
+  return false;
 }
 
 }  // namespace rnav

@@ -12,7 +12,9 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <deque>
 #include <string>
+#include <unordered_set>
 #include <tuple>
 
 namespace rnav {
@@ -66,6 +68,21 @@ class InputForm {
 
  private:
   Form form_ = Form::kUnknown;
+};
+
+/// The sample messages of one channel seen lately, by digest: a byte-identical copy (a lock-step
+/// publisher's resend in a runner.wire=sample recording, e.g. a real-time run's) is recognised
+/// and skipped rather than taken for a step back in time.
+class RecentCopies {
+ public:
+  /// [messages] How many of the latest messages are remembered: far more than any resend lags.
+  static constexpr std::size_t kCapacity = 4096;
+  /// True if these bytes were seen among the last kCapacity messages; remembers them otherwise.
+  bool seen(const void* data, int size);
+
+ private:
+  std::deque<std::uint64_t> order_;
+  std::unordered_set<std::uint64_t> set_;
 };
 
 /// The error for a message whose fingerprint is neither the batch nor the sample type.

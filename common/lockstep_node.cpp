@@ -60,14 +60,20 @@ LockstepNode::LockstepNode(Bus& bus, std::string name, double peer_timeout_s)
   bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_peer_ack(a); });
 }
 
-void LockstepNode::transmit(const std::string& channel, const std::vector<std::uint8_t>& bytes) {
-  const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
-  const int k = ++transmissions_[{channel, key}];
+Wire parse_wire(const std::string& text) {
+  if (text == "batch") return Wire::kBatch;
+  if (text == "sample") return Wire::kSample;
+  throw std::invalid_argument("runner.wire must be \"batch\" or \"sample\", got \"" + text + "\"");
+}
+
+void LockstepNode::transmit(const Output& out) {
+  const WindowKey key = last_out_key_;  // the window being processed, or the last one (a resend)
+  const int k = ++transmissions_[{out.channel, key}];
   for (const auto& d : drops_)
-    if (d.channel == channel && d.realization == grant_.realization && d.window == grant_.window &&
-        (d.attempt < 0 || d.attempt == grant_.attempt) && (d.transmissions < 0 || k <= d.transmissions))
-      return;  // fault injection: this transmission is lost
-  bus_.publish_raw(channel, bytes.data(), static_cast<int>(bytes.size()));
+    if (d.channel == out.channel && d.realization == std::get<0>(key) && d.window == std::get<2>(key) &&
+        (d.attempt < 0 || d.attempt == std::get<1>(key)) && (d.transmissions < 0 || k <= d.transmissions))
+      return;  // fault injection: this transmission (the batch, or all samples of the window) is lost
+  for (const auto& m : out.messages) bus_.publish_raw(out.channel, m.data(), static_cast<int>(m.size()));
 }
 
 bool LockstepNode::newer(int r, int a) const {
@@ -86,8 +92,15 @@ void LockstepNode::report(std::int8_t status, const std::string& detail, const s
   ack.n_missing = static_cast<std::int16_t>(missing.size());
   ack.missing = missing;
   if (status == node_ack_t::OK)
-    for (const auto& out : last_out_) ack.published.push_back(out.channel);
+    for (const auto& out : last_out_) {
+      ack.published.push_back(out.channel);
+      ack.published_n.push_back(out.n_samples);
+      if (wire_ == Wire::kSample)
+        for (const auto& m : out.messages)
+          ack.sample_digests.push_back(static_cast<std::int64_t>(message_digest(m.data(), static_cast<int>(m.size()))));
+    }
   ack.n_published_channels = static_cast<std::int16_t>(ack.published.size());
+  ack.n_sample_digests = static_cast<std::int32_t>(ack.sample_digests.size());
   bus_.publish(ch::kAck, ack);
 }
 
@@ -129,6 +142,8 @@ void LockstepNode::begin_attempt(const sim_window_t& w) {
     return std::get<0>(k) < cur_r_ || (std::get<0>(k) == cur_r_ && std::get<1>(k) < cur_a_);
   };
   for (auto& in : inputs_) {
+    in->inbox.clear();  // samples of the abandoned attempt (a sample of the new one here early is asked for again)
+    for (auto it = in->expected.begin(); it != in->expected.end();) it = older(it->first) ? in->expected.erase(it) : std::next(it);
     for (auto it = in->store.begin(); it != in->store.end();) it = older(it->first) ? in->store.erase(it) : std::next(it);
     for (auto it = in->digest.begin(); it != in->digest.end();) it = older(it->first) ? in->digest.erase(it) : std::next(it);
   }
@@ -234,11 +249,32 @@ void LockstepNode::on_peer_ack(const node_ack_t& a) {
     for (const auto& m : a.missing)
       for (const auto& out : last_out_)
         if (out.channel == m) {
-          transmit(out.channel, out.bytes);
+          transmit(out);
           ++republished_;
         }
-  } else if (a.status == node_ack_t::OK && have_grant_ && !failed_ &&
-             key == WindowKey{grant_.realization, grant_.attempt, grant_.window}) {
+    return;
+  }
+  if (a.status != node_ack_t::OK) return;
+  if (wire_ == Wire::kSample && !failed_ && !(cur_r_ >= 0 && !newer(a.realization, a.attempt) &&
+                                              !(a.realization == cur_r_ && a.attempt == cur_a_))) {
+    // The publisher's list of what it sent in that window: assemble the batch from the samples.
+    if (a.published_n.size() != a.published.size())
+      throw std::runtime_error(name_ + ": malformed ack of " + a.node + " (published_n and published differ in length)");
+    std::size_t first = 0;
+    for (std::size_t c = 0; c < a.published.size(); ++c) {
+      const std::size_t n = static_cast<std::size_t>(std::max(0, a.published_n[c]));
+      if (first + n > a.sample_digests.size())
+        throw std::runtime_error(name_ + ": malformed ack of " + a.node + " (fewer sample digests than samples)");
+      for (auto& in : inputs_)
+        if (in->channel == a.published[c] && !in->store.count(key)) {
+          in->expected[key].assign(a.sample_digests.begin() + static_cast<std::ptrdiff_t>(first),
+                                   a.sample_digests.begin() + static_cast<std::ptrdiff_t>(first + n));
+          try_assemble(*in);
+        }
+      first += n;
+    }
+  }
+  if (have_grant_ && !failed_ && key == WindowKey{grant_.realization, grant_.attempt, grant_.window}) {
     // A publisher acked the window this node waits on: what it published and is not here was lost.
     std::vector<std::string> lost;
     for (const auto& in : inputs_)
@@ -280,6 +316,38 @@ void LockstepNode::on_batch(InputStream& in, const batch_header_t& h, std::share
   in.digest.emplace(key, digest);
   in.store.emplace(key, std::move(batch));
   try_process();
+}
+
+void LockstepNode::on_sample(InputStream& in, std::uint64_t digest, std::shared_ptr<const void> sample) {
+  if (done_) return;
+  if (!in.inbox.emplace(digest, std::move(sample)).second) ++duplicates_ignored_;  // a copy of one held
+  try_assemble(in);
+}
+
+void LockstepNode::try_assemble(InputStream& in) {
+  for (auto it = in.expected.begin(); it != in.expected.end();) {
+    const WindowKey key = it->first;
+    if (in.store.count(key)) {
+      it = in.expected.erase(it);
+      continue;
+    }
+    std::vector<std::shared_ptr<const void>> samples;
+    for (const std::int64_t d : it->second) {
+      const auto s = in.inbox.find(static_cast<std::uint64_t>(d));
+      if (s == in.inbox.end()) break;
+      samples.push_back(s->second);
+    }
+    if (samples.size() < it->second.size()) {
+      ++it;
+      continue;  // not all here yet
+    }
+    // Everything held was published for this window or earlier (a publisher gets the next grant
+    // only once this node acked this window): what is left over are copies.
+    in.inbox.clear();
+    in.store.emplace(key, in.assemble(samples, key));
+    it = in.expected.erase(it);
+    try_process();
+  }
 }
 
 void LockstepNode::try_process() {

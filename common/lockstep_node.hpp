@@ -14,9 +14,18 @@
 // that window again. The node keeps its outputs of the last window it processed for this.
 // Watchdog: a node that hears nothing from the clock (grants, resends, heartbeats) for the peer
 // timeout stops with exit code kClockSilentExit, naming the clock.
+//
+// Wire forms (runner.wire): "batch" sends each window's batch as one message (the checks above);
+// "sample" sends one message per sample, of the sample type (BatchItems), and nothing for a
+// window without samples. The publisher's OK ack then lists, per channel, the samples' count and
+// each sample message's digest in publish order; a consumer assembles the window's batch from
+// the samples it holds with exactly those digests, in that order (copies ignored), and asks for
+// what is missing with WAITING as for a batch. Samples carry no window: they are matched to the
+// ack by digest, and what a consumer holds is dropped once a window is assembled from it.
 #pragma once
 
 #include "batch_decode.hpp"
+#include "batch_items.hpp"
 #include "bus.hpp"
 #include "channels.hpp"
 
@@ -24,6 +33,7 @@
 #include <rnav/node_ack_t.hpp>
 #include <rnav/sim_window_t.hpp>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -46,6 +56,11 @@ struct DropSpec {
   /// From "CHANNEL:R:W[:A[:K]]"; a ConfigError naming the text otherwise.
   static DropSpec parse(const std::string& text);
 };
+
+/// How the data channels travel (runner.wire).
+enum class Wire { kBatch, kSample };
+/// From "batch" or "sample"; std::invalid_argument otherwise (the scenario reader checks first).
+Wire parse_wire(const std::string& text);
 
 /// Exit code of a node whose clock fell silent (the runner names the clock).
 inline constexpr int kClockSilentExit = 5;
@@ -82,6 +97,8 @@ class LockstepNode {
   /// Off: the node never stops for a silent clock (one process, where the clock cannot fall
   /// silent and wall time is simulated).
   void set_clock_watchdog(bool on) { clock_watchdog_ = on; }
+  /// The wire form of every data channel (runner.wire); set before the first window.
+  void set_wire(Wire w) { wire_ = w; }
 
  protected:
   /// A new (realization, attempt) starts: reset all per-realization state and re-seed.
@@ -107,14 +124,20 @@ class LockstepNode {
  private:
   struct InputStream {
     std::string channel;
+    // wire = sample: the samples received and not yet used, by message digest (copies collapse),
+    // the publisher's digests per window from its OK ack, and how to build the batch from them.
+    std::map<std::uint64_t, std::shared_ptr<const void>> inbox;
+    std::map<WindowKey, std::vector<std::uint64_t>> expected;
+    std::function<std::shared_ptr<const void>(const std::vector<std::shared_ptr<const void>>&, const WindowKey&)> assemble;
     std::int64_t next_seq = 0;
     bool resync = false;  // a repeated attempt: messages lost in the failed one are already reported
     std::map<WindowKey, std::shared_ptr<const void>> store;
     std::map<WindowKey, std::uint64_t> digest;  // every batch of the current attempt: resends must match
   };
-  struct Output {  // a published batch of the last processed window, kept for resends
+  struct Output {  // what a channel got in the last processed window, kept for resends
     std::string channel;
-    std::vector<std::uint8_t> bytes;
+    std::vector<std::vector<std::uint8_t>> messages;  // one batch, or one message per sample
+    int n_samples = 0;
   };
 
   void on_grant(const sim_window_t& w);
@@ -129,7 +152,9 @@ class LockstepNode {
   void fail(const std::string& detail);
   void stop(int code, const std::string& why);
   bool newer(int r, int a) const;
-  void transmit(const std::string& channel, const std::vector<std::uint8_t>& bytes);
+  void transmit(const Output& out);
+  void on_sample(InputStream& in, std::uint64_t digest, std::shared_ptr<const void> sample);
+  void try_assemble(InputStream& in);
   std::vector<std::string> missing_inputs() const;
   void report_waiting(const std::vector<std::string>& missing);
 
@@ -153,6 +178,7 @@ class LockstepNode {
   double last_hello_s_ = -1e9, now_s_ = 0, first_poll_s_ = -1, last_clock_s_ = -1;
   bool clock_heard_ = false;  // a SIM_WINDOW message since the last poll()
   bool clock_watchdog_ = true;
+  Wire wire_ = Wire::kBatch;
   bool finished_ = false;     // FINISH handled: lingering to answer a repeated FINISH
   double finished_at_s_ = -1;
   bool done_ = false;
@@ -167,13 +193,34 @@ std::uint64_t message_digest(const void* data, int size);
 // ---- template implementation ----
 
 template <class B> void LockstepNode::add_input(const std::string& channel) {
+  using Sample = typename BatchItems<B>::Sample;
   inputs_.push_back(std::make_unique<InputStream>());
   InputStream* in = inputs_.back().get();
   in->channel = channel;
+  in->assemble = [](const std::vector<std::shared_ptr<const void>>& samples, const WindowKey& key) {
+    auto b = std::make_shared<B>();
+    b->header.seq = std::get<2>(key);  // assembled from samples: no publish counter, no window times
+    b->header.realization = std::get<0>(key);
+    b->header.attempt = std::get<1>(key);
+    b->header.window = std::get<2>(key);
+    b->header.utime_begin = b->header.utime_end = 0;
+    for (const auto& s : samples) BatchItems<B>::items(*b).push_back(*static_cast<const Sample*>(s.get()));
+    b->n = static_cast<std::int32_t>(samples.size());
+    return std::shared_ptr<const void>(std::move(b));
+  };
   bus_.subscribe_raw(channel, [this, in](const std::string& ch, const void* data, int size) {
+    if (wire_ == Wire::kSample) {
+      auto s = std::make_shared<Sample>();
+      if (s->decode(data, 0, size) != size)
+        throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " as one " +
+                                 Sample::getTypeName() + " (runner.wire = sample: every process of the run must use it)");
+      on_sample(*in, message_digest(data, size), std::move(s));
+      return;
+    }
     auto b = std::make_shared<B>();
     if (!decode_batch(data, size, *b))
-      throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " (wrong type or corrupt)");
+      throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " as a " + B::getTypeName() +
+                               " (wrong type or corrupt; runner.wire = batch: every process of the run must use it)");
     on_batch(*in, b->header, b, message_digest(data, size));
   });
 }
@@ -196,10 +243,18 @@ template <class B> void LockstepNode::publish_batch(const std::string& channel, 
   batch.header.utime_begin = grant_.utime_begin;
   batch.header.utime_end = grant_.utime_end;
   published_ += batch.n;
-  const int n = batch.getEncodedSize();
-  Output out{channel, std::vector<std::uint8_t>(static_cast<std::size_t>(n))};
-  if (batch.encode(out.bytes.data(), 0, n) != n) throw std::runtime_error(name_ + ": cannot encode a batch for " + channel);
-  transmit(channel, out.bytes);
+  Output out{channel, {}, batch.n};
+  auto encode = [&](const auto& m) {
+    const int n = m.getEncodedSize();
+    out.messages.emplace_back(static_cast<std::size_t>(n));
+    if (m.encode(out.messages.back().data(), 0, n) != n)
+      throw std::runtime_error(name_ + ": cannot encode a message for " + channel);
+  };
+  if (wire_ == Wire::kSample)
+    for (const auto& s : BatchItems<B>::items(batch)) encode(s);
+  else
+    encode(batch);
+  transmit(out);
   last_out_.push_back(std::move(out));
 }
 

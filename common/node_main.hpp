@@ -60,6 +60,7 @@ int run_node_main(int argc, char** argv, const NodeProgram& p,
     sc.print(std::cerr);
     LcmBus bus(args.lcm_url);
     auto node = make(bus, sc, args);
+    node->set_wire(parse_wire(sc.runner.wire));
     for (const auto& d : args.drops) node->add_drop(d);
     while (!node->done()) {
       bus.handle(20);

@@ -79,6 +79,7 @@ template <class V> void visit(RunnerOptions& o, V& v) {
   v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
   v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);
   v.integer("max_attempts", o.max_attempts, 1, 100);
+  v.choice("wire", o.wire, {"batch", "sample"});
   v.num("peer_timeout_s", o.peer_timeout_s, 0.5, 3600);
   v.i64("epoch_utime", o.epoch_utime, 0, 4e15);
 }

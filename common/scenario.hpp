@@ -169,6 +169,12 @@ struct RunnerOptions {
   /// takes to process one window. [0.5, 3600]
   double peer_timeout_s = 10;
   std::int64_t epoch_utime = 1767225600000000LL;  ///< [us since Unix epoch] sim time 0 (2026-01-01T00:00Z)
+  /// How the data channels travel: "batch" (one message per channel and window, the fast
+  /// ensemble's form) or "sample" (one message per sample, of the sample type: a prl_plot_t per
+  /// radar plot, a nav_solution_t per solution; nothing in a window without samples; what
+  /// lcm-spy and outside consumers expect; scripts/run --realtime chooses it). Every process
+  /// of a run must use the same; the statistics are byte-identical either way.
+  std::string wire = "batch";
 };
 
 struct Scenario {

@@ -46,6 +46,7 @@ void PrlBiasFreeNode::on_apoi(const void* data, int size) {
     drain_windows();
   } else if (fp == prl_plot_t::getHash()) {
     form_.expect(InputForm::Form::kSamples, ch::kApoi);
+    if (apoi_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
     const auto p = decode_sample<prl_plot_t>(data, size, ch::kApoi);
     if (p.utime <= last_plot_utime_)
       throw std::runtime_error(std::string(ch::kApoi) + ": plot " + std::to_string(p.plot_id) + " at utime " +
@@ -74,6 +75,7 @@ void PrlBiasFreeNode::on_nav(const void* data, int size) {
     drain_windows();
   } else if (fp == nav_solution_t::getHash()) {
     form_.expect(InputForm::Form::kSamples, ch::kNav);
+    if (nav_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
     const auto n = decode_sample<nav_solution_t>(data, size, ch::kNav);
     if (n.link_utime < last_nav_link_)
       throw std::runtime_error(std::string(ch::kNav) + ": a solution reached the ground at " +

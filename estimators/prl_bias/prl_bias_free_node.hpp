@@ -55,6 +55,7 @@ class PrlBiasFreeNode : public FreeNode {
   PrlBiasFreeOptions o_;
   PrlBiasStream stream_;
   InputForm form_;
+  RecentCopies apoi_copies_, nav_copies_;  // single samples: resent copies to skip
   BatchOrder apoi_order_, nav_order_;
   FlightKey flight_{-1, -1};
   std::deque<prl_plot_batch_t> apoi_q_;  // batches of the current flight not yet processed

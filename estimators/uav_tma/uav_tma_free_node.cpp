@@ -40,6 +40,7 @@ void UavTmaFreeNode::on_nav(const void* data, int size) {
     drain_windows();
   } else if (fp == observer_state_t::getHash()) {
     form_.expect(InputForm::Form::kSamples, ch::kUavNav);
+    if (nav_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
     const auto o = decode_sample<observer_state_t>(data, size, ch::kUavNav);
     if (o.utime <= last_nav_utime_)
       throw std::runtime_error(std::string(ch::kUavNav) + ": a state at utime " + std::to_string(o.utime) +
@@ -68,6 +69,7 @@ void UavTmaFreeNode::on_bearing(const void* data, int size) {
     drain_windows();
   } else if (fp == bearing_t::getHash()) {
     form_.expect(InputForm::Form::kSamples, ch::kUavBearing);
+    if (bearing_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
     const auto b = decode_sample<bearing_t>(data, size, ch::kUavBearing);
     if (b.utime < last_bearing_utime_)
       throw std::runtime_error(std::string(ch::kUavBearing) + ": a bearing at utime " + std::to_string(b.utime) +

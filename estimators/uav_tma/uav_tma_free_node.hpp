@@ -49,6 +49,7 @@ class UavTmaFreeNode : public FreeNode {
   UavTmaFreeOptions o_;
   std::vector<std::unique_ptr<tma::TmaEstimator>> est_;
   InputForm form_;
+  RecentCopies nav_copies_, bearing_copies_;  // single samples: resent copies to skip
   BatchOrder nav_order_, bearing_order_;
   FlightKey flight_{-1, -1};
   std::deque<observer_batch_t> nav_q_;

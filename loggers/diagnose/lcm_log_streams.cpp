@@ -85,7 +85,9 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
     channels.insert(e->channel);
     auto undecodable = [&](const std::string& type) {
       return ConfigError(file + ": event " + std::to_string(e->eventnum) + " on channel " + e->channel +
-                         " does not decode as rnav::" + type + " (wrong type or corrupt)");
+                         " does not decode as rnav::" + type +
+                         " (wrong type or corrupt; a run with runner.wire=sample, as scripts/run --realtime makes, "
+                         "logs one message per sample, which this reader does not take: record a run without --realtime)");
     };
     if (e->channel == ch::kWindow) {
       sim_window_t w;

@@ -27,6 +27,7 @@ InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<Lockst
   for (const auto& node : nodes) {
     o.nodes.push_back(node->name());
     node->set_clock_watchdog(false);
+    node->set_wire(parse_wire(runner.wire));
     for (const auto& d : drops) node->add_drop(DropSpec::parse(d));
   }
   Conductor c(bus, runner, step_s, o, duration_s);
