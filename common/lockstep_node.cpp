@@ -255,8 +255,11 @@ void LockstepNode::on_peer_ack(const node_ack_t& a) {
     return;
   }
   if (a.status != node_ack_t::OK) return;
-  if (wire_ == Wire::kSample && !failed_ && !(cur_r_ >= 0 && !newer(a.realization, a.attempt) &&
-                                              !(a.realization == cur_r_ && a.attempt == cur_a_))) {
+  // Only for a window still to come: an ack repeated for a processed window (a RESEND's answer)
+  // must not assemble it again from late copies.
+  const bool to_come = newer(a.realization, a.attempt) ||
+                       (a.realization == cur_r_ && a.attempt == cur_a_ && a.window >= next_window_);
+  if (wire_ == Wire::kSample && !failed_ && to_come) {
     // The publisher's list of what it sent in that window: assemble the batch from the samples.
     if (a.published_n.size() != a.published.size())
       throw std::runtime_error(name_ + ": malformed ack of " + a.node + " (published_n and published differ in length)");
@@ -366,7 +369,10 @@ void LockstepNode::try_process() {
     throw;
   }
   processed_any_ = true;
-  for (auto& in : inputs_) in->store.erase(key);
+  for (auto& in : inputs_) {
+    in->store.erase(key);
+    in->expected.erase(key);
+  }
   ++next_window_;
   report(node_ack_t::OK, "");
 }

@@ -191,3 +191,29 @@ TEST_CASE("LCM bus: a receive buffer the kernel will not grant is refused, namin
                     Catch::Contains("recv_buf_size must be a positive integer") && Catch::Contains("12x"));
   CHECK(rnav::LcmBus::granted_receive_buffer(rmem_max / 2) >= rmem_max / 2);
 }
+
+TEST_CASE("conductor: in real time a RESEND waits half a window's wall time, not the batch pace",
+          "[conductor][loss][realtime]") {
+  rnav::InprocBus bus;
+  Recorder rec(bus);
+  rnav::RunnerOptions runner;
+  runner.window_s = 1;  // at speed 4: a window every 0.25 s of wall time, so RESEND after 0.125 s
+  rnav::ConductorOptions o;
+  o.nodes = {"prl_bias", "logger"};
+  o.realtime = true;
+  o.speed = 4;
+  Conductor c(bus, runner, 0.25, o, 30.0);
+  ack(bus, "prl_bias", node_ack_t::HELLO, -1);
+  ack(bus, "logger", node_ack_t::HELLO, -1);
+  c.poll(0.0);  // all HELLOs: running
+  c.poll(0.0);  // window 0 is due: granted
+  bus.run_until_idle();
+  REQUIRE(rec.count(kStart) == 1);
+  ack(bus, "prl_bias", node_ack_t::OK, 0);
+  c.poll(0.10);  // past the batch rule's first wait (50 ms), within half a window
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 0);
+  c.poll(0.13);
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 1);
+}

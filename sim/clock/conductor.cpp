@@ -47,6 +47,7 @@ constexpr std::size_t kPaceWindows = 32;   // windows the resend wait learns the
 constexpr double kPaceFactor = 1;          // resend after this many times the slowest recent ack gap
 constexpr double kMinResendWaitS = 0.001;  // [s wall] never sooner (scheduling jitter)
 constexpr double kFirstResendWaitS = 0.05; // [s wall] before any pace is known
+constexpr double kRealtimeResendShare = 0.5;  // real time: resend after this share of a window's wall time
 constexpr double kHeartbeatsPerTimeout = 8;
 constexpr double kFinishRepeatS = 0.05;    // [s wall] FINISH is repeated until every node reports FINISHED
 }  // namespace
@@ -58,6 +59,9 @@ double Conductor::resend_wait_s() const {
     for (double g : pace_) slowest = std::max(slowest, g);
     wait = std::max(kMinResendWaitS, kPaceFactor * slowest);
   }
+  // Real time has slack until the next window is due: resend only after half a window's wall
+  // time (a resend at the batch pace would publish copies a viewer counts as messages).
+  if (o_.realtime) wait = std::max(wait, kRealtimeResendShare * window_us_ * 1e-6 / o_.speed);
   // Each further RESEND of the same window waits twice as long.
   wait *= std::pow(2.0, std::min(window_resends_, 20));
   return std::min(wait, runner_.stall_timeout_s);
