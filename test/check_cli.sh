@@ -34,6 +34,8 @@ check_error_line() {
 # A long option with two adjacent letters of its name swapped (one edit away).
 misspell() {
   local o=$1 i=$((${#1} / 2))
+  # Not at a doubled letter (swapping "nn" in --channels would change nothing).
+  while ((i + 2 < ${#o})) && [[ ${o:i:1} == "${o:i+1:1}" ]]; do i=$((i + 1)); done
   echo "${o:0:i}${o:i+1:1}${o:i:1}${o:i+2}"
 }
 
