@@ -5,7 +5,10 @@
 #include <rnav/prl_error_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>
 
+#include "atomic_file.hpp"
+
 #include <iostream>
+#include <sstream>
 
 namespace rnav {
 
@@ -97,7 +100,13 @@ void PrlLoggerNode::finish(const sim_window_t& w) {
     throw std::runtime_error("logger holds " + std::to_string(stats_.realizations()) +
                              " complete realizations, the clock ran " +
                              std::to_string(w.n_realizations));
-  if (!out_dir_.empty()) stats_.write(out_dir_, seed_);
+  if (out_dir_.empty()) return;
+  stats_.write(out_dir_, seed_);
+  // The effective scenario, every default filled in and the overrides applied: `scripts/run
+  // DIR/scenario.json` with the same seed and realizations repeats the run.
+  std::ostringstream sc;
+  sc_.print(sc);
+  write_file_atomic(out_dir_, "scenario.json", sc.str());
 }
 
 }  // namespace rnav

@@ -1,11 +1,14 @@
 #include "uav_logger_node.hpp"
 
+#include "atomic_file.hpp"
 #include "tma_models.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>
 #include <rnav/tma_batch_t.hpp>
+
+#include <sstream>
 
 namespace rnav {
 
@@ -91,7 +94,13 @@ void UavLoggerNode::finish(const sim_window_t& w) {
   if (stats_.realizations() != w.n_realizations)
     throw std::runtime_error("uav_logger holds " + std::to_string(stats_.realizations()) +
                              " complete realizations, the clock ran " + std::to_string(w.n_realizations));
-  if (!out_dir_.empty()) stats_.write(out_dir_, seed_);
+  if (out_dir_.empty()) return;
+  stats_.write(out_dir_, seed_);
+  // The effective scenario, every default filled in and the overrides applied: `scripts/run
+  // DIR/scenario.json` with the same seed and realizations repeats the run.
+  std::ostringstream sc;
+  sc_.print(sc);
+  write_file_atomic(out_dir_, "scenario.json", sc.str());
 }
 
 }  // namespace rnav

@@ -114,6 +114,30 @@ TEST_CASE("multi-process run over LCM writes table2.json with the documented sha
   CHECK_FALSE(fs::exists(d / "out.failed"));
 }
 
+TEST_CASE("scenario.json in the output repeats the run: every default filled in, the overrides applied",
+          "[integration][determinism]") {
+  const fs::path d = scratch("scenario_json");
+  // In one process with overrides, then from the written file over LCM without them.
+  const auto a = sh(kRun + "--realizations 4 --seed 9 --inproc --set radar.x_m=-1000 --set prl_effects.range_gain=0.001 --out " +
+                    (d / "a").string());
+  INFO(a.output);
+  REQUIRE(a.status == 0);
+  const auto sc = nlohmann::json::parse(slurp(d / "a" / "scenario.json"));
+  CHECK(sc["radar"]["x_m"] == -1000.0);
+  CHECK(sc["prl_effects"]["range_gain"] == 0.001);
+  CHECK(sc["runner"]["wire"] == "batch");  // a default the paper file does not name
+  const auto b = sh(std::string(RNAV_SOURCE_DIR) + "/scripts/run " + (d / "a" / "scenario.json").string() + " --no-plots --net netns" +
+                    " --realizations 4 --seed 9 --out " + (d / "b").string());
+  INFO(b.output);
+  REQUIRE(b.status == 0);
+  for (const char* f : {"scenario.json", "table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv"})
+    CHECK(slurp(d / "a" / f) == slurp(d / "b" / f));
+  // Without the overrides the results differ: the file carried them.
+  const auto c = sh(kRun + "--realizations 4 --seed 9 --inproc --out " + (d / "c").string());
+  REQUIRE(c.status == 0);
+  CHECK(slurp(d / "a" / "table2.json") != slurp(d / "c" / "table2.json"));
+}
+
 TEST_CASE("same seed: byte-identical statistics across processes, batching and transport",
           "[integration][determinism]") {
   const fs::path d = scratch("det");
