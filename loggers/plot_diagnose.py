@@ -10,6 +10,7 @@ import sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from plot_gaps import broken  # noqa: E402  (lines break at data gaps)
 
 
 def main(argv):
@@ -53,9 +54,9 @@ def main(argv):
         key = "%s_%s" % (ch, "m" if ch == "range" else "rad")
         y = [v * sc for v in cols[key]]
         ax.plot(t, y, ".", ms=2, color="0.6", label="measured - nav")
-        ax.plot(t, [v * sc for v in cols[key.replace("_m", "_nominal_m").replace("_rad", "_nominal_rad")]],
+        ax.plot(*broken(t, [v * sc for v in cols[key.replace("_m", "_nominal_m").replace("_rad", "_nominal_rad")]]),
                 color="tab:red", lw=1.5, label="nominal model (constant bias)")
-        ax.plot(t, [v * sc for v in cols[key.replace("_m", "_extended_m").replace("_rad", "_extended_rad")]],
+        ax.plot(*broken(t, [v * sc for v in cols[key.replace("_m", "_extended_m").replace("_rad", "_extended_rad")]]),
                 color="tab:blue", lw=1.5, label="extended model")
         ax.set_ylabel("%s residual [%s]" % (ch, unit))
         ax.grid(alpha=0.3)
@@ -82,7 +83,7 @@ def plot_uav(cols, out):
         ax.plot([t[i] for i in out_i], [cols["bearing_residual_rad"][i] * deg for i in out_i], "x", ms=4,
                 color="tab:orange", label="outliers")
     ax.axhline(0, color="tab:red", lw=1.5, label="nominal model (zero mean)")
-    ax.plot(t, [v * deg for v in cols["bearing_extended_rad"]], color="tab:blue", lw=1.5, label="extended model")
+    ax.plot(*broken(t, [v * deg for v in cols["bearing_extended_rad"]]), color="tab:blue", lw=1.5, label="extended model")
     ax.set_ylabel("bearing residual [deg]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
@@ -97,7 +98,7 @@ def plot_uav(cols, out):
         seg = [res[k] * deg for k in range(j, i + 1)]
         xs.append(t[i])
         ys.append(math.sqrt(sum(v * v for v in seg) / len(seg)))
-    ax2.plot(xs, ys, color="0.3", lw=1)
+    ax2.plot(*broken(xs, ys), color="0.3", lw=1)
     ax2.set_ylabel("5 s RMS [deg]")
     ax2.set_xlabel("time from the first frame [s]")
     ax2.grid(alpha=0.3)

@@ -8,7 +8,8 @@ import sys
 
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+import matplotlib.pyplot as plt  # noqa: E402
+from plot_gaps import broken  # noqa: E402  (lines break at data gaps)
 
 
 def main():
@@ -37,15 +38,8 @@ def main():
                 label="residual")
         ax.plot([a for a, o in zip(t, out) if o], [b for b, o in zip(y, out) if o], "x", ms=3, color="tab:red",
                 label="outlier")
-        # the fit, broken across gaps longer than 3 s
-        seg_t, seg_y = [], []
-        for a, b in zip(t, fit):
-            if seg_t and a - seg_t[-1] > 3:
-                ax.plot(seg_t, seg_y, "-", color="tab:blue", lw=1.2)
-                seg_t, seg_y = [], []
-            seg_t.append(a)
-            seg_y.append(b)
-        ax.plot(seg_t, seg_y, "-", color="tab:blue", lw=1.2, label="extended model")
+        # the fit, broken across data gaps (plot_gaps: over 3x the median step)
+        ax.plot(*broken(t, fit), "-", color="tab:blue", lw=1.2, label="extended model")
         split = [a for a, r in zip(t, rr) if r["estimation"] == "0"]
         if split:
             ax.axvline(min(split), color="k", ls=":", lw=0.8)
