@@ -17,6 +17,13 @@ namespace {
 constexpr double kRadToDeg = 57.29577951308232;
 constexpr double kZ95 = 1.959963984540054;  // two-sided 95 % normal quantile
 
+// x exactly (17 significant digits: it reads back as the same double).
+std::string full(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
+}
+
 std::string range_key(double r) {
   char b[32];
   std::snprintf(b, sizeof b, "%.0f", r);
@@ -46,12 +53,13 @@ PrlStats::PrlStats(const Scenario& sc)
 void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
   const auto& ranges = sc_.logger.table_ranges_m;
   // Validate first, then add: a rejected realization leaves no partial contribution.
-  std::vector<Moments<3>> a(ranges.size()), t(ranges.size());
+  std::vector<Moments<3>> a(ranges.size()), t(ranges.size()), be(ranges.size());
   for (const auto& p : plots)
     for (std::size_t i = 0; i < ranges.size(); ++i)
       if (std::abs(p.range_table_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
         a[i].add(p.apoi);
         t[i].add(p.toi);
+        be[i].add(p.bias_err);
       }
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     if (a[i].n == 0)
@@ -74,6 +82,26 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
     rb.first.add(p.apoi);
     rb.second.add(p.toi);
   }
+  // realizations.csv: this realization's mean errors per Table 2 bin and per slant-range bin.
+  std::map<long, std::array<Moments<3>, 3>> bins;  // bin index -> (apoi, toi, bias_err)
+  for (const auto& p : plots) {
+    auto& m = bins[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
+    m[0].add(p.apoi);
+    m[1].add(p.toi);
+    m[2].add(p.bias_err);
+  }
+  auto row = [&](const char* kind, double lo, double hi, const Moments<3>& ap, const Moments<3>& to, const Moments<3>& bi) {
+    const double scale[3] = {1, kRadToDeg, kRadToDeg};
+    realization_rows_ += std::to_string(n_real_) + "," + kind + "," + fixed(lo, 0) + "," + fixed(hi, 0) + "," + std::to_string(ap.n);
+    for (const auto* m : {&ap, &to})
+      for (int k = 0; k < 3; ++k) realization_rows_ += "," + full(m->mean(k));
+    for (int k = 0; k < 3; ++k) realization_rows_ += "," + full(bi.mean(k) * scale[k]);
+    realization_rows_ += "\n";
+  };
+  for (std::size_t i = 0; i < ranges.size(); ++i)
+    row("table", ranges[i] - sc_.logger.table_halfwidth_m, ranges[i] + sc_.logger.table_halfwidth_m, a[i], t[i], be[i]);
+  for (const auto& [bin, m] : bins)
+    row("range", bin * sc_.logger.range_bin_m, (bin + 1) * sc_.logger.range_bin_m, m[0], m[1], m[2]);
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     table_plots_[i] = a[i].n;
     std::array<double, 3> ma, mt;
@@ -212,6 +240,13 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
     rs << "\n";
   }
   write_file_atomic(dir, "stats_range.csv", rs.str());
+
+  // Per realization (in order) and bin: "table" rows are Table 2's bins (true distance in the
+  // sense of logger.table_range_origin within +-table_halfwidth_m of a table range), whose
+  // ensemble means table2.json holds; "range" rows the 1 km slant-range bins of stats_range.csv.
+  write_file_atomic(dir, "realizations.csv",
+                    "realization,bin,lo_m,hi_m,plots,apoi_x_m,apoi_z_m,apoi_y_m,toi_x_m,toi_z_m,toi_y_m,"
+                    "biaserr_range_m,biaserr_course_deg,biaserr_glide_deg\n" + realization_rows_);
 }
 
 }  // namespace rnav

@@ -68,7 +68,7 @@ class PrlStats {
   void add_realization(const std::vector<PlotErrors>& plots);
   long realizations() const { return n_real_; }
 
-  /// Write stats_time.csv, stats_range.csv, table2.json, table2_detail.json and table2.txt
+  /// Write stats_time.csv, stats_range.csv, realizations.csv, table2.json, table2_detail.json and table2.txt
   /// into dir. `seed` is recorded. Files are written under temporary names and renamed.
   void write(const std::string& dir, std::int64_t seed) const;
   /// Table 2 text (also written to table2.txt).
@@ -89,6 +89,7 @@ class PrlStats {
   std::map<long, std::pair<Moments<3>, Moments<3>>> by_range_;  // bin index -> (apoi, toi)
   std::vector<Moments<3>> table_apoi_, table_toi_;               // per table range
   std::vector<long> table_plots_;                                 // plots per bin per realization
+  std::string realization_rows_;                                  // realizations.csv, without its header
 };
 
 }  // namespace rnav

@@ -130,8 +130,35 @@ TEST_CASE("scenario.json in the output repeats the run: every default filled in,
                     " --realizations 4 --seed 9 --out " + (d / "b").string());
   INFO(b.output);
   REQUIRE(b.status == 0);
-  for (const char* f : {"scenario.json", "table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv"})
+  for (const char* f : {"scenario.json", "table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv", "realizations.csv"})
     CHECK(slurp(d / "a" / f) == slurp(d / "b" / f));
+  // realizations.csv: Table 2's means are the ensemble means of its "table" rows (the same sums
+  // in the same order, so equal to within one rounding: 1e-12 relative).
+  {
+    std::istringstream rows(slurp(d / "b" / "realizations.csv"));
+    std::string line;
+    std::getline(rows, line);
+    REQUIRE(line.rfind("realization,bin,lo_m,hi_m,plots,apoi_x_m", 0) == 0);
+    std::map<std::string, std::array<double, 3>> sum;  // lo_m -> APOI X Z Y
+    std::map<std::string, int> n;
+    while (std::getline(rows, line)) {
+      std::vector<std::string> c;
+      std::istringstream ls(line);
+      for (std::string x; std::getline(ls, x, ',');) c.push_back(x);
+      REQUIRE(c.size() == 14);
+      if (c[1] != "table") continue;
+      for (int k = 0; k < 3; ++k) sum[c[2]][k] += std::stod(c[5 + k]);
+      ++n[c[2]];
+    }
+    const auto t2 = nlohmann::json::parse(slurp(d / "b" / "table2.json"));
+    for (const auto& [lo, range] : std::vector<std::pair<std::string, std::string>>{{"24750", "25000"}, {"3750", "4000"}}) {
+      REQUIRE(n[lo] == 4);
+      for (int k = 0; k < 3; ++k) {
+        const double expected = t2["APOI"][range][k].get<double>();
+        CHECK(std::abs(sum[lo][k] / 4 - expected) <= 1e-12 * std::max(1.0, std::abs(expected)));
+      }
+    }
+  }
   // Without the overrides the results differ: the file carried them.
   const auto c = sh(kRun + "--realizations 4 --seed 9 --inproc --out " + (d / "c").string());
   REQUIRE(c.status == 0);
