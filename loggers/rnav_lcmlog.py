@@ -2,58 +2,83 @@
 
     import sys; sys.path.insert(0, "loggers")
     import rnav_lcmlog
-    t = rnav_lcmlog.tables("/tmp/run.lcmlog")          # {channel: {column: numpy array}}
-    plots = t["PRL_APOI"]                                # one row per radar plot
+    t = rnav_lcmlog.tables("/tmp/run.lcmlog")      # {channel: {column: numpy array}}
+    plots = t["PRL_APOI"]                            # one row per radar plot
     plots["range_m"], plots["utime"], plots["realization"]
 
-Messages are decoded with the types lcm-gen --python writes into build/python/rnav (part of
-every build; set RNAV_PYTHON_TYPES to another folder holding the rnav package). Each project
-channel becomes a table with one row per sample: a batch message (runner.wire=batch) gives a
-row per element, with its header's realization, attempt and window; a sample message
-(runner.wire=sample) one row. Fixed-size arrays become one column per element (p_TA_L_0,
-p_TA_L_1, p_TA_L_2); variable-length arrays of strings are joined with ';'. Every row carries
-`log_event` (the event number) and `log_utime` (when the recorder received it [us since the
-Unix epoch]; `utime` is the sample's time of validity). A byte-identical copy of an earlier
-message on the same channel (a lock-step resend) is skipped and counted in `copies`. Units: the
-field names and lcmtypes/*.lcm.
+Messages are decoded with the types `lcm-gen --python` writes into build/python/rnav at every
+build (RNAV_BUILD names another build folder, RNAV_PYTHON_TYPES another folder holding the rnav
+package), chosen by the fingerprint in each message's first 8 bytes.
 
-Nothing is read silently wrong: the file is checked event by event (sync word, sizes within the
-file) and every message must decode as the type its fingerprint names, using all its bytes;
-otherwise LogError names the file, the byte offset or event, and the channel.
+Tables. A data channel gives one row per sample: a batch message (runner.wire=batch) a row per
+element, carrying its header's window fields (realization, attempt, window, window_utime_begin,
+window_utime_end); a sample message (runner.wire=sample) one row, with the fields of the window
+SIM_WINDOW granted last (-1 if the log holds no grant). Fixed-size arrays become one column per
+element (p_TA_L_0, p_TA_L_1, p_TA_L_2; P_0_0 ... P_3_3), variable-length arrays one text column
+joined by ';'. Every row starts with log_event (the event number) and log_utime (when the
+recorder received it [us since the Unix epoch]; `utime` is the sample's time of validity). The
+control channels SIM_WINDOW, SIM_ACK and SIM_SCENARIO give one row per message, as logged. Units:
+units() reads them from the comments of lcmtypes/*.lcm.
+
+What is kept, as the C++ reader (loggers/diagnose/lcm_log_streams) keeps it: of each realization
+the last attempt (the clock repeats a realization that lost a message; all_attempts=True keeps
+every attempt); of a message sent again (a lock-step resend) the first copy: a batch with the same
+channel and window and the same bytes, a sample message with the same bytes in the same grant
+(without a grant in the log, every sample message is a row: a copy cannot be told from a repeat).
+
+Nothing is read silently wrong; LogError names the file, the byte offset or event, the channel:
+  * every event is checked against the file before it is read (sync word 0xEDA1DA01, channel
+    and data lengths within the file, event numbers increasing): a corrupt size never allocates;
+  * every message must decode as the type its fingerprint names, using all its bytes; a
+    fingerprint of no project type, or a channel changing type, is an error;
+  * a batch that differs from an earlier one of the same window, a missing window or seq, a
+    batch outside its grant's span, a realization whose last attempt did not complete (with
+    SIM_WINDOW in the log), or a window whose samples differ in number from what the publisher's
+    OK acknowledgement on SIM_ACK lists (when the log has acks) is an error.
 """
 
 import csv
 import importlib
 import os
 import pkgutil
+import re
 import struct
 import sys
+from collections import namedtuple
 
 SYNC = 0xEDA1DA01
-_HEADER = struct.Struct(">IqqII")  # sync, event number, receive utime, channel length, data length
-MAX_CHANNEL_BYTES = 256            # LCM channel names are short; a longer one is a corrupt header
+_HEADER = struct.Struct(">Iqqii")  # sync, event number, receive utime [us], channel length, data length
+MAX_CHANNEL_BYTES = 256            # LCM's limit is 63 (as loggers/diagnose/lcm_event_reader.hpp)
+CONTROL_CHANNELS = ("SIM_WINDOW", "SIM_ACK", "SIM_SCENARIO")
+LOG_COLUMNS = ("log_event", "log_utime")
+WINDOW_COLUMNS = ("realization", "attempt", "window", "window_utime_begin", "window_utime_end")
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_START, _FINISH, _ABORT, _RESEND = 1, 2, 3, 4  # sim_window_t commands
+_ACK_OK = 1                         # node_ack_t status
 
 
 class LogError(Exception):
     """A log that is not what it claims: the message names the file and where."""
 
 
-def _types_dir():
+Event = namedtuple("Event", "offset number utime channel data")
+
+
+def types_dir():
+    """The folder holding the generated `rnav` package."""
     d = os.environ.get("RNAV_PYTHON_TYPES")
     if d:
         return d
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    return os.path.join(os.environ.get("RNAV_BUILD", os.path.join(root, "build")), "python")
+    return os.path.join(os.environ.get("RNAV_BUILD", os.path.join(_ROOT, "build")), "python")
 
 
 def message_types():
-    """{8-byte packed fingerprint: class} of every project type (build/python/rnav)."""
-    d = _types_dir()
+    """{8-byte fingerprint: class} of every project type (the generated rnav package)."""
+    d = types_dir()
     if not os.path.isfile(os.path.join(d, "rnav", "__init__.py")):
         raise LogError("no generated Python types in %s (build the project: scripts/setup)" % d)
     if d not in sys.path:
         sys.path.insert(0, d)
-    import rnav  # noqa: F401  (the generated package)
     out = {}
     for m in pkgutil.iter_modules([os.path.join(d, "rnav")]):
         cls = getattr(importlib.import_module("rnav." + m.name), m.name)
@@ -62,122 +87,351 @@ def message_types():
 
 
 def events(path):
-    """(event number, receive utime [us], channel, data bytes) of each event, checked."""
+    """Event(offset [bytes], number, receive utime [us], channel, data) of each event, checked."""
+    size = os.path.getsize(path)
     with open(path, "rb") as f:
-        blob = f.read()
-    off = 0
-    while off < len(blob):
-        if len(blob) - off < _HEADER.size:
-            raise LogError("%s: byte %d: a truncated event header (%d bytes left of %d)"
-                           % (path, off, len(blob) - off, _HEADER.size))
-        sync, num, utime, clen, dlen = _HEADER.unpack_from(blob, off)
-        if sync != SYNC:
-            raise LogError("%s: byte %d: no LCM sync word 0x%08X (found 0x%08X): not an LCM event log, "
-                           "or corrupt" % (path, off, SYNC, sync))
-        start = off + _HEADER.size
-        if not 0 < clen <= MAX_CHANNEL_BYTES:
-            raise LogError("%s: byte %d, event %d: channel length %d is out of range (1..%d)"
-                           % (path, off, num, clen, MAX_CHANNEL_BYTES))
-        if dlen > len(blob) - start - clen:
-            raise LogError("%s: byte %d, event %d: data length %d runs past the end of the file (%d bytes left)"
-                           % (path, off, num, dlen, len(blob) - start - clen))
-        try:
-            channel = blob[start:start + clen].decode("ascii")
-        except UnicodeDecodeError:
-            raise LogError("%s: byte %d, event %d: the channel name is not ASCII" % (path, off, num))
-        yield num, utime, channel, blob[start + clen:start + clen + dlen]
-        off = start + clen + dlen
+        off, ordinal, last = 0, 0, None
+        while off < size:
+            at = "%s: byte %d (event %d of the file)" % (path, off, ordinal)
+            if size - off < _HEADER.size:
+                raise LogError("%s: the file ends inside an event header (%d bytes left of %d): the log was cut"
+                               % (at, size - off, _HEADER.size))
+            sync, num, utime, clen, dlen = _HEADER.unpack(f.read(_HEADER.size))
+            if sync != SYNC:
+                raise LogError("%s: no sync word 0x%08X (found 0x%08X): corrupt, or not an LCM event log"
+                               % (at, SYNC, sync))
+            if not 0 < clen <= MAX_CHANNEL_BYTES:
+                raise LogError("%s: channel name length %d outside [1, %d] (corrupt)" % (at, clen, MAX_CHANNEL_BYTES))
+            if dlen < 0:
+                raise LogError("%s: negative data length %d (corrupt)" % (at, dlen))
+            need = _HEADER.size + clen + dlen
+            if need > size - off:
+                raise LogError("%s: claims %d bytes, the file has %d left: the log was cut or the sizes are corrupt"
+                               % (at, need, size - off))
+            if last is not None and num <= last:
+                raise LogError("%s: event number %d after %d (they must increase; corrupt or spliced)"
+                               % (at, num, last))
+            try:
+                channel = f.read(clen).decode("ascii")
+            except UnicodeDecodeError:
+                raise LogError("%s: the channel name is not ASCII (corrupt)" % at) from None
+            yield Event(off, num, utime, channel, f.read(dlen))
+            off, ordinal, last = off + need, ordinal + 1, num
 
 
-def _flatten(msg, prefix=""):
-    """Scalar columns of one message or element: {name: value}."""
-    out = {}
-    for field in msg.__slots__:
-        v = getattr(msg, field)
-        name = prefix + field
-        if isinstance(v, (list, tuple)):
-            if v and all(isinstance(x, str) for x in v):
-                out[name] = ";".join(v)
-            elif all(isinstance(x, (int, float, bool)) for x in v):
-                for i, x in enumerate(v):
-                    out["%s_%d" % (name, i)] = x
-            else:
-                raise LogError("field %s holds an array of structures the tables do not flatten" % name)
-        elif hasattr(v, "__slots__"):
-            out.update(_flatten(v, name + "_"))
-        else:
-            out[name] = v
-    return out
+def decode(path, event, types):
+    """The message of an event, as the project type its fingerprint names, else LogError."""
+    cls = types.get(bytes(event.data[:8]))
+    where = "%s: event %d (byte %d) on channel %s" % (path, event.number, event.offset, event.channel)
+    if cls is None:
+        raise LogError("%s: fingerprint %s is no project type (lcmtypes/*.lcm): a foreign message (read the "
+                       "project's channels only: channels=, --channels), or corrupt"
+                       % (where, bytes(event.data[:8]).hex()))
+    try:
+        msg = cls.decode(event.data)
+        items = _batch_items(cls)
+        if items and msg.n != len(getattr(msg, items)):
+            raise ValueError("n = %d" % msg.n)
+        if msg.encode() != event.data:
+            raise ValueError("bytes left over")
+    except Exception as e:  # the generated decoder raises struct.error, ValueError, ...
+        raise LogError("%s does not decode as rnav.%s (%s: corrupt)" % (where, cls.__name__, e)) from None
+    return msg
 
 
-def _batch_array(msg):
-    """The element array of a batch type (a `header` and an `n`-sized array), else None."""
-    slots = msg.__slots__
-    if "header" in slots and "n" in slots and len(slots) == 3:
-        return [s for s in slots if s not in ("header", "n")][0]
+def _batch_items(cls):
+    """The element array's name of a batch type (header, n, a variable-length array), else None."""
+    s = cls.__slots__
+    if len(s) == 3 and s[0] == "header" and s[1] == "n" and getattr(cls(), s[2]) == []:
+        return s[2]
     return None
 
 
-def rows(path, channels=None, types=None, copies=None):
-    """{channel: [row dict, ...]} of every decodable channel (or only `channels`)."""
-    types = types if types is not None else message_types()
-    seen, out = {}, {}
-    for num, utime, channel, data in events(path):
-        if channels is not None and channel not in channels:
-            continue
-        cls = types.get(bytes(data[:8]))
-        if cls is None:
-            if channel == "LCM_SELF_TEST":
-                continue
-            raise LogError("%s: event %d on channel %s: fingerprint %s is no project type (a foreign "
-                           "message, or corrupt)" % (path, num, channel, bytes(data[:8]).hex()))
-        if data in seen.setdefault(channel, set()):
-            if copies is not None:
-                copies[channel] = copies.get(channel, 0) + 1
-            continue
-        seen[channel].add(data)
-        try:
-            msg = cls.decode(data)
-            if msg.encode() != data:
-                raise ValueError("bytes left over")
-        except Exception as e:  # the generated decoder raises struct.error, ValueError, ...
-            raise LogError("%s: event %d on channel %s does not decode as rnav.%s (%s)"
-                           % (path, num, channel, cls.__name__, e))
-        base = {"log_event": num, "log_utime": utime}
-        arr = _batch_array(msg)
-        table = out.setdefault(channel, [])
-        if arr is None:
-            row = dict(base)
-            row.update(_flatten(msg))
-            table.append(row)
+_COLUMNS = {}
+
+
+def _columns(cls):
+    """[(column, type name, field, element index or None, getter)] of a type's scalar columns."""
+    if cls in _COLUMNS:
+        return _COLUMNS[cls]
+    out = []
+
+    def walk(owner, field, name, value, get, index):
+        if hasattr(value, "__slots__"):  # a nested structure: its fields, prefixed
+            for f in value.__slots__:
+                walk(type(value).__name__, f, name + "_" + f, getattr(value, f),
+                     (lambda g, f: lambda m: getattr(g(m), f))(get, f), None)
+        elif isinstance(value, list) and value:  # a fixed-size array: a column per element
+            for i, v in enumerate(value):
+                walk(owner, field, "%s_%d" % (name, i), v, (lambda g, i: lambda m: g(m)[i])(get, i),
+                     (index or ()) + (i,))
+        elif isinstance(value, list):  # a variable-length array (of numbers or strings): text
+            out.append((name, owner, field, None, (lambda g: lambda m: _join(g(m), name))(get)))
         else:
+            out.append((name, owner, field, index, get))
+
+    default = cls()
+    for f in cls.__slots__:
+        walk(cls.__name__, f, f, getattr(default, f), (lambda f: lambda m: getattr(m, f))(f), None)
+    _COLUMNS[cls] = out
+    return out
+
+
+def _join(values, name):
+    """A variable-length array of numbers or strings as one text cell, ';' between elements."""
+    if any(hasattr(x, "__slots__") for x in values):
+        raise LogError("field %s: a variable-length array of structures, which a table does not flatten" % name)
+    return ";".join(_text(x) for x in values)
+
+
+def _text(x):
+    """A value as CSV text: numbers in Python's shortest round-trip form, booleans as 1/0."""
+    if isinstance(x, bool):
+        return "1" if x else "0"
+    if isinstance(x, float):
+        return repr(x)
+    return str(x)
+
+
+class Table:
+    """One channel: `columns` (names), `rows` (tuples of values), `type` (the rnav class)."""
+
+    def __init__(self, columns, cls):
+        self.columns, self.rows, self.type = list(columns), [], cls
+
+    def arrays(self):
+        """{column: numpy array}."""
+        import numpy as np
+        cols = list(zip(*self.rows)) if self.rows else [()] * len(self.columns)
+        return {c: np.array(v) for c, v in zip(self.columns, cols)}
+
+
+class _Chunk:
+    """The rows one window of one channel contributes (a batch, or a grant's sample messages)."""
+
+    def __init__(self, event, key, span, seq=None, data=None):
+        self.event, self.key, self.span, self.seq, self.data = event, key, span, seq, data
+        self.rows, self.seen = [], set()
+
+
+def read(path, channels=None, all_attempts=False, types=None):
+    """({channel: Table}, {channel: resent copies skipped}, {channel: rows of earlier attempts
+    dropped}) of every channel of the log (or only `channels`), checked as the module says."""
+    types = types if types is not None else message_types()
+    grants = {}    # (realization, attempt) -> {window: (event number, sim_window_t)}, the first grant
+    starts = {}    # realization -> event number of its last START or RESEND
+    finish, abort = -1, ""
+    acks = {}      # (realization, attempt, channel) -> {window: samples its publisher's OK ack lists}
+    current = None  # the last grant (sim_window_t), the window of sample messages
+    kinds, chunks, out, copies = {}, {}, {}, {}
+    n_events = 0
+    for ev in events(path):
+        n_events += 1
+        ch = ev.channel
+        if ch == "LCM_SELF_TEST":  # lcm's own start-up message
+            continue
+        wanted = channels is None or ch in channels
+        if not wanted and ch not in ("SIM_WINDOW", "SIM_ACK"):
+            continue
+        msg = decode(path, ev, types)
+        first = kinds.setdefault(ch, (type(msg), ev.number))
+        if first[0] is not type(msg):
+            raise LogError("%s: event %d on channel %s is rnav.%s, but event %d on it was rnav.%s (one type per "
+                           "channel)" % (path, ev.number, ch, type(msg).__name__, first[1], first[0].__name__))
+        if ch == "SIM_WINDOW":
+            if msg.command in (_START, _RESEND):
+                grants.setdefault((msg.realization, msg.attempt), {}).setdefault(msg.window, (ev.number, msg))
+                starts[msg.realization] = ev.number
+                current = msg
+            elif msg.command == _FINISH:
+                finish = ev.number
+            elif msg.command == _ABORT:
+                abort = msg.reason
+        elif ch == "SIM_ACK" and msg.status == _ACK_OK:
+            for c, n in zip(msg.published, msg.published_n):
+                acks.setdefault((msg.realization, msg.attempt, c), {})[msg.window] = n
+        if not wanted:
+            continue
+        if ch in CONTROL_CHANNELS:
+            cols = _columns(type(msg))
+            t = out.get(ch) or out.setdefault(ch, Table(LOG_COLUMNS + tuple(c[0] for c in cols), type(msg)))
+            t.rows.append((ev.number, ev.utime) + tuple(c[4](msg) for c in cols))
+            continue
+        items = _batch_items(type(msg))
+        per_channel = chunks.setdefault(ch, {})
+        if items:
             h = msg.header
-            for el in getattr(msg, arr):
-                row = dict(base, realization=h.realization, attempt=h.attempt, window=h.window)
-                row.update(_flatten(el))
-                table.append(row)
-    return out
+            key = (h.realization, h.attempt, h.window)
+            old = per_channel.get(key)
+            if old is not None:
+                if old.data != ev.data:
+                    raise LogError("%s: %s, realization %d, attempt %d, window %d: the batch of event %d differs from "
+                                   "the one of event %d (a duplicate that is no resent copy)"
+                                   % ((path, ch) + key + (ev.number, old.event)))
+                copies[ch] = copies.get(ch, 0) + 1
+                continue
+            chunk = per_channel[key] = _Chunk(ev.number, key, (h.utime_begin, h.utime_end), h.seq, ev.data)
+            samples = getattr(msg, items)
+        else:
+            g = current
+            key = (g.realization, g.attempt, g.window) if g else (-1, -1, -1)
+            chunk = per_channel.get(key)
+            if chunk is None:
+                chunk = per_channel[key] = _Chunk(ev.number, key, (g.utime_begin, g.utime_end) if g else (-1, -1))
+            if g is not None:  # a copy is known as one only within a grant
+                if ev.data in chunk.seen:
+                    copies[ch] = copies.get(ch, 0) + 1
+                    continue
+                chunk.seen.add(ev.data)
+            samples = [msg]
+        if samples and ch not in out:
+            cls = type(samples[0])
+            out[ch] = Table(LOG_COLUMNS + WINDOW_COLUMNS + tuple(c[0] for c in _columns(cls)), cls)
+        base = (ev.number, ev.utime) + key + chunk.span
+        for s in samples:
+            chunk.rows.append(base + tuple(c[4](s) for c in _columns(type(s))))
+
+    if not n_events:
+        raise LogError("%s: an empty file, no LCM event in it" % path)
+    last = {}  # realization -> its last attempt
+    for r, a in list(grants) + [k[:2] for per in chunks.values() for k in per]:
+        last[r] = max(last.get(r, a), a)
+    later, end = {}, finish  # realization -> the last START of a later realization, or FINISH
+    for r in sorted(starts, reverse=True):
+        later[r] = end
+        end = max(end, starts[r])
+    _check_grants(path, grants, last, later, abort)
+    dropped = {}
+    for ch, per in chunks.items():
+        _check_windows(path, ch, per, grants, last, acks)
+        t = out.setdefault(ch, Table(LOG_COLUMNS + WINDOW_COLUMNS, None))  # only empty batches
+        for key, chunk in per.items():
+            if all_attempts or key[0] < 0 or key[1] == last[key[0]]:
+                t.rows.extend(chunk.rows)
+            else:
+                dropped[ch] = dropped.get(ch, 0) + len(chunk.rows)
+    return out, copies, dropped
 
 
-def tables(path, channels=None, copies=None):
-    """{channel: {column: numpy array}}: rows() as columns (numbers as numpy arrays)."""
-    import numpy as np
+def _check_grants(path, grants, last, later, abort):
+    """Each realization's last attempt was granted windows 0..L once, L the last, and the clock
+    moved on after it (a later realization or FINISH)."""
+    why = " (the run aborted: %s)" % abort if abort else ""
+    for (r, a), g in sorted(grants.items()):
+        if a != last[r]:
+            continue
+        where = "%s: SIM_WINDOW, realization %d, attempt %d (its last)" % (path, r, a)
+        ws = sorted(g)
+        if ws != list(range(len(ws))):
+            raise LogError("%s: the grant of window %d is missing (the log lost it)"
+                           % (where, min(set(range(len(ws) + 1)) - set(ws))))
+        if not g[ws[-1]][1].last_window or any(g[w][1].last_window for w in ws[:-1]):
+            raise LogError("%s did not complete: its grants end at window %d, not at the realization's last "
+                           "window; the run failed or the log was cut%s" % (where, ws[-1], why))
+        if later.get(r, -1) < g[ws[-1]][0]:
+            raise LogError("%s did not complete: the clock never moved past its last window (no later "
+                           "realization or FINISH); the run failed or the log was cut%s" % (where, why))
+
+
+def _check_windows(path, ch, per, grants, last, acks):
+    """A channel's last attempts: batches of every window once, in order, seq +1 each, with
+    their grant's span; as many samples per window as the publisher's OK ack lists."""
+    mine = {}
+    for key, chunk in per.items():
+        if key[0] >= 0 and key[1] == last[key[0]]:
+            mine.setdefault(key[:2], []).append(chunk)
+    batches = any(c.seq is not None for cs in mine.values() for c in cs)
+    if batches:  # a batch per granted window, even an empty one
+        mine.update({k: [] for k in grants if k[1] == last[k[0]] and k not in mine})
+    mine.update({k[:2]: [] for k in acks if k[2] == ch and k[1] == last.get(k[0]) and k[:2] not in mine})
+    for (r, a), cs in sorted(mine.items()):
+        where = "%s: %s, realization %d, attempt %d" % (path, ch, r, a)
+        g = grants.get((r, a), {})
+        if batches:
+            for i, c in enumerate(cs):
+                if c.key[2] != i:
+                    raise LogError("%s: window %d is missing (the next batch, event %d, is window %d)"
+                                   % (where, i, c.event, c.key[2]))
+                if c.seq != cs[0].seq + i:
+                    raise LogError("%s: window %d (event %d) has seq %d, expected %d (the publisher lost or "
+                                   "repeated a message)" % (where, i, c.event, c.seq, cs[0].seq + i))
+                if i in g and c.span != (g[i][1].utime_begin, g[i][1].utime_end):
+                    raise LogError("%s: window %d (event %d) spans [%d, %d) us, its grant [%d, %d) us"
+                                   % ((where, i, c.event) + c.span + (g[i][1].utime_begin, g[i][1].utime_end)))
+            if g and len(cs) != len(g):
+                raise LogError("%s: window %d is missing (%s; the attempt has %d windows)"
+                               % (where, len(cs), "the log has no batch of it" if not cs else
+                                  "the stream ends after window %d" % (len(cs) - 1), len(g)))
+        listed = acks.get((r, a, ch), {})
+        have = {c.key[2]: len(c.rows) for c in cs}
+        for w in sorted(set(have) | set(listed)):
+            if w in listed and listed[w] != have.get(w, 0):
+                raise LogError("%s, window %d: %d sample(s) in the log, the publisher's OK ack lists %d (the log "
+                               "lost a message)" % (where, w, have.get(w, 0), listed[w]))
+
+
+def tables(path, channels=None, all_attempts=False):
+    """{channel: {column: numpy array}}: read() as numpy columns (numbers, booleans, strings)."""
+    t, _, _ = read(path, channels, all_attempts)
+    return {ch: x.arrays() for ch, x in t.items()}
+
+
+def units(lcm_dir=None):
+    """{type name: {field: unit text}} from the comments of lcmtypes/*.lcm ('[m] slant range')."""
+    lcm_dir = lcm_dir or os.path.join(_ROOT, "lcmtypes")
     out = {}
-    for channel, rs in rows(path, channels, copies=copies).items():
-        cols = list(rs[0].keys()) if rs else []
-        out[channel] = {c: np.array([r.get(c) for r in rs]) for c in cols}
+    field = re.compile(r"^\s*\w+\s+(\w+)\s*(?:\[[^\]]*\]\s*)*;\s*//.*?\[([^\]]*)\]")
+    for name in sorted(os.listdir(lcm_dir)) if os.path.isdir(lcm_dir) else []:
+        if not name.endswith(".lcm"):
+            continue
+        cur = None
+        with open(os.path.join(lcm_dir, name), encoding="utf-8") as f:
+            for line in f:
+                m = re.match(r"^\s*struct\s+(\w+)", line)
+                if m:
+                    cur = out.setdefault(m.group(1), {})
+                m = field.match(line)
+                if m and cur is not None:
+                    cur[m.group(1)] = m.group(2).strip()
     return out
 
 
-def write_csv(rs, path):
-    """One channel's rows as CSV (header: the column names; numbers at full precision)."""
-    cols = []
-    for r in rs:
-        for c in r:
-            if c not in cols:
-                cols.append(c)
-    with open(path, "w", newline="") as f:
+def column_units(table, unit_map=None):
+    """{column: unit text} where the .lcm comments give one: a scalar's unit; an array element's
+    from a list of as many units as the array has elements, or the array's single unit."""
+    unit_map = unit_map if unit_map is not None else units()
+    sim = "us since Unix epoch, sim time"
+    out = {c: u for c, u in (("log_utime", "us since Unix epoch"), ("window_utime_begin", sim),
+                             ("window_utime_end", sim)) if c in table.columns}
+    if table.type is None:
+        return out
+    counts = {}
+    for name, owner, f, index, _ in _columns(table.type):
+        if index is not None:
+            counts[(owner, f)] = counts.get((owner, f), 0) + 1
+    for name, owner, f, index, _ in _columns(table.type):
+        u = unit_map.get(owner, {}).get(f)
+        if u is None:
+            continue
+        if index is None:
+            out[name] = u
+            continue
+        parts = [p.strip() for p in u.split(",")]
+        if len(parts) == 1:
+            out[name] = u
+        elif len(index) == 1 and len(parts) == counts[(owner, f)]:
+            out[name] = parts[index[0]]
+    return out
+
+
+def write_csv(table, path, unit_map=None):
+    """One table as CSV: header 'column [unit]' (units where the .lcm gives them), then the rows
+    (numbers in Python's shortest round-trip form, booleans 1/0)."""
+    u = column_units(table, unit_map)
+    with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f, lineterminator="\n")
-        w.writerow(cols)
-        for r in rs:
-            w.writerow([repr(r[c]) if isinstance(r.get(c), float) else r.get(c, "") for c in cols])
+        w.writerow([c + (" [%s]" % u[c] if c in u else "") for c in table.columns])
+        for r in table.rows:
+            w.writerow([_text(x) for x in r])
+        f.flush()
+        os.fsync(f.fileno())

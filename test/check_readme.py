@@ -234,9 +234,22 @@ def ex_replay(tmp):
         fail("the replay example wrote an empty log")
 
 
+def ex_python(tmp):
+    """The Python example prints what the README quotes; rnav_log2csv writes as many rows."""
+    lines, after = block_after("scripts/run paper --realizations 2 --seed 1 --lcm-log /tmp/run.lcmlog")
+    out = [run_ok(c, tmp, "the Python example") for c in commands(lines)]
+    printed = next((o.strip() for c, o in zip(commands(lines), out) if "python3" in c), "")
+    quoted = find(r"prints `([^`]*)`", after, "the Python example's output").group(1)
+    if printed != quoted:
+        fail("Python example: the README quotes '%s', it prints '%s'" % (quoted, printed))
+    rows = sum(1 for _ in open(tmp + "/run_csv/PRL_BIAS.csv")) - 1
+    if str(rows) != quoted.split()[0]:
+        fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, the README quotes %s" % (rows, quoted.split()[0]))
+
+
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
-            "replay": ex_replay}
+            "replay": ex_replay, "python": ex_python}
 
 for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:
