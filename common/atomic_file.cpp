@@ -22,35 +22,55 @@ namespace {
 
 }  // namespace
 
-void write_file_atomic(const std::string& dir, const std::string& name, const std::string& text) {
-  const std::string tmp = dir + "/." + name + ".partial", dst = dir + "/" + name;
-  if (::unlink(tmp.c_str()) != 0 && errno != ENOENT) fail("remove the stale", tmp, errno);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) fail("create", tmp, errno);
+AtomicFileWriter::AtomicFileWriter(const std::string& dir, const std::string& name)
+    : tmp_(dir + "/." + name + ".partial"), dst_(dir + "/" + name) {
+  if (::unlink(tmp_.c_str()) != 0 && errno != ENOENT) fail("remove the stale", tmp_, errno);
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd_ < 0) fail("create", tmp_, errno);
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(tmp_.c_str());
+  }
+}
+
+void AtomicFileWriter::abandon(const std::string& what, int err) {
+  ::close(fd_);
+  fd_ = -1;
+  ::unlink(tmp_.c_str());
+  fail(what, tmp_, err);
+}
+
+void AtomicFileWriter::append(const std::string& text) {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: append to " + dst_ + " after commit");
   std::size_t done = 0;
   while (done < text.size()) {
-    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+    const ssize_t w = ::write(fd_, text.data() + done, text.size() - done);
     if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      const int err = w < 0 ? errno : ENOSPC;
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      fail("write", tmp, err);
-    }
+    if (w <= 0) abandon("write", w < 0 ? errno : ENOSPC);
     done += static_cast<std::size_t>(w);
   }
-  if (::fsync(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    ::unlink(tmp.c_str());
-    fail("sync", tmp, err);
-  }
+}
+
+void AtomicFileWriter::commit() {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: " + dst_ + " committed twice");
+  if (::fsync(fd_) != 0) abandon("sync", errno);
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0) {
     const int err = errno;
-    ::unlink(tmp.c_str());
-    fail("close", tmp, err);
+    ::unlink(tmp_.c_str());
+    fail("close", tmp_, err);
   }
-  if (std::rename(tmp.c_str(), dst.c_str()) != 0) fail("rename " + tmp + " to", dst, errno);
+  if (std::rename(tmp_.c_str(), dst_.c_str()) != 0) fail("rename " + tmp_ + " to", dst_, errno);
+}
+
+void write_file_atomic(const std::string& dir, const std::string& name, const std::string& text) {
+  AtomicFileWriter w(dir, name);
+  w.append(text);
+  w.commit();
 }
 
 void write_file_atomic(const std::string& path, const std::string& text) {

@@ -19,6 +19,25 @@ void write_file_atomic(const std::string& dir, const std::string& name, const st
 /// The same for a path (its folder: the path's parent, or ".").
 void write_file_atomic(const std::string& path, const std::string& text);
 
+/// A file written in pieces with write_file_atomic's guarantees (which uses it): dir/.name.partial
+/// is created at construction (exclusively, never through a link), append() adds to it (a short
+/// write or full disk throws naming the file), commit() syncs it and renames it to dir/name.
+/// Destroyed without commit(), it closes and removes the partial file: no half-written result.
+class AtomicFileWriter {
+ public:
+  AtomicFileWriter(const std::string& dir, const std::string& name);
+  ~AtomicFileWriter();
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+  void append(const std::string& text);
+  void commit();
+
+ private:
+  void abandon(const std::string& what, int err);  // close, remove the partial file, throw
+  std::string tmp_, dst_;
+  int fd_ = -1;
+};
+
 /// Make `dir` ready to receive a program's outputs without destroying anything of the user's:
 /// create it if absent; accept it if empty or if it holds kOutputMarker (an earlier output);
 /// otherwise throw ConfigError naming the folder and one of its files, unless `force`. Writes the

@@ -64,6 +64,7 @@ template <class V> void visit(TmaOptions& o, V& v) {
 template <class V> void visit(UavLoggerOptions& o, V& v) {
   v.num("eval_time_s", o.eval_time_s, -1, 1e6);
   v.num("diverge_pos_m", o.diverge_pos_m, 0.01, 1e6);
+  v.num("realizations_step_s", o.realizations_step_s, 0, 1e6);
 }
 
 template <class F> void for_each_section(UavScenario& sc, F&& f) {

@@ -89,6 +89,9 @@ struct TmaOptions {
 struct UavLoggerOptions {
   double eval_time_s = -1;      ///< [s] when summary.json's figures are taken; -1: after two orbits
   double diverge_pos_m = 50;    ///< [m] a run whose position error at eval_time exceeds this diverged
+  /// [s] realizations.csv has, per realization and estimator, the first frame in each interval
+  /// [k step, (k+1) step) of run time (and the frame summary.json uses); 0: every frame.
+  double realizations_step_s = 1;
 };
 
 struct UavScenario {

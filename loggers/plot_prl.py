@@ -3,8 +3,9 @@
 
 Usage:  /usr/bin/python3 loggers/plot_prl.py DIR [--switch-time S] [--smooth S]
 
-Reads DIR/stats_time.csv, DIR/stats_range.csv and DIR/table2_detail.json (columns: see
-loggers/prl_stats.cpp) and writes into DIR:
+Reads DIR/stats_time.csv, DIR/stats_range.csv, DIR/table2_detail.json (columns: see
+loggers/prl_stats.cpp) and DIR/scenario.json (if present: the switch time, radar site and
+Table 2 ranges) and writes into DIR:
 
   fig1_x.png, fig2_z.png, fig3_y.png  the paper's Figures 1-3 (estimation and compensation of
         the radar's systematic error from SNS data, coordinate X / Z / Y): ensemble-mean error of
@@ -14,6 +15,10 @@ loggers/prl_stats.cpp) and writes into DIR:
   fig4_bias.png   error of the bias estimate (estimate - true radar systematic error) per channel:
         ensemble mean and Monte-Carlo RMS against the filter's reported sigma.
   readme_figure.png  compact overview: APOI vs TOI mean error against slant range, X / Z / Y.
+  geometry.png    the approach in the landing frame: plan view seen from above (aircraft path,
+        radar site, slant-range rings around it, Table 2 ranges, the estimation/compensation
+        switch) and the vertical profile; needs DIR/scenario.json and stats_time.csv's
+        aircraft_x_m, aircraft_y_m, aircraft_z_m (true position in L).
 
 Needs Debian's python3 with python3-numpy and python3-matplotlib (Agg backend, no display).
 Exit code 2 with a message naming the file (and line) when an input is missing or malformed.
@@ -426,6 +431,104 @@ def fig_readme(rs, ts, t2, switch_t, path, toi_is_apoi_before=True):
     plt.close(fig)
 
 
+def read_scenario(path):
+    """Read the run's scenario.json -> the keys the geometry figure needs, or None if absent."""
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path) as f:
+            doc = json.load(f)
+    except json.JSONDecodeError as e:
+        raise InputError("%s: line %d column %d: invalid JSON: %s"
+                         % (path, e.lineno, e.colno, e.msg)) from None
+    out = {}
+    for sec, key in (("radar", "x_m"), ("radar", "z_m"), ("radar", "antenna_height_m"),
+                     ("prl_bias", "switch_time_s"), ("logger", "table_ranges_m"),
+                     ("logger", "table_range_origin"), ("prl", "max_range_m")):
+        if not isinstance(doc, dict) or not isinstance(doc.get(sec), dict) or key not in doc[sec]:
+            raise InputError("%s: missing key %s.%s" % (path, sec, key))
+        out["%s.%s" % (sec, key)] = doc[sec][key]
+    return out
+
+
+def fig_geometry(ts, sc, switch_t, t2, path):
+    """The approach in the landing frame L: plan view (seen from above) and vertical profile,
+    the radar site with range rings, the Table 2 ranges, and the estimation/compensation
+    switch."""
+    t = ts["t_s"]
+    x, y, z = (ts["aircraft_%s_m" % c] / 1000.0 for c in ("x", "y", "z"))
+    rx, rz = sc["radar.x_m"] / 1000.0, sc["radar.z_m"] / 1000.0
+    sx, sy, sz = (float(np.interp(switch_t, t, v)) for v in (x, y, z))
+    fig, (ax, axp) = plt.subplots(2, 1, figsize=(11, 8.2), gridspec_kw={"height_ratios": [2.4, 1]})
+    # Plan view. With x decreasing to the right (the aircraft flies left to right, as in the
+    # other figures) and z up, the picture is seen from above (z = x cross y, y up).
+    pad = 1.0
+    x_hi, x_lo = max(x.max(), rx) + pad, min(x.min(), rx, 0.0) - pad
+    z_lo, z_hi = min(z.min(), rz, 0.0) - pad, max(z.max(), rz, 0.0) + pad
+    d_max = math.hypot(max(x_hi - rx, rx - x_lo), max(z_hi - rz, rz - z_lo))
+    step = 5 if d_max > 12 else 2
+    a = np.linspace(0, 2 * math.pi, 721)
+    for k, r in enumerate(np.arange(step, d_max + step, step)):
+        ax.plot(rx + r * np.cos(a), rz + r * np.sin(a), color="0.6", lw=0.7, ls="--",
+                label="range rings around the radar (horizontal), every %g km" % step if k == 0 else None)
+        # label where the ring meets the top edge (far side from the runway), else the bottom
+        for zl in (z_hi - 0.35 * pad, z_lo + 0.35 * pad):
+            if r > abs(zl - rz) and x_lo < rx + math.sqrt(r * r - (zl - rz) ** 2) < x_hi:
+                ax.text(rx + math.sqrt(r * r - (zl - rz) ** 2), zl, "%g km" % r, fontsize=7.5, color="0.4",
+                        ha="center", va="center", clip_on=True, bbox=dict(fc="white", ec="none", alpha=0.85, pad=0.5))
+                break
+    cx, cz = (rx, rz) if sc["logger.table_range_origin"] == "radar" else (0.0, 0.0)
+    for k, r in enumerate(sc["logger.table_ranges_m"]):
+        ax.plot(cx + r / 1000.0 * np.cos(a), cz + r / 1000.0 * np.sin(a), color="tab:orange", lw=1.0, ls=":",
+                label="Table 2 ranges (from the %s) and where the aircraft is there"
+                % sc["logger.table_range_origin"] if k == 0 else None)
+        tt = table_time(ts, r)
+        if tt is not None:
+            px, pz = float(np.interp(tt, t, x)), float(np.interp(tt, t, z))
+            ax.plot([px], [pz], "o", color="tab:orange", ms=6, zorder=5)
+            ax.annotate("%g km" % (r / 1000.0), (px, pz), textcoords="offset points", xytext=(5, 6), fontsize=8.5,
+                        color="tab:orange")
+    ax.plot([x_hi, x_lo], [0, 0], color="0.3", lw=0.8, ls="-.", label="runway axis (z = 0)")
+    ax.plot(x, z, color="tab:blue", lw=2, label="aircraft path (true), t = %g ... %g s" % (t[0], t[-1]))
+    ax.plot([x[0]], [z[0]], ">", color="tab:blue", ms=8)
+    ax.plot([0], [0], "s", color="black", ms=6, label="runway threshold (origin of L)")
+    ax.plot([rx], [rz], "^", color="tab:red", ms=9,
+            label="radar site (x %g m, z %g m)" % (sc["radar.x_m"], sc["radar.z_m"]))
+    ax.plot([sx], [sz], "*", color="green", ms=15, zorder=6,
+            label="switch at %g s: estimation before, compensation after" % switch_t)
+    ax.annotate("switch %g s" % switch_t, (sx, sz), textcoords="offset points", xytext=(6, 8), fontsize=9,
+                color="green")
+    ax.set_aspect("equal")
+    ax.set_xlim(x_hi, x_lo)
+    ax.set_ylim(z_lo, z_hi)
+    ax.set_xlabel("x: along the runway axis, away from the runway [km]")
+    ax.set_ylabel("z: lateral [km]")
+    ax.set_title("Approach geometry in the landing frame L, seen from above; %s realizations, seed %s"
+                 % (t2.get("realizations"), t2.get("seed")), fontsize=11)
+    ax.grid(alpha=0.25)
+
+    # Vertical profile.
+    axp.plot(x, y * 1000.0, color="tab:blue", lw=2)
+    axp.plot([sx], [sy * 1000.0], "*", color="green", ms=15, zorder=6)
+    axp.plot([rx], [sc["radar.antenna_height_m"]], "^", color="tab:red", ms=9)
+    axp.plot([0], [0], "s", color="black", ms=6)
+    for r in sc["logger.table_ranges_m"]:
+        tt = table_time(ts, r)
+        if tt is not None:
+            axp.plot([np.interp(tt, t, x)], [np.interp(tt, t, y) * 1000.0], "o", color="tab:orange", ms=6)
+    axp.set_xlim(x_hi, x_lo)
+    axp.set_ylim(min(0.0, y.min() * 1000.0) - 30, y.max() * 1000.0 * 1.15 + 10)
+    axp.set_xlabel("x: along the runway axis, away from the runway [km]")
+    axp.set_ylabel("y: height above the threshold [m]")
+    axp.set_title("vertical profile", fontsize=9)
+    axp.grid(alpha=0.25)
+    h, l = ax.get_legend_handles_labels()
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.legend(h, l, loc="lower center", ncol=2, fontsize=8.5, framealpha=0.95)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 # ----------------------------------------------------------------------------- main
 
 
@@ -435,7 +538,8 @@ def main(argv):
     ap.add_argument("dir", help="output directory of rnav_inproc / rnav_logger")
     ap.add_argument("--switch-time", type=float, default=None,
                     help="estimation->compensation switch [s]; default: column switch_time_s of "
-                         "stats_time.csv if present, else 400 (prl_bias.switch_time_s)")
+                         "stats_time.csv if present, else prl_bias.switch_time_s of DIR/scenario.json, "
+                         "else 400")
     ap.add_argument("--smooth", type=float, default=15.0,
                     help="running-mean window for the mean-error curves [s] (default 15)")
     args = ap.parse_args(argv)
@@ -444,6 +548,7 @@ def main(argv):
         ts = read_csv(os.path.join(d, "stats_time.csv"), TIME_COLS)
         rs = read_csv(os.path.join(d, "stats_range.csv"), RANGE_COLS)
         t2 = read_table2(os.path.join(d, "table2_detail.json"))
+        sc = read_scenario(os.path.join(d, "scenario.json"))
     except InputError as e:
         print("%s: error: %s" % (PROG, e), file=sys.stderr)
         return 2
@@ -456,6 +561,8 @@ def main(argv):
         switch_t = args.switch_time
     elif "switch_time_s" in ts:
         switch_t = float(ts["switch_time_s"][0])
+    elif sc is not None:
+        switch_t = float(sc["prl_bias.switch_time_s"])
     else:
         switch_t = 400.0
     inferred = infer_switch_time(ts)
@@ -482,6 +589,13 @@ def main(argv):
     p = os.path.join(d, "readme_figure.png")
     fig_readme(rs, ts, t2, switch_t, p, toi_is_apoi_before)
     written.append(p)
+    if sc is None or "aircraft_x_m" not in ts:
+        print("%s: note: no geometry.png (needs scenario.json and the aircraft_*_m columns of "
+              "stats_time.csv, written by this version's logger)" % PROG, file=sys.stderr)
+    else:
+        p = os.path.join(d, "geometry.png")
+        fig_geometry(ts, sc, switch_t, t2, p)
+        written.append(p)
     for p in written:
         print(p)
     return 0

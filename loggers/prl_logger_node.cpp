@@ -66,6 +66,7 @@ int PrlLoggerNode::process(const sim_window_t& w) {
         T_L_R_ * cartesian_from_polar({comp.range_m, comp.course_rad, comp.glide_rad}) - p_true;
     pe.apoi = {ea.x(), ea.z(), ea.y()};
     pe.toi = {et.x(), et.z(), et.y()};
+    pe.p_true_L = {p_true.x(), p_true.y(), p_true.z()};
     pe.range_true_m = (T_L_R_.inverse() * p_true).norm();
     pe.range_table_m = sc_.logger.table_range_origin == "radar" ? pe.range_true_m : p_true.norm();
     pe.bias_err = {b.eta[0] - e.sys_range_m, b.eta[1] - e.sys_course_rad, b.eta[2] - e.sys_glide_rad};

@@ -74,6 +74,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
     auto& tb = by_time_[p.utime];
     tb.range_true_m = p.range_true_m;
     tb.range_table_m = p.range_table_m;
+    tb.p_true_L = p.p_true_L;
     tb.apoi.add(p.apoi);
     tb.toi.add(p.toi);
     tb.bias_err.add(p.bias_err);
@@ -208,7 +209,7 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   for (const char* s : {"mean", "rms"})
     ts << ",biaserr_" << s << "_range_m,biaserr_" << s << "_course_deg,biaserr_" << s
        << "_glide_deg";
-  ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg\n";
+  ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg,aircraft_x_m,aircraft_y_m,aircraft_z_m\n";
   for (const auto& [utime, b] : by_time_) {
     ts << fixed((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(b.range_true_m, 2) << ","
        << fixed(b.range_table_m, 2) << "," << b.apoi.n;
@@ -220,6 +221,7 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
     for (int k = 0; k < 3; ++k) ts << "," << fixed(b.bias_err.mean(k) * scale[k], 9);
     for (int k = 0; k < 3; ++k) ts << "," << fixed(b.bias_err.rms(k) * scale[k], 9);
     for (int k = 0; k < 3; ++k) ts << "," << fixed(std::sqrt(b.bias_var.mean(k)) * scale[k], 9);
+    for (int k = 0; k < 3; ++k) ts << "," << fixed(b.p_true_L[k], 2);
     ts << "\n";
   }
   write_file_atomic(dir, "stats_time.csv", ts.str());

@@ -28,6 +28,7 @@ struct PlotErrors {
   double range_table_m = 0;         ///< [m] true range in the sense of logger.table_range_origin
   std::array<double, 3> apoi{};     ///< [m] raw plot error in L: X, Z, Y
   std::array<double, 3> toi{};      ///< [m] compensated plot error in L: X, Z, Y
+  std::array<double, 3> p_true_L{};  ///< [m] true aircraft position in L: x, y, z (the same in every realization)
   std::array<double, 3> bias_err{}; ///< eta_hat - radar systematic error [m, rad, rad]
   std::array<double, 3> bias_var{}; ///< the filter's variance p [m^2, rad^2, rad^2]
   int mode = 0;                     ///< prl_bias_estimate_t mode
@@ -76,6 +77,7 @@ class PrlStats {
 
   struct TimeBin {
     double range_true_m = 0, range_table_m = 0;
+    std::array<double, 3> p_true_L{};  // [m] x, y, z
     Moments<3> apoi, toi, bias_err, bias_var;
   };
   const std::map<std::int64_t, TimeBin>& by_time() const { return by_time_; }

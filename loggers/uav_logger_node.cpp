@@ -2,12 +2,14 @@
 
 #include "atomic_file.hpp"
 #include "tma_models.hpp"
+#include "uav_realizations.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>
 #include <rnav/tma_batch_t.hpp>
 
+#include <cmath>
 #include <sstream>
 
 namespace rnav {
@@ -25,6 +27,7 @@ UavLoggerNode::UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_di
 
 void UavLoggerNode::reset(const sim_window_t& w) {
   seed_ = w.seed;
+  realization_ = w.realization;
   cur_ = TmaRealization{};
 }
 
@@ -77,6 +80,10 @@ int UavLoggerNode::process(const sim_window_t&) {
     s.pos_err2 = e.head<2>().squaredNorm();
     s.vel_err2 = e.tail<2>().squaredNorm();
     s.nees = e.dot(P.ldlt().solve(e));
+    for (int i = 0; i < 4; ++i) {
+      s.err[i] = e[i];
+      s.sigma[i] = std::sqrt(P(i, i));
+    }
     s.updated = m.updated;
     s.nis = m.nis;
     cur_.samples.push_back(s);
@@ -86,7 +93,14 @@ int UavLoggerNode::process(const sim_window_t&) {
 }
 
 void UavLoggerNode::commit() {
-  stats_.add_realization(cur_);
+  stats_.add_realization(cur_);  // validates first: a rejected realization writes no rows
+  if (!out_dir_.empty()) {
+    if (!rows_) {
+      rows_ = std::make_unique<AtomicFileWriter>(out_dir_, "realizations.csv");
+      rows_->append(uav_realizations_header());
+    }
+    rows_->append(uav_realization_rows(sc_, realization_, cur_));
+  }
   cur_ = TmaRealization{};
 }
 
@@ -96,6 +110,7 @@ void UavLoggerNode::finish(const sim_window_t& w) {
                              " complete realizations, the clock ran " + std::to_string(w.n_realizations));
   if (out_dir_.empty()) return;
   stats_.write(out_dir_, seed_);
+  if (rows_) rows_->commit();
   // The effective scenario, every default filled in and the overrides applied: `scripts/run
   // DIR/scenario.json` with the same seed and realizations repeats the run.
   std::ostringstream sc;

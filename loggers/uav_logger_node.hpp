@@ -1,14 +1,18 @@
 // Node "uav_logger": joins TRUTH_TARGET, TRUTH_UAV, UAV_BEARING and UAV_TMA per frame, keeps a
-// realization until the clock moves past it, adds it to UavStats; writes results on FINISH.
+// realization until the clock moves past it, adds it to UavStats and its rows to
+// realizations.csv (uav_realizations.hpp; written as it goes, renamed into place on FINISH);
+// writes the results and scenario.json on FINISH.
 // An estimate without truth at its time, or an ensemble short of realizations, is an error.
 #pragma once
 
+#include "atomic_file.hpp"
 #include "lockstep_node.hpp"
 #include "uav_stats.hpp"
 
 #include <Eigen/Dense>
 
 #include <map>
+#include <memory>
 
 namespace rnav {
 
@@ -27,6 +31,8 @@ class UavLoggerNode : public LockstepNode {
   std::string out_dir_;
   UavStats stats_;
   std::int64_t seed_ = 0;
+  long realization_ = 0;                    // of the realization being assembled
+  std::unique_ptr<AtomicFileWriter> rows_;  // realizations.csv, a realization's rows at each commit
   TmaRealization cur_;
 };
 

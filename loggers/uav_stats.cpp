@@ -23,6 +23,13 @@ std::pair<double, double> chi2_mean_band(long n, int dof, double z) {
   return {q(-z), q(z)};
 }
 
+std::map<std::string, std::size_t> samples_at_eval(const TmaRealization& r, std::int64_t eval_utime) {
+  std::map<std::string, std::size_t> last;
+  for (std::size_t i = 0; i < r.samples.size(); ++i)
+    if (r.samples[i].utime <= eval_utime) last[r.samples[i].estimator] = i;
+  return last;
+}
+
 UavStats::UavStats(const UavScenario& sc) : sc_(sc) {}
 
 void UavStats::add_realization(const TmaRealization& r) {
@@ -30,10 +37,8 @@ void UavStats::add_realization(const TmaRealization& r) {
   if (first_utime_ >= 0 && r.first_utime != first_utime_)
     throw std::runtime_error("realizations disagree on the first detection time: the PCRB's prior "
                              "would differ (detections must follow the deterministic geometry)");
-  const std::int64_t eval = sc_.utime(to_us(sc_.eval_time_s()));
   std::map<std::string, const TmaSample*> last;  // last sample at or before eval per estimator
-  for (const auto& s : r.samples)
-    if (s.utime <= eval) last[s.estimator] = &s;
+  for (const auto& [name, i] : samples_at_eval(r, sc_.utime(to_us(sc_.eval_time_s())))) last[name] = &r.samples[i];
   for (const auto& s : r.samples) {
     auto& a = by_time_[s.estimator][s.utime];
     ++a.n;

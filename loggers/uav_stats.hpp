@@ -8,6 +8,7 @@
 #include "tma_pcrb.hpp"
 #include "uav_scenario.hpp"
 
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@ struct TmaSample {
   double nees = 0;       ///< e^T P^-1 e, 4 dof
   bool updated = false;
   double nis = 0;        ///< 1 dof when updated
+  std::array<double, 4> err{};    ///< estimate minus truth: north, east [m], v_north, v_east [m/s]
+  std::array<double, 4> sigma{};  ///< the estimator's own 1 sigma of the same (sqrt of P's diagonal)
 };
 
 /// One realization's data: samples, and per detection frame the Fisher information of the
@@ -33,6 +36,10 @@ struct TmaRealization {
   std::int64_t first_utime = -1;           ///< first detection (the estimators' initialisation)
   tma::Mat4 J0 = tma::Mat4::Zero();        ///< prior information at the first detection
 };
+
+/// Per estimator, the index into r.samples of its last sample at or before eval_utime: the one
+/// summary.json's figures use.
+std::map<std::string, std::size_t> samples_at_eval(const TmaRealization& r, std::int64_t eval_utime);
 
 /// 95 % band of the mean of n chi-square(dof) variables divided by... : [lo, hi] such that
 /// n * mean ~ chi2(n dof) (Wilson-Hilferty approximation).

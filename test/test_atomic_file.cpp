@@ -53,6 +53,29 @@ TEST_CASE("atomic file: a write that cannot complete is an error naming the file
   fs::remove_all(d);
 }
 
+TEST_CASE("atomic file in pieces: nothing at the final name until commit, abandoned pieces removed", "[files]") {
+  const fs::path d = fresh("pieces");
+  std::ofstream(d / "rows.csv") << "an earlier result";
+  {
+    rnav::AtomicFileWriter w(d.string(), "rows.csv");
+    w.append("a,b\n");
+    w.append("1,2\n");
+    CHECK(slurp(d / "rows.csv") == "an earlier result");  // untouched until commit
+    CHECK(slurp(d / ".rows.csv.partial") == "a,b\n1,2\n");
+    w.commit();
+    CHECK_THROWS(w.append("3,4\n"));
+  }
+  CHECK(slurp(d / "rows.csv") == "a,b\n1,2\n");
+  CHECK_FALSE(fs::exists(d / ".rows.csv.partial"));
+  {
+    rnav::AtomicFileWriter w(d.string(), "rows.csv");
+    w.append("half");
+  }  // destroyed without commit (a failed run): the partial file goes, the result stays
+  CHECK_FALSE(fs::exists(d / ".rows.csv.partial"));
+  CHECK(slurp(d / "rows.csv") == "a,b\n1,2\n");
+  fs::remove_all(d);
+}
+
 TEST_CASE("output folder: a foreign non-empty folder is refused and left intact, --force and earlier outputs pass",
           "[files][input]") {
   const fs::path d = fresh("outdir");

@@ -178,7 +178,7 @@ TEST_CASE("same seed: byte-identical statistics across processes, batching and t
   REQUIRE(b.status == 0);
   REQUIRE(c.status == 0);
   REQUIRE(other.status == 0);
-  for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv"}) {
+  for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv", "realizations.csv"}) {
     INFO(f);
     const std::string ref = slurp(d / "a" / f);
     REQUIRE(ref.size() > 100);
@@ -489,7 +489,11 @@ TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has 
   INFO(mp.output << ip.output);
   REQUIRE(mp.status == 0);
   REQUIRE(ip.status == 0);
-  CHECK(slurp(d / "mp" / "uav_stats_time.csv") == slurp(d / "ip" / "uav_stats_time.csv"));
+  for (const char* f : {"uav_stats_time.csv", "summary.json", "realizations.csv", "scenario.json"}) {
+    INFO(f);
+    REQUIRE(slurp(d / "mp" / f).size() > 100);
+    CHECK(slurp(d / "mp" / f) == slurp(d / "ip" / f));
+  }
   const auto j = nlohmann::json::parse(slurp(d / "mp" / "summary.json"));
   CHECK(j["pcrb_pos_m"].get<double>() > 0);
   for (const char* e : {"ekf", "rpekf"}) {
