@@ -117,11 +117,20 @@ void LockstepNode::stop(int code, const std::string& why) {
   failure_ = why;
 }
 
+std::optional<WindowKey> LockstepNode::needed_key(const InputStream& in) const {
+  if (grant_.window - in.delay < 0) return std::nullopt;
+  return WindowKey{grant_.realization, grant_.attempt, grant_.window - in.delay};
+}
+
+bool LockstepNode::holds_needed(const InputStream& in) const {
+  const auto key = needed_key(in);
+  return !key || in.store.count(*key) > 0;
+}
+
 std::vector<std::string> LockstepNode::missing_inputs() const {
-  const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
   std::vector<std::string> missing;
   for (const auto& in : inputs_)
-    if (!in->store.count(key)) missing.push_back(in->channel);
+    if (!holds_needed(*in)) missing.push_back(in->channel);
   return missing;
 }
 
@@ -244,8 +253,10 @@ void LockstepNode::report_waiting(const std::vector<std::string>& missing) {
 void LockstepNode::on_peer_ack(const node_ack_t& a) {
   if (done_ || a.node == name_) return;
   const WindowKey key{a.realization, a.attempt, a.window};
-  if (a.status == node_ack_t::WAITING && key == last_out_key_) {
-    // A consumer misses a batch of the last window this node processed: publish it again.
+  const WindowKey after_last{std::get<0>(last_out_key_), std::get<1>(last_out_key_), std::get<2>(last_out_key_) + 1};
+  if (a.status == node_ack_t::WAITING && (key == last_out_key_ || key == after_last)) {
+    // A consumer misses a batch of the last window this node processed (a feedback consumer
+    // waits on it in the window after): publish it again.
     for (const auto& m : a.missing)
       for (const auto& out : last_out_)
         if (out.channel == m) {
@@ -257,9 +268,12 @@ void LockstepNode::on_peer_ack(const node_ack_t& a) {
   if (a.status != node_ack_t::OK) return;
   // Only for a window still to come: an ack repeated for a processed window (a RESEND's answer)
   // must not assemble it again from late copies.
-  const bool to_come = newer(a.realization, a.attempt) ||
-                       (a.realization == cur_r_ && a.attempt == cur_a_ && a.window >= next_window_);
-  if (wire_ == Wire::kSample && !failed_ && to_come) {
+  // (A feedback input takes the window before the one to come.)
+  auto to_come = [&](const InputStream& in) {
+    return newer(a.realization, a.attempt) ||
+           (a.realization == cur_r_ && a.attempt == cur_a_ && a.window >= next_window_ - in.delay);
+  };
+  if (wire_ == Wire::kSample && !failed_) {
     // The publisher's list of what it sent in that window: assemble the batch from the samples.
     if (a.published_n.size() != a.published.size())
       throw std::runtime_error(name_ + ": malformed ack of " + a.node + " (published_n and published differ in length)");
@@ -269,7 +283,7 @@ void LockstepNode::on_peer_ack(const node_ack_t& a) {
       if (first + n > a.sample_digests.size())
         throw std::runtime_error(name_ + ": malformed ack of " + a.node + " (fewer sample digests than samples)");
       for (auto& in : inputs_)
-        if (in->channel == a.published[c] && !in->store.count(key)) {
+        if (in->channel == a.published[c] && to_come(*in) && !in->store.count(key)) {
           in->expected[key].assign(a.sample_digests.begin() + static_cast<std::ptrdiff_t>(first),
                                    a.sample_digests.begin() + static_cast<std::ptrdiff_t>(first + n));
           try_assemble(*in);
@@ -277,11 +291,12 @@ void LockstepNode::on_peer_ack(const node_ack_t& a) {
       first += n;
     }
   }
-  if (have_grant_ && !failed_ && key == WindowKey{grant_.realization, grant_.attempt, grant_.window}) {
-    // A publisher acked the window this node waits on: what it published and is not here was lost.
+  if (have_grant_ && !failed_) {
+    // A publisher acked a window this node waits on: what it published and is not here was lost.
     std::vector<std::string> lost;
     for (const auto& in : inputs_)
-      if (!in->store.count(key) && std::find(a.published.begin(), a.published.end(), in->channel) != a.published.end())
+      if (needed_key(*in) == key && !in->store.count(key) &&
+          std::find(a.published.begin(), a.published.end(), in->channel) != a.published.end())
         lost.push_back(in->channel);
     if (!lost.empty()) report_waiting(lost);
   }
@@ -357,7 +372,7 @@ void LockstepNode::try_process() {
   if (!have_grant_ || failed_ || done_) return;
   const WindowKey key{grant_.realization, grant_.attempt, grant_.window};
   for (const auto& in : inputs_)
-    if (!in->store.count(key)) return;
+    if (!holds_needed(*in)) return;
   have_grant_ = false;
   published_ = 0;
   last_out_.clear();
@@ -369,10 +384,11 @@ void LockstepNode::try_process() {
     throw;
   }
   processed_any_ = true;
-  for (auto& in : inputs_) {
-    in->store.erase(key);
-    in->expected.erase(key);
-  }
+  for (auto& in : inputs_)
+    if (const auto used = needed_key(*in)) {
+      in->store.erase(*used);
+      in->expected.erase(*used);
+    }
   ++next_window_;
   report(node_ack_t::OK, "");
 }

@@ -22,6 +22,12 @@
 // the samples it holds with exactly those digests, in that order (copies ignored), and asks for
 // what is missing with WAITING as for a batch. Samples carry no window: they are matched to the
 // ack by digest, and what a consumer holds is dropped once a window is assembled from it.
+//
+// Feedback inputs (add_feedback_input): a channel published by a node downstream of this one
+// (the UAV's guidance uses the estimator's output). Window w takes that channel's batch of window
+// w - 1 (window 0: an empty batch), which its publisher sent before acking w - 1, hence before
+// the clock granted w: the loop is causal and deterministic. A publisher answers a WAITING for
+// the window after the one it processed last with that last window's batches.
 #pragma once
 
 #include "batch_decode.hpp"
@@ -113,7 +119,9 @@ class LockstepNode {
 
   /// Register an input channel carrying batch type B (with a `header` field).
   template <class B> void add_input(const std::string& channel);
-  /// The batch of type B for the window being processed.
+  /// Register a feedback input: window w gets the channel's batch of window w - 1 (see above).
+  template <class B> void add_feedback_input(const std::string& channel);
+  /// The batch of type B for the window being processed (a feedback input: of the window before).
   template <class B> const B& input(const std::string& channel) const;
   /// Fill `batch.header` for the window being processed and publish it (unless dropped).
   template <class B> void publish_batch(const std::string& channel, B& batch);
@@ -133,7 +141,12 @@ class LockstepNode {
     bool resync = false;  // a repeated attempt: messages lost in the failed one are already reported
     std::map<WindowKey, std::shared_ptr<const void>> store;
     std::map<WindowKey, std::uint64_t> digest;  // every batch of the current attempt: resends must match
+    int delay = 0;                               // windows: 1 for a feedback input
+    std::shared_ptr<const void> empty;           // a feedback input's batch before window 0
   };
+  // The window whose batch `in` supplies to the granted window (none before window 0 of a feedback input).
+  std::optional<WindowKey> needed_key(const InputStream& in) const;
+  bool holds_needed(const InputStream& in) const;
   struct Output {  // what a channel got in the last processed window, kept for resends
     std::string channel;
     std::vector<std::vector<std::uint8_t>> messages;  // one batch, or one message per sample
@@ -225,10 +238,20 @@ template <class B> void LockstepNode::add_input(const std::string& channel) {
   });
 }
 
+template <class B> void LockstepNode::add_feedback_input(const std::string& channel) {
+  add_input<B>(channel);
+  auto empty = std::make_shared<B>();
+  empty->n = 0;
+  inputs_.back()->delay = 1;
+  inputs_.back()->empty = std::move(empty);
+}
+
 template <class B> const B& LockstepNode::input(const std::string& channel) const {
   for (const auto& in : inputs_)
     if (in->channel == channel) {
-      auto it = in->store.find({grant_.realization, grant_.attempt, grant_.window});
+      const auto key = needed_key(*in);
+      if (!key) return *static_cast<const B*>(in->empty.get());
+      auto it = in->store.find(*key);
       if (it != in->store.end()) return *static_cast<const B*>(it->second.get());
     }
   throw std::logic_error(name_ + ": no batch on " + channel + " for the current window");

@@ -25,6 +25,15 @@ template <class V> void visit(ObserverOptions& o, V& v) {
   v.num("centre_offset_east_m", o.centre_offset_east_m, -1e5, 1e5);
   v.num("start_angle_deg", o.start_angle_deg, -360, 360);
   v.num("straight_heading_deg", o.straight_heading_deg, -360, 360);
+  v.choice("guidance", o.guidance, {"orbit", "los", "estimate"});
+  v.num("max_bank_deg", o.max_bank_deg, 1e-3, 80);
+  v.num("max_turn_rate_dps", o.max_turn_rate_dps, 1e-3, 180);
+  v.num("heading_time_constant_s", o.heading_time_constant_s, 0.1, 100);
+  v.num("standoff_gain", o.standoff_gain, 0, 10);
+  v.num("wind_north_mps", o.wind_north_mps, -100, 100);
+  v.num("wind_east_mps", o.wind_east_mps, -100, 100);
+  v.num("estimate_latency_s", o.estimate_latency_s, 0.01, 100);
+  v.choice("guidance_estimator", o.guidance_estimator, {"ekf", "rpekf"});
 }
 template <class V> void visit(ObserverNavOptions& o, V& v) {
   v.num("white_sigma_m", o.white_sigma_m, 0, 100);
@@ -101,6 +110,24 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
 
   if (sc.duration_s != -1 && sc.duration_s <= 0)
     throw ConfigError("scenario key 'duration_s' must be > 0 (or -1: two orbits)");
+  if (sc.closed_loop()) {
+    // The guidance at time t uses the estimate of t - estimate_latency_s, which a lock-step window
+    // of at most that length has received (it was published in an earlier window): the loop is
+    // causal and its results do not depend on the window (batch) size.
+    require_multiple(sc.uav.estimate_latency_s, sc.sensor.period_s, "uav.estimate_latency_s", "sensor.period_s");
+    const bool window_given = doc.is_object() && doc.contains("runner") && doc["runner"].is_object() &&
+                              doc["runner"].contains("window_s");
+    if (!window_given) sc.runner.window_s = std::min(sc.runner.window_s, sc.uav.estimate_latency_s);
+    if (sc.runner.window_s > sc.uav.estimate_latency_s + 1e-9)
+      throw ConfigError("scenario key 'runner.window_s' = " + std::to_string(sc.runner.window_s) +
+                        " s exceeds uav.estimate_latency_s = " + std::to_string(sc.uav.estimate_latency_s) +
+                        " s: with uav.guidance = \"" + sc.uav.guidance +
+                        "\" a window must not be longer than the estimate's age (set runner.window_s <= it, or leave it out)");
+    if (sc.uav.path != "circle")
+      throw ConfigError("scenario key 'uav.path' = \"" + sc.uav.path + "\" applies only to uav.guidance = \"orbit\"");
+    if (std::hypot(sc.uav.wind_north_mps, sc.uav.wind_east_mps) >= sc.uav.speed_mps)
+      throw ConfigError("scenario keys 'uav.wind_north_mps', 'uav.wind_east_mps': the wind speed must be below the airspeed uav.speed_mps");
+  }
   require_multiple(sc.runner.window_s, sc.sensor.period_s, "runner.window_s", "sensor.period_s");
   if (sc.tma.bank_min_m >= sc.tma.bank_max_m)
     throw ConfigError("scenario key 'tma.bank_min_m' must be below tma.bank_max_m");

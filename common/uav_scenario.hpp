@@ -26,11 +26,31 @@ struct TargetOptions {
   std::vector<std::array<double, 4>> manoeuvres;
 };
 
-/// The UAV's path.
+/// The UAV's path and guidance.
+///  - guidance "orbit" (default): the prescribed ground track of `path` (today's paper figures):
+///    a circle about the object's first position (+ offset) or a straight pass. Wind and the
+///    turn limits do not apply (the track is flown exactly).
+///  - guidance "los": line-of-sight guidance from the measured bearing (sim/uav/guidance.hpp):
+///    the course is kept perpendicular to the last measured bearing (object on the left for
+///    "ccw", on the right for "cw"), corrected towards radius_m by the estimator's range when it
+///    has one (the estimate of `guidance_estimator`, estimate_latency_s old).
+///  - guidance "estimate": an orbit of radius_m about the estimator's position estimate
+///    (predicted to the current time with its velocity), estimate_latency_s old.
+///  Closed loop (los, estimate): the UAV flies at airspeed speed_mps in the constant wind, its
+///  turn rate limited by max_bank_deg and max_turn_rate_dps; it starts where the orbit would.
 struct ObserverOptions {
-  std::string path = "circle";   ///< "circle" (orbit) or "straight" (a pass by the object)
-  double radius_m = 300;         ///< [m] orbit radius; straight: distance of closest approach, [20, 20000]
-  double speed_mps = 20;         ///< [m/s] ground speed, [1, 200]
+  std::string path = "circle";   ///< "circle" (orbit) or "straight" (a pass by the object); guidance "orbit" only
+  double radius_m = 300;         ///< [m] orbit radius / standoff range; straight: distance of closest approach, [20, 20000]
+  double speed_mps = 20;         ///< [m/s] orbit: ground speed; los, estimate: airspeed, [1, 200]
+  std::string guidance = "orbit";        ///< "orbit", "los" or "estimate" (see above)
+  double max_bank_deg = 30;              ///< [deg] bank limit: turn rate <= g tan(bank) / airspeed, (0, 80]
+  double max_turn_rate_dps = 20;         ///< [deg/s] turn-rate limit of the airframe, (0, 180]
+  double heading_time_constant_s = 2;    ///< [s] heading loop: rate command = heading error / this (+ feed-forward), [0.1, 100]
+  double standoff_gain = 1;              ///< range law: course offset atan(gain (r - radius) / radius) towards the object, [0, 10]
+  double wind_north_mps = 0;             ///< [m/s] constant wind (air mass velocity), north, |w| < airspeed
+  double wind_east_mps = 0;              ///< [m/s] constant wind, east
+  double estimate_latency_s = 1;         ///< [s] age of the estimate guidance uses (estimator + link); runner.window_s <= this, [0.01, 100]
+  std::string guidance_estimator = "rpekf";  ///< the estimator (UAV_TMA's `estimator`) whose estimate guidance uses
   double altitude_m = 150;       ///< [m] height above the origin's ellipsoidal height, [0, 5000]
   std::string direction = "ccw"; ///< orbit direction seen from above: "ccw" or "cw"
   double centre_offset_north_m = 0;  ///< [m] orbit centre (straight: point of closest approach) from the object's first position
@@ -113,6 +133,8 @@ struct UavScenario {
 
   /// Frame F (x north, z east, y up) at the origin.
   LocalLevelFrame frame() const { return LocalLevelFrame(origin, 0.0); }
+  /// The UAV's guidance uses the estimator's output (UAV_TMA), i.e. guidance is "los" or "estimate".
+  bool closed_loop() const { return uav.guidance != "orbit"; }
   /// [s] one orbit: 2 pi R / V.
   double orbit_period_s() const;
   /// [s] the summary's evaluation time.

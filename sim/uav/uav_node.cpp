@@ -3,8 +3,11 @@
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>
+#include <rnav/tma_batch_t.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rnav {
 
@@ -23,8 +26,10 @@ UavNode::UavNode(Bus& bus, const UavScenario& sc)
       path_(sc.uav, orbit_centre(sc), sc.duration_s),
       corr_{GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s),
             GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)},
-      bearing_error_(sc.sensor, sc.sensor_effects) {
-  add_input<target_truth_batch_t>("TRUTH_TARGET");
+      bearing_error_(sc.sensor, sc.sensor_effects),
+      limits_(guidance::Limits::from(sc.uav)) {
+  add_input<target_truth_batch_t>(ch::kTruthTarget);
+  if (sc_.closed_loop()) add_feedback_input<tma_batch_t>(ch::kUavTma);
 }
 
 void UavNode::reset(const sim_window_t& w) {
@@ -34,10 +39,70 @@ void UavNode::reset(const sim_window_t& w) {
   bearing_error_.start(*rng_);
   last_t_s_ = 0;
   frame_id_ = 0;
+  // Closed loop: start where and as the orbit would (heading making good its course in the wind).
+  const ObserverKinematics k0 = path_.at(0.0);
+  state_.p_OU_F = k0.p_OU_F;
+  state_.heading_rad = guidance::heading_for_course(limits_, k0.course_rad);
+  state_t_s_ = 0;
+  omega_radps_ = 0;
+  last_bearing_rad_.reset();
+  estimates_.clear();
+}
+
+void UavNode::take_estimates() {
+  const auto& b = input<tma_batch_t>(ch::kUavTma);
+  bool any_other = false;
+  for (const auto& e : b.estimates) {
+    if (e.estimator != sc_.uav.guidance_estimator) {
+      any_other = true;
+      continue;
+    }
+    if (!estimates_.empty() && e.utime <= estimates_.back().utime)
+      throw std::runtime_error("UAV_TMA: estimates of '" + e.estimator + "' not in increasing time (utime " +
+                               std::to_string(e.utime) + ")");
+    estimates_.push_back({e.utime, Eigen::Vector4d(e.x[0], e.x[1], e.x[2], e.x[3])});
+  }
+  if (any_other && estimates_.empty())
+    throw std::runtime_error("UAV_TMA carries no estimate of uav.guidance_estimator = '" + sc_.uav.guidance_estimator +
+                             "' (is that estimator running?)");
+}
+
+const UavNode::HeldEstimate* UavNode::estimate_at(std::int64_t utime) const {
+  auto it = std::upper_bound(estimates_.begin(), estimates_.end(), utime,
+                             [](std::int64_t u, const HeldEstimate& e) { return u < e.utime; });
+  return it == estimates_.begin() ? nullptr : &*std::prev(it);
+}
+
+ObserverKinematics UavNode::closed_loop_kinematics() const {
+  ObserverKinematics k;
+  k.p_OU_F = state_.p_OU_F;
+  k.v_U_F = guidance::ground_velocity(limits_, state_.heading_rad);
+  k.course_rad = std::atan2(k.v_U_F.y(), k.v_U_F.x());
+  return k;
+}
+
+void UavNode::steer(std::int64_t utime, const Eigen::Vector2d& p_nav_F, const bearing_t* measured) {
+  if (measured) last_bearing_rad_ = measured->bearing_rad;
+  // The estimate estimate_latency_s old, predicted to now with its velocity: p = p_e + v_e (t - t_e).
+  const HeldEstimate* e = estimate_at(utime - static_cast<std::int64_t>(std::llround(sc_.uav.estimate_latency_s * 1e6)));
+  std::optional<Eigen::Vector2d> d;  // line of sight from the UAV (its nav solution) to the estimate
+  if (e) d = e->x.head<2>() + e->x.tail<2>() * ((utime - e->utime) * 1e-6) - p_nav_F;
+  std::optional<double> beta, range;
+  if (d) range = d->norm();
+  if (sc_.uav.guidance == "estimate" && d) {
+    beta = std::atan2(d->y(), d->x());
+  } else if (last_bearing_rad_) {
+    beta = *last_bearing_rad_;  // los, or no estimate yet: the measured bearing
+  }
+  // No bearing ever (object not yet in the field of regard): hold the heading, turning at the orbit's rate.
+  const double psi_d = beta ? guidance::heading_for_course(limits_, guidance::desired_course(limits_, *beta, range))
+                            : state_.heading_rad;
+  omega_radps_ = guidance::turn_rate_command(limits_, state_.heading_rad, psi_d);
 }
 
 int UavNode::process(const sim_window_t&) {
-  const auto& truth = input<target_truth_batch_t>("TRUTH_TARGET");
+  const auto& truth = input<target_truth_batch_t>(ch::kTruthTarget);
+  if (sc_.closed_loop()) take_estimates();
   observer_batch_t true_uav, nav;
   bearing_batch_t bearings;
   const double sigma_b = sc_.sensor.sigma_deg * kDegToRad;  // the sensor's stated accuracy
@@ -45,7 +110,11 @@ int UavNode::process(const sim_window_t&) {
   const double sigma_nav = std::sqrt(white * white + sc_.uav_nav.corr_sigma_m * sc_.uav_nav.corr_sigma_m);
   for (const auto& ts : truth.states) {
     const double t = (ts.utime - sc_.runner.epoch_utime) * 1e-6;
-    const ObserverKinematics k = path_.at(t);
+    if (sc_.closed_loop() && t > state_t_s_) {
+      state_ = guidance::propagate(limits_, state_, omega_radps_, t - state_t_s_);
+      state_t_s_ = t;
+    }
+    const ObserverKinematics k = sc_.closed_loop() ? closed_loop_kinematics() : path_.at(t);
     auto fill = [&](observer_state_t& o, const Eigen::Vector2d& p, const Eigen::Vector2d& v, double sig) {
       o.utime = ts.utime;
       o.p_OU_F[0] = p.x();
@@ -86,8 +155,9 @@ int UavNode::process(const sim_window_t&) {
     bt.bearing_rate_radps = (d.x() * vrel.y() - d.y() * vrel.x()) / d.squaredNorm();
     const double noise = bearing_error_.error(bt, *rng_);  // every frame: gaps do not shift the stream
     const std::int64_t fid = frame_id_++;
-    if (std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m &&
-        d.norm() >= sc_.sensor.min_range_m) {
+    const bool detected = std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m &&
+                          d.norm() >= sc_.sensor.min_range_m;
+    if (detected) {
       bearing_t b;
       b.utime = ts.utime;
       b.frame_id = fid;
@@ -95,6 +165,8 @@ int UavNode::process(const sim_window_t&) {
       b.sigma_rad = sigma_b;
       bearings.bearings.push_back(b);
     }
+    if (sc_.closed_loop())
+      steer(ts.utime, Eigen::Vector2d(sol.p_OU_F[0], sol.p_OU_F[2]), detected ? &bearings.bearings.back() : nullptr);
   }
   true_uav.n = static_cast<int>(true_uav.states.size());
   nav.n = static_cast<int>(nav.states.size());

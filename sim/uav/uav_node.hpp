@@ -3,15 +3,21 @@
 // error per axis) and the passive sensor's bearings (UAV_BEARING: true bearing from the true
 // UAV position + white noise; none when the object is outside the field of regard or range).
 // The sensor's error model is BearingErrorModel (a list of effects).
+// Guidance (uav.guidance): "orbit" flies ObserverPath's prescribed track; "los" and "estimate"
+// close the loop (guidance.hpp): the UAV subscribes to UAV_TMA as a feedback input (each window
+// gets the estimates of the window before) and steers, at each frame, with the estimate of
+// uav.guidance_estimator that is uav.estimate_latency_s old and its own navigation solution.
 #pragma once
 
 #include "lockstep_node.hpp"
 #include "bearing_error_model.hpp"
+#include "guidance.hpp"
 #include "observer_path.hpp"
 #include "random.hpp"
 
 #include <array>
 #include <optional>
+#include <vector>
 
 namespace rnav {
 
@@ -32,6 +38,22 @@ class UavNode : public LockstepNode {
   BearingErrorModel bearing_error_;
   double last_t_s_ = 0;
   std::int64_t frame_id_ = 0;
+
+  // Closed-loop guidance (uav.guidance != "orbit").
+  struct HeldEstimate {
+    std::int64_t utime;          // [us] time of validity
+    Eigen::Vector4d x;           // (north, east, v_north, v_east) [m, m, m/s, m/s]
+  };
+  void take_estimates();                          // this window's feedback batch -> estimates_
+  const HeldEstimate* estimate_at(std::int64_t utime) const;  // the newest with utime <= the given
+  ObserverKinematics closed_loop_kinematics() const;
+  void steer(std::int64_t utime, const Eigen::Vector2d& p_nav_F, const bearing_t* measured);
+  guidance::Limits limits_;
+  guidance::UavState state_;
+  double state_t_s_ = 0;       // [s] time of state_
+  double omega_radps_ = 0;     // turn rate held until the next frame
+  std::optional<double> last_bearing_rad_;
+  std::vector<HeldEstimate> estimates_;
 };
 
 }  // namespace rnav
