@@ -39,6 +39,8 @@ int UavLoggerNode::process(const sim_window_t&) {
   std::map<std::int64_t, Eigen::Vector2d> uav;
   for (const auto& o : input<observer_batch_t>("TRUTH_UAV").states)
     uav[o.utime] = Eigen::Vector2d(o.p_OU_F[0], o.p_OU_F[2]);
+  for (const auto& [utime, p_U] : uav)
+    if (const auto t = truth.find(utime); t != truth.end()) cur_.add_range((t->second.head<2>() - p_U).norm());
   const double sb = sc_.sensor.sigma_deg * kDegToRad;
   const double sn = std::hypot(sc_.uav_nav.white_sigma_m, sc_.uav_nav.corr_sigma_m);
   for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) {

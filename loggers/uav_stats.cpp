@@ -39,6 +39,11 @@ void UavStats::add_realization(const TmaRealization& r) {
                              "would differ (detections must follow the deterministic geometry)");
   std::map<std::string, const TmaSample*> last;  // last sample at or before eval per estimator
   for (const auto& [name, i] : samples_at_eval(r, sc_.utime(to_us(sc_.eval_time_s())))) last[name] = &r.samples[i];
+  range_min_m_ = std::min(range_min_m_, r.range_min_m);
+  range_max_m_ = std::max(range_max_m_, r.range_max_m);
+  range_sum_m_ += r.range_sum_m;
+  range_n_ += r.range_n;
+  inside_orbit_runs_ += r.range_n > 0 && r.range_max_m <= 2 * sc_.uav.radius_m;
   for (const auto& s : r.samples) {
     auto& a = by_time_[s.estimator][s.utime];
     ++a.n;
@@ -146,6 +151,9 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
   j["realizations"] = n_;
   j["seed"] = seed;
   j["eval_time_s"] = sc_.eval_time_s();
+  j["guidance"] = sc_.uav.guidance;
+  j["object_range_m"] = {{"min", range_min_m_}, {"mean", range_sum_m_ / std::max(1L, range_n_)}, {"max", range_max_m_}};
+  j["object_inside_orbit_runs"] = inside_orbit_runs_;
   j["pcrb_pos_m"] = pcrb_pos;
   j["pcrb_vel_mps"] = pcrb_vel;
   j["estimators"] = nlohmann::ordered_json::object();
@@ -167,6 +175,9 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
     << (std::abs(sc_.eval_time_s() - 2 * sc_.orbit_period_s()) < 1e-6 ? " (two orbits)" : "") << "\n";
   t << "PCRB position RMSE " << fixed(pcrb_pos, 3) << " m, velocity RMSE " << fixed(pcrb_vel, 4)
     << " m/s\n";
+  t << "guidance " << sc_.uav.guidance << ": UAV-object range " << fixed(range_min_m_, 1) << " ... "
+    << fixed(range_max_m_, 1) << " m (mean " << fixed(range_sum_m_ / std::max(1L, range_n_), 1) << "), object inside the orbit (range <= "
+    << fixed(2 * sc_.uav.radius_m, 0) << " m throughout) in " << inside_orbit_runs_ << "/" << n_ << " runs\n";
   t << "estimator  RMSE pos [m]  /PCRB   RMSE vel [m/s]  NEES mean  95% band          diverged\n";
   for (const auto& [name, f] : final_) {
     char b[256];

@@ -9,6 +9,8 @@
 #include "uav_scenario.hpp"
 
 #include <array>
+#include <algorithm>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,6 +37,15 @@ struct TmaRealization {
   std::map<std::int64_t, tma::Mat4> info;  ///< utime -> H^T R^-1 H at the truth
   std::int64_t first_utime = -1;           ///< first detection (the estimators' initialisation)
   tma::Mat4 J0 = tma::Mat4::Zero();        ///< prior information at the first detection
+  /// The true horizontal range from the UAV to the object over the realization's frames [m].
+  double range_min_m = std::numeric_limits<double>::infinity(), range_max_m = 0, range_sum_m = 0;
+  long range_n = 0;
+  void add_range(double r_m) {
+    range_min_m = std::min(range_min_m, r_m);
+    range_max_m = std::max(range_max_m, r_m);
+    range_sum_m += r_m;
+    ++range_n;
+  }
 };
 
 /// Per estimator, the index into r.samples of its last sample at or before eval_utime: the one
@@ -76,6 +87,10 @@ class UavStats {
   tma::Mat4 J0_sum_ = tma::Mat4::Zero();
   std::int64_t first_utime_ = -1;
   std::vector<std::int64_t> frames_;  // all frame times seen
+  // True UAV-object range over all frames of all realizations [m]; runs whose object stayed
+  // inside the orbit (range <= 2 uav.radius_m at every frame: the object within the orbit's disc).
+  double range_min_m_ = std::numeric_limits<double>::infinity(), range_max_m_ = 0, range_sum_m_ = 0;
+  long range_n_ = 0, inside_orbit_runs_ = 0;
 };
 
 }  // namespace rnav

@@ -279,3 +279,76 @@ TEST_CASE("lock-step node, a sample where a batch is expected is an error naming
     CHECK_THAT(e.what(), Catch::Matchers::Contains(kCh));
   }
 }
+
+namespace {
+
+const std::string kCmd = "TOY_CMD", kFb = "TOY_FB";
+
+// The upstream end of a loop: publishes per window one bearing on TOY_CMD whose value is
+// 100 w + the value fed back (-1 when none), and takes TOY_FB as a feedback input.
+class Controller : public rnav::LockstepNode {
+ public:
+  explicit Controller(rnav::Bus& bus) : LockstepNode(bus, "controller", 10) { add_feedback_input<bearing_batch_t>(kFb); }
+  std::vector<std::vector<double>> fed;  // per window, the feedback values it got
+
+ protected:
+  void reset(const sim_window_t&) override { fed.clear(); }
+  int process(const sim_window_t& w) override {
+    const auto& fb = input<bearing_batch_t>(kFb);
+    std::vector<double> v;
+    for (const auto& b : fb.bearings) v.push_back(b.bearing_rad);
+    fed.push_back(v);
+    bearing_batch_t out{};
+    out.n = 1;
+    out.bearings.resize(1);
+    out.bearings[0].utime = w.utime_begin;
+    out.bearings[0].bearing_rad = 100.0 * w.window + (v.empty() ? -1.0 : v.back());
+    publish_batch(kCmd, out);
+    return 1;
+  }
+};
+
+// The downstream end: feeds back each command + 1 on TOY_FB.
+class Echo : public rnav::LockstepNode {
+ public:
+  explicit Echo(rnav::Bus& bus) : LockstepNode(bus, "echo", 10) { add_input<bearing_batch_t>(kCmd); }
+
+ protected:
+  void reset(const sim_window_t&) override {}
+  int process(const sim_window_t&) override {
+    bearing_batch_t out = input<bearing_batch_t>(kCmd);
+    for (auto& b : out.bearings) b.bearing_rad += 1;
+    publish_batch(kFb, out);
+    return out.n;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("lock-step node, feedback input: window w gets the batch of window w-1, a lost one is sent again",
+          "[lockstep][feedback][loss]") {
+  for (const auto wire : {rnav::Wire::kBatch, rnav::Wire::kSample}) {
+    INFO((wire == rnav::Wire::kBatch ? "wire batch" : "wire sample"));
+    rnav::InprocBus bus;
+    Acks acks(bus);
+    Controller ctl(bus);
+    Echo echo(bus);
+    ctl.set_wire(wire);
+    echo.set_wire(wire);
+    echo.add_drop(rnav::DropSpec::parse(kFb + ":0:1:0:1"));  // the feedback of window 1: first transmission lost
+    send(bus, window(kStart, 0));
+    send(bus, window(kStart, 1));
+    CHECK(acks.count("controller", kOk, 1) == 1);  // window 1 took window 0's feedback, which arrived
+    send(bus, window(kStart, 2));
+    // Window 2 needs window 1's feedback, which was lost: no OK; the clock's RESEND makes the
+    // controller name it (WAITING), the echo publishes it again, the controller goes on.
+    CHECK(acks.count("controller", kOk, 2) == 0);
+    send(bus, window(kResend, 2));
+    CHECK(acks.count("controller", kWaiting, 2) == 1);
+    CHECK(echo.republished() == 1);
+    CHECK(acks.count("controller", kOk, 2) == 1);
+    send(bus, window(kStart, 3));
+    // fed: nothing before window 0, then 0 + (-1) + 1 = 0, then 100 + 0 + 1 = 101, then 200 + 101 + 1 = 302.
+    CHECK(ctl.fed == std::vector<std::vector<double>>{{}, {0}, {101}, {302}});
+  }
+}
