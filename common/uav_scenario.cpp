@@ -74,6 +74,7 @@ template <class V> void visit(UavLoggerOptions& o, V& v) {
   v.num("eval_time_s", o.eval_time_s, -1, 1e6);
   v.num("diverge_pos_m", o.diverge_pos_m, 0.01, 1e6);
   v.num("realizations_step_s", o.realizations_step_s, 0, 1e6);
+  v.integer("track_realization", o.track_realization, -1, 999999999);
 }
 
 template <class F> void for_each_section(UavScenario& sc, F&& f) {
@@ -145,6 +146,13 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
 
 UavScenario UavScenario::load(const std::string& file, const std::vector<std::string>& overrides) {
   return load_scenario<UavScenario>(file, overrides);
+}
+
+void check_track_realization(const UavLoggerOptions& o, long n_realizations) {
+  if (o.track_realization >= n_realizations)
+    throw ConfigError("scenario key 'logger.track_realization' = " + std::to_string(o.track_realization) +
+                      " names no realization of this run (0 ... " + std::to_string(n_realizations - 1) +
+                      "; -1: no track.csv)");
 }
 
 double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / uav.speed_mps; }

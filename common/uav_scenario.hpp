@@ -112,7 +112,12 @@ struct UavLoggerOptions {
   /// [s] realizations.csv has, per realization and estimator, the first frame in each interval
   /// [k step, (k+1) step) of run time (and the frame summary.json uses); 0: every frame.
   double realizations_step_s = 1;
+  /// track.csv (loggers/uav_track.hpp; drawn as geometry.png): this realization's geometry frame
+  /// by frame, >= 0 and below the run's realization count; -1: no track.csv.
+  long track_realization = 0;
 };
+/// Throws ConfigError (naming logger.track_realization) unless it is -1 or below n_realizations.
+void check_track_realization(const UavLoggerOptions& o, long n_realizations);
 
 struct UavScenario {
   std::string name = "uav";

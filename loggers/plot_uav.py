@@ -11,6 +11,11 @@ evaluation time, the run count and the seed) and writes into DIR:
   uav_nees.png      mean NEES (4 dof) of every estimator against time with the 95 % chi-square
                     band for the run count (log y); below, mean NIS (1 dof) with its band.
   uav_overview.png  compact figure for the README: position RMSE vs PCRB, and NEES with band.
+  geometry.png      plan view of one realization from DIR/track.csv (loggers/plot_uav_geometry.py):
+                    UAV path, the object's true track, the estimate tracks, and at a few times the
+                    estimates with their 2-sigma (86.5 %) ellipses and the measured bearing ray.
+                    Drawn when DIR/scenario.json's logger.track_realization is >= 0 (then
+                    track.csv must exist); skipped with a note for an output without scenario.json.
 
 NaN (or inf) cells in the CSV, e.g. the NIS before the first update, are treated as missing.
 Needs Debian's python3 with python3-numpy and python3-matplotlib (Agg backend, no display).
@@ -31,6 +36,7 @@ try:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import plot_uav_geometry
 except ImportError as e:  # the python3 on PATH may be a build without numpy/matplotlib
     sys.exit("plot_uav.py: %s; run with /usr/bin/python3 (Debian python3-numpy, "
              "python3-matplotlib)" % e)
@@ -380,9 +386,49 @@ def main(argv):
         p = os.path.join(d, fname)
         fn(cols, names, summ, n_runs, p)
         out.append(p)
+    p = geometry(d, summ)
+    if p:
+        out.append(p)
     for p in out:
         print(p)
     return 0
+
+
+def geometry(d, summ):
+    """Draw geometry.png if the run wrote a track (scenario.json's logger.track_realization >= 0)."""
+    sc_path = os.path.join(d, "scenario.json")
+    if not os.path.isfile(sc_path):
+        print("%s: note: no geometry.png: %s is missing (an output of an older version?)" % (PROG, sc_path),
+              file=sys.stderr)
+        return None
+    try:
+        with open(sc_path) as f:
+            sc = json.load(f)
+    except json.JSONDecodeError as e:
+        raise InputError("%s: line %d, column %d: invalid JSON: %s" % (sc_path, e.lineno, e.colno, e.msg)) from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError("%s: cannot read: %s" % (sc_path, e)) from None
+    tr = sc.get("logger", {}).get("track_realization") if isinstance(sc, dict) else None
+    if tr is None:
+        print("%s: note: no geometry.png: %s has no logger.track_realization (an older version's output)"
+              % (PROG, sc_path), file=sys.stderr)
+        return None
+    if not isinstance(tr, int) or isinstance(tr, bool):
+        raise InputError("%s: key logger.track_realization: expected an integer, got %r" % (sc_path, tr))
+    if tr < 0:
+        return None
+    track = os.path.join(d, plot_uav_geometry.TRACK_NAME)
+    if not os.path.isfile(track):
+        raise InputError("%s: file not found (logger.track_realization is %d in %s)" % (track, tr, sc_path))
+    try:
+        c, names = plot_uav_geometry.read_track(track)
+    except plot_uav_geometry.TrackError as e:
+        raise InputError(str(e)) from None
+    order = [n for n in EST_STYLE if n in names] + [n for n in names if n not in EST_STYLE]
+    styles = {n: style(n, i) for i, n in enumerate(order)}
+    p = os.path.join(d, "geometry.png")
+    plot_uav_geometry.fig_geometry(c, order, styles, summ, p)
+    return p
 
 
 if __name__ == "__main__":

@@ -10,6 +10,7 @@
 #include <rnav/tma_batch_t.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace rnav {
@@ -29,9 +30,12 @@ void UavLoggerNode::reset(const sim_window_t& w) {
   seed_ = w.seed;
   realization_ = w.realization;
   cur_ = TmaRealization{};
+  tracking_ = !out_dir_.empty() && w.realization == sc_.logger.track_realization;
+  track_.clear();  // also what a failed attempt of the tracked realization left
 }
 
-int UavLoggerNode::process(const sim_window_t&) {
+int UavLoggerNode::process(const sim_window_t& w) {
+  check_track_realization(sc_.logger, w.n_realizations);  // scripts/run checks first; a node started by hand
   // Everything of one frame arrives in the same window (all are produced per frame).
   std::map<std::int64_t, tma::Vec4> truth;
   for (const auto& s : input<target_truth_batch_t>("TRUTH_TARGET").states)
@@ -41,6 +45,11 @@ int UavLoggerNode::process(const sim_window_t&) {
     uav[o.utime] = Eigen::Vector2d(o.p_OU_F[0], o.p_OU_F[2]);
   for (const auto& [utime, p_U] : uav)
     if (const auto t = truth.find(utime); t != truth.end()) cur_.add_range((t->second.head<2>() - p_U).norm());
+  if (tracking_) {
+    for (const auto& [t, x] : truth) track_.add_object(t, x);
+    for (const auto& [t, p] : uav) track_.add_uav(t, p);
+    for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) track_.add_bearing(b.utime, b.bearing_rad);
+  }
   const double sb = sc_.sensor.sigma_deg * kDegToRad;
   const double sn = std::hypot(sc_.uav_nav.white_sigma_m, sc_.uav_nav.corr_sigma_m);
   for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) {
@@ -75,6 +84,7 @@ int UavLoggerNode::process(const sim_window_t&) {
       x[i] = m.x[i];
       for (int j = 0; j < 4; ++j) P(i, j) = m.P[i][j];
     }
+    if (tracking_) track_.add_estimate(m.utime, m.estimator, x, P);
     const tma::Vec4 e = x - t->second;
     TmaSample s;
     s.utime = m.utime;
@@ -98,12 +108,15 @@ void UavLoggerNode::commit() {
   stats_.add_realization(cur_);  // validates first: a rejected realization writes no rows
   if (!out_dir_.empty()) {
     if (!rows_) {
+      std::filesystem::create_directories(out_dir_);  // as the results at FINISH (a caller may not have made it)
       rows_ = std::make_unique<AtomicFileWriter>(out_dir_, "realizations.csv");
       rows_->append(uav_realizations_header());
     }
     rows_->append(uav_realization_rows(sc_, realization_, cur_));
+    if (tracking_) track_csv_ = track_.csv(sc_.runner.epoch_utime, realization_);
   }
   cur_ = TmaRealization{};
+  track_.clear();
 }
 
 void UavLoggerNode::finish(const sim_window_t& w) {
@@ -113,6 +126,12 @@ void UavLoggerNode::finish(const sim_window_t& w) {
   if (out_dir_.empty()) return;
   stats_.write(out_dir_, seed_);
   if (rows_) rows_->commit();
+  if (sc_.logger.track_realization >= 0) {
+    if (track_csv_.empty())
+      throw std::runtime_error("track.csv: realization " + std::to_string(sc_.logger.track_realization) +
+                               " (logger.track_realization) was never committed");
+    write_file_atomic(out_dir_, "track.csv", track_csv_);
+  }
   // The effective scenario, every default filled in and the overrides applied: `scripts/run
   // DIR/scenario.json` with the same seed and realizations repeats the run.
   std::ostringstream sc;

@@ -1,6 +1,7 @@
 // Node "uav_logger": joins TRUTH_TARGET, TRUTH_UAV, UAV_BEARING and UAV_TMA per frame, keeps a
 // realization until the clock moves past it, adds it to UavStats and its rows to
 // realizations.csv (uav_realizations.hpp; written as it goes, renamed into place on FINISH);
+// keeps realization logger.track_realization's geometry for track.csv (uav_track.hpp);
 // writes the results and scenario.json on FINISH.
 // An estimate without truth at its time, or an ensemble short of realizations, is an error.
 #pragma once
@@ -8,6 +9,7 @@
 #include "atomic_file.hpp"
 #include "lockstep_node.hpp"
 #include "uav_stats.hpp"
+#include "uav_track.hpp"
 
 #include <Eigen/Dense>
 
@@ -34,6 +36,9 @@ class UavLoggerNode : public LockstepNode {
   long realization_ = 0;                    // of the realization being assembled
   std::unique_ptr<AtomicFileWriter> rows_;  // realizations.csv, a realization's rows at each commit
   TmaRealization cur_;
+  bool tracking_ = false;   // the realization being assembled is logger.track_realization
+  UavTrack track_;          // its frames
+  std::string track_csv_;   // track.csv's text once that realization is committed
 };
 
 }  // namespace rnav

@@ -7,7 +7,8 @@ int main(int argc, char** argv) {
       argc, argv,
       rnav::NodeProgram{"rnav_uav_logger", "uav_logger",
                         "The azimuth-only ensemble's statistics: RMSE, PCRB, NEES/NIS with chi-square bands "
-                        "(summary.json, summary.txt, uav_stats_time.csv) in --out DIR.",
+                        "(summary.json, summary.txt, uav_stats_time.csv), realizations.csv and one "
+                        "realization's track.csv in --out DIR.",
                         true},
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs& a) {
         return std::make_unique<rnav::UavLoggerNode>(bus, sc, a.out_dir);

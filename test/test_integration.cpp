@@ -489,7 +489,7 @@ TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has 
   INFO(mp.output << ip.output);
   REQUIRE(mp.status == 0);
   REQUIRE(ip.status == 0);
-  for (const char* f : {"uav_stats_time.csv", "summary.json", "realizations.csv", "scenario.json"}) {
+  for (const char* f : {"uav_stats_time.csv", "summary.json", "realizations.csv", "track.csv", "scenario.json"}) {
     INFO(f);
     REQUIRE(slurp(d / "mp" / f).size() > 100);
     CHECK(slurp(d / "mp" / f) == slurp(d / "ip" / f));

@@ -40,8 +40,13 @@ int main(int argc, char** argv) {
     if (file.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_inproc --help)");
     if (!out.empty()) rnav::prepare_output_dir(out, force);
     const double t0 = rnav::wall_seconds();
+    const auto uav = [&] {
+      const auto sc = rnav::UavScenario::load(file, overrides);
+      rnav::check_track_realization(sc.logger, n);
+      return rnav::run_inproc_ensemble(sc, n, seed, out, drops);
+    };
     const auto r = rnav::scenario_kind(file) == "uav"
-                       ? rnav::run_inproc_ensemble(rnav::UavScenario::load(file, overrides), n, seed, out, drops)
+                       ? uav()
                        : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops);
     if (r.exit_code != 0) {
       std::cerr << rnav::cli::error_line("rnav_inproc", "run failed: " + r.failure) << "\n";

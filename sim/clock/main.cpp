@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     std::string scenario_file, events, url, nodes, print_kind, speed;
     std::vector<std::string> overrides;
     rnav::ConductorOptions o;
-    bool check = false;
+    bool check = false, n_given = false;
     rnav::cli::Parser p(
         "rnav_clock",
         "--scenario FILE [--set key=value]... --realizations N --seed S --nodes a,b,c [options]\n"
@@ -58,7 +58,10 @@ int main(int argc, char** argv) {
     p.value("--scenario", "FILE", "scenario JSON file (sim/scenarios/*.json)", "required", scenario_file)
         .repeated("--set", "key=value", "override a scenario key, e.g. --set runner.window_s=10", overrides)
         .value("--realizations", "N", "ensemble size, 1 ... 1e9", "1",
-               [&](const std::string& v) { o.n_realizations = static_cast<int>(rnav::parse_integer("--realizations", v, 1, 1000000000)); })
+               [&](const std::string& v) {
+                 o.n_realizations = static_cast<int>(rnav::parse_integer("--realizations", v, 1, 1000000000));
+                 n_given = true;
+               })
         .value("--seed", "S", "ensemble seed (an integer); the same seed gives byte-identical statistics", "1",
                [&](const std::string& v) {
                  o.seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
@@ -92,6 +95,7 @@ int main(int argc, char** argv) {
       runner = sc.runner;
       step_s = sc.sensor.period_s;
       duration_s = sc.duration_s;
+      if (!check || n_given) rnav::check_track_realization(sc.logger, o.n_realizations);
       if (check) {
         sc.print(std::cout);
         std::cout << "step_s=" << step_s << " duration_s=" << duration_s << " orbit_period_s=" << sc.orbit_period_s()
