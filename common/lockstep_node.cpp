@@ -80,13 +80,14 @@ bool LockstepNode::newer(int r, int a) const {
   return r > cur_r_ || (r == cur_r_ && a > cur_a_);
 }
 
-void LockstepNode::report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing) {
+void LockstepNode::report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing,
+                          std::optional<int> window) {
   node_ack_t ack;
   ack.node = name_;
   ack.status = status;
   ack.realization = status == node_ack_t::HELLO ? -1 : cur_r_;
   ack.attempt = status == node_ack_t::HELLO ? -1 : cur_a_;
-  ack.window = status == node_ack_t::HELLO ? -1 : grant_.window;
+  ack.window = status == node_ack_t::HELLO ? -1 : window.value_or(grant_.window);
   ack.n_published = published_;
   ack.detail = detail;
   ack.n_missing = static_cast<std::int16_t>(missing.size());
@@ -244,19 +245,26 @@ void LockstepNode::on_resend(const sim_window_t& w) {
 }
 
 void LockstepNode::report_waiting(const std::vector<std::string>& missing) {
-  std::string detail = name_ + ": waiting for realization " + std::to_string(grant_.realization) + " attempt " +
-                       std::to_string(grant_.attempt) + " window " + std::to_string(grant_.window) + " on";
-  for (const auto& m : missing) detail += " " + m;
-  report(node_ack_t::WAITING, detail, missing);
+  // One WAITING per window asked for: this window's inputs, and the window before for feedback inputs.
+  for (const int delay : {0, 1}) {
+    std::vector<std::string> part;
+    for (const auto& m : missing)
+      for (const auto& in : inputs_)
+        if (in->channel == m && in->delay == delay) part.push_back(m);
+    if (part.empty()) continue;
+    const int w = grant_.window - delay;
+    std::string detail = name_ + ": waiting for realization " + std::to_string(grant_.realization) + " attempt " +
+                         std::to_string(grant_.attempt) + " window " + std::to_string(w) + " on";
+    for (const auto& m : part) detail += " " + m;
+    report(node_ack_t::WAITING, detail, part, w);
+  }
 }
 
 void LockstepNode::on_peer_ack(const node_ack_t& a) {
   if (done_ || a.node == name_) return;
   const WindowKey key{a.realization, a.attempt, a.window};
-  const WindowKey after_last{std::get<0>(last_out_key_), std::get<1>(last_out_key_), std::get<2>(last_out_key_) + 1};
-  if (a.status == node_ack_t::WAITING && (key == last_out_key_ || key == after_last)) {
-    // A consumer misses a batch of the last window this node processed (a feedback consumer
-    // waits on it in the window after): publish it again.
+  if (a.status == node_ack_t::WAITING && key == last_out_key_) {
+    // A consumer misses a batch of the last window this node processed: publish it again.
     for (const auto& m : a.missing)
       for (const auto& out : last_out_)
         if (out.channel == m) {

@@ -26,8 +26,9 @@
 // Feedback inputs (add_feedback_input): a channel published by a node downstream of this one
 // (the UAV's guidance uses the estimator's output). Window w takes that channel's batch of window
 // w - 1 (window 0: an empty batch), which its publisher sent before acking w - 1, hence before
-// the clock granted w: the loop is causal and deterministic. A publisher answers a WAITING for
-// the window after the one it processed last with that last window's batches.
+// the clock granted w: the loop is causal and deterministic. A consumer's
+// WAITING for a feedback input names the window it needs (w - 1), so its publisher, for which that
+// is the last window it processed, publishes the kept batch again.
 #pragma once
 
 #include "batch_decode.hpp"
@@ -161,7 +162,8 @@ class LockstepNode {
   void begin_attempt(const sim_window_t& w);
   void accept_grant(const sim_window_t& w);
   void try_process();
-  void report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing = {});
+  void report(std::int8_t status, const std::string& detail, const std::vector<std::string>& missing = {},
+              std::optional<int> window = std::nullopt);  // window: of the ack (default: the grant's)
   void fail(const std::string& detail);
   void stop(int code, const std::string& why);
   bool newer(int r, int a) const;

@@ -341,10 +341,11 @@ TEST_CASE("lock-step node, feedback input: window w gets the batch of window w-1
     CHECK(acks.count("controller", kOk, 1) == 1);  // window 1 took window 0's feedback, which arrived
     send(bus, window(kStart, 2));
     // Window 2 needs window 1's feedback, which was lost: no OK; the clock's RESEND makes the
-    // controller name it (WAITING), the echo publishes it again, the controller goes on.
+    // controller name it (WAITING for window 1), the echo publishes it again, the controller goes on.
     CHECK(acks.count("controller", kOk, 2) == 0);
     send(bus, window(kResend, 2));
-    CHECK(acks.count("controller", kWaiting, 2) == 1);
+    CHECK(acks.count("controller", kWaiting, 1) == 1);  // names the window it needs: 1
+    CHECK(acks.count("controller", kWaiting, 2) == 0);
     CHECK(echo.republished() == 1);
     CHECK(acks.count("controller", kOk, 2) == 1);
     send(bus, window(kStart, 3));
