@@ -104,4 +104,10 @@ std::string fixed(double x, int prec) {
   return b;
 }
 
+std::string significant(double x, int digits) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, x);
+  return b;
+}
+
 }  // namespace rnav

@@ -46,5 +46,7 @@ void prepare_output_dir(const std::string& dir, bool force, const std::string& o
 
 /// printf("%.*f") as a string.
 std::string fixed(double x, int prec = 6);
+/// printf("%.*g") as a string: `digits` significant digits.
+std::string significant(double x, int digits);
 
 }  // namespace rnav

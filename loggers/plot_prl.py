@@ -106,16 +106,21 @@ def read_csv(path, required):
     return {name: arr[:, i] for i, name in enumerate(header)}
 
 
+def load_json(path):
+    """The JSON document in path; InputError naming the file, line and column if malformed."""
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except json.JSONDecodeError as e:
+        raise InputError("%s: line %d column %d: invalid JSON: %s"
+                         % (path, e.lineno, e.colno, e.msg)) from None
+
+
 def read_table2(path):
     """Read table2_detail.json -> {row: [(range_m, mean[3], stderr[3], paper[3] or None)]}."""
     if not os.path.isfile(path):
         raise InputError("%s: file not found" % path)
-    try:
-        with open(path) as f:
-            doc = json.load(f)
-    except json.JSONDecodeError as e:
-        raise InputError("%s: line %d column %d: invalid JSON: %s"
-                         % (path, e.lineno, e.colno, e.msg)) from None
+    doc = load_json(path)
     out = {}
     for row in ("APOI", "TOI"):
         if not isinstance(doc, dict) or not isinstance(doc.get(row), dict):
@@ -435,12 +440,7 @@ def read_scenario(path):
     """Read the run's scenario.json -> the keys the geometry figure needs, or None if absent."""
     if not os.path.isfile(path):
         return None
-    try:
-        with open(path) as f:
-            doc = json.load(f)
-    except json.JSONDecodeError as e:
-        raise InputError("%s: line %d column %d: invalid JSON: %s"
-                         % (path, e.lineno, e.colno, e.msg)) from None
+    doc = load_json(path)
     out = {}
     for sec, key in (("radar", "x_m"), ("radar", "z_m"), ("radar", "antenna_height_m"),
                      ("prl_bias", "switch_time_s"), ("logger", "table_ranges_m"),

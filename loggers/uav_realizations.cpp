@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 #include <set>
 
@@ -12,12 +11,8 @@ namespace rnav {
 
 namespace {
 
-// %.9g: 9 significant digits (the aggregates recomputed from the rows agree to ~1e-9 relative).
-std::string g9(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
+// 9 significant digits (the aggregates recomputed from the rows agree to ~1e-9 relative).
+std::string g9(double x) { return significant(x, 9); }
 
 }  // namespace
 

@@ -2,7 +2,6 @@
 
 #include "atomic_file.hpp"
 
-#include <cstdio>
 #include <set>
 #include <stdexcept>
 
@@ -10,11 +9,7 @@ namespace rnav {
 
 namespace {
 
-std::string g9(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
+std::string g9(double x) { return significant(x, 9); }
 
 }  // namespace
 
