@@ -69,6 +69,7 @@ template <class V> void visit(TmaOptions& o, V& v) {
   v.num("bank_min_m", o.bank_min_m, 1, 1e6);
   v.num("bank_max_m", o.bank_max_m, 1, 1e6);
   v.flag("add_nav_noise", o.add_nav_noise);
+  v.choices("estimators", o.estimators, TmaOptions::known_estimators());
 }
 template <class V> void visit(UavLoggerOptions& o, V& v) {
   v.num("eval_time_s", o.eval_time_s, -1, 1e6);
@@ -153,6 +154,11 @@ void check_track_realization(const UavLoggerOptions& o, long n_realizations) {
     throw ConfigError("scenario key 'logger.track_realization' = " + std::to_string(o.track_realization) +
                       " names no realization of this run (0 ... " + std::to_string(n_realizations - 1) +
                       "; -1: no track.csv)");
+}
+
+const std::vector<std::string>& TmaOptions::known_estimators() {
+  static const std::vector<std::string> names{"ekf", "rpekf", "ml"};
+  return names;
 }
 
 double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / uav.speed_mps; }
