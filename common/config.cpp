@@ -150,7 +150,8 @@ std::vector<std::string> Section::strings(const std::string& key, const std::vec
   const auto* v = find(key);
   if (!v) return def;
   if (!v->is_array())
-    throw ConfigError("scenario key '" + key_path(key) + "': expected a list of strings, got " + v->dump());
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a list of strings, got " + v->dump() +
+                      " (a JSON list; on the command line: --set '" + key_path(key) + "=[\"a\",\"b\"]')");
   std::vector<std::string> out;
   for (const auto& x : *v) {
     if (!x.is_string())
