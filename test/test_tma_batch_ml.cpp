@@ -292,7 +292,7 @@ TEST_CASE("ml: from a wrong range prior the batch converges where the single EKF
   CHECK(r.ml_over <= 3);  // a quantile that 0.1 % of runs exceed: at most 3 of 100 allowed
 }
 
-TEST_CASE("tma.estimators: selects the estimators in order; bad entries are errors naming the key",
+TEST_CASE("tma.estimators: selects the estimators in order, bad entries are errors naming the key",
           "[tma][ml][config]") {
   const auto load = [](const std::string& value) {
     nlohmann::json doc = {{"kind", "uav"}};
