@@ -21,7 +21,8 @@ bool BatchMl::add(const Obs& k, const Vec4& th, const Vec4* held, Sums& s) const
   const double D2 = dn * dn + de * de;
   if (!(D2 >= kMinRange_m * kMinRange_m)) return false;
   // Wrapped residual: the angle from the predicted to the measured line of sight.
-  const double r = std::atan2(k.sz * dn - k.cz * de, k.cz * dn + k.sz * de);
+  const double ry = k.sz * dn - k.cz * de, rx = k.cz * dn + k.sz * de;
+  const double r = rx > 0 ? std::atan(ry / rx) : std::atan2(ry, rx);  // atan: cheaper, same angle for rx > 0
   const double w = 1.0 / (o_.add_nav_noise ? k.sb2 + k.sn2 / D2 : k.sb2);
   s.cost += w * r * r;
   if (held) {

@@ -35,16 +35,21 @@
 // Covariance: Sigma = A^-1 at the solution (prior information + sum of H^T R^-1 H), the same
 // information the PCRB sums at the truth.
 //
-// Cost per bearing (bounded work, warm start): the previous solution theta is kept with A, g
-// and C summed at it, so adding bearing N updates them in O(1). If the Newton decrement
+// Work per bearing (warm start, limited iterations): the previous solution theta is kept with
+// A, g and C summed at it, so adding bearing N updates them in O(1). If the Newton decrement
 // g^T A^-1 g (the cost reduction a full step would give, in chi-square units: theta is within
 // sqrt(decrement) standard deviations of the quadratic model's optimum) is below
 // `decrement_tol`, theta stands (no pass over the data). Otherwise at most `max_trials` LM trials
 // follow, each one pass over all N bearings that evaluates C, A and g at the trial point (so an
 // accepted trial needs no further pass). A frame whose trials run out keeps the best accepted
 // point and continues from it at the next bearing. Work: at most max_trials x N bearing
-// evaluations per bearing, in practice about one pass per bearing while the estimate moves and
-// none once it has settled (`passes()` and `evaluations()` count them).
+// evaluations per bearing (so O(N^2) per run at worst max_trials times), in practice about one
+// pass per bearing while the estimate moves and none once it has settled (`passes()` and
+// `evaluations()` count them). The default UAV run (942 bearings): about 0.41 million evaluations,
+// about 10 ms per run on the 2-core development machine.
+//
+// NIS (returned by process): the new bearing against the previous solution propagated to its
+// time, nu^2 / (H P H^T + R), as the filters report theirs.
 //
 // Process noise: the batch assumes exactly constant velocity over the whole span and IGNORES
 // tma.q_m2ps3. With a manoeuvring object (q > 0 needed by the filters) its model is wrong: the
