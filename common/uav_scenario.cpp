@@ -2,6 +2,7 @@
 
 #include "options_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rnav {
@@ -33,7 +34,7 @@ template <class V> void visit(ObserverOptions& o, V& v) {
   v.num("wind_north_mps", o.wind_north_mps, -100, 100);
   v.num("wind_east_mps", o.wind_east_mps, -100, 100);
   v.num("estimate_latency_s", o.estimate_latency_s, 0.01, 100);
-  v.choice("guidance_estimator", o.guidance_estimator, {"ekf", "rpekf"});
+  v.choice("guidance_estimator", o.guidance_estimator, TmaOptions::known_estimators());
 }
 template <class V> void visit(ObserverNavOptions& o, V& v) {
   v.num("white_sigma_m", o.white_sigma_m, 0, 100);
@@ -131,6 +132,10 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
       throw ConfigError("scenario keys 'uav.wind_north_mps', 'uav.wind_east_mps': the wind speed must be below the airspeed uav.speed_mps");
   }
   require_multiple(sc.runner.window_s, sc.sensor.period_s, "runner.window_s", "sensor.period_s");
+  if (sc.closed_loop() && std::find(sc.tma.estimators.begin(), sc.tma.estimators.end(), sc.uav.guidance_estimator) ==
+                              sc.tma.estimators.end())
+    throw ConfigError("scenario key 'uav.guidance_estimator' = \"" + sc.uav.guidance_estimator +
+                      "\" is not among tma.estimators: guidance would get no estimate (add it to tma.estimators)");
   if (sc.tma.bank_min_m >= sc.tma.bank_max_m)
     throw ConfigError("scenario key 'tma.bank_min_m' must be below tma.bank_max_m");
   for (const auto& m : sc.target.manoeuvres)

@@ -333,6 +333,14 @@ TEST_CASE("tma.estimators: selects the estimators in order, bad entries are erro
       CHECK(m.find(b.expect) != std::string::npos);
     }
   }
+  // Closed-loop guidance needs its estimator to run.
+  nlohmann::json loop = {{"kind", "uav"}};
+  apply_override(loop, "uav.guidance=los");
+  apply_override(loop, R"(tma.estimators=["ekf","ml"])");
+  CHECK_THROWS_WITH(UavScenario::from_json(loop),
+                    Catch::Contains("'uav.guidance_estimator' = \"rpekf\" is not among tma.estimators"));
+  apply_override(loop, "uav.guidance_estimator=ml");
+  CHECK(UavScenario::from_json(loop).uav.guidance_estimator == "ml");
   // A misspelt key is named too (the section's did-you-mean).
   nlohmann::json doc = {{"kind", "uav"}};
   apply_override(doc, R"(tma.estimator=["ml"])");
