@@ -146,6 +146,22 @@ std::vector<double> Section::numbers(const std::string& key, const std::vector<d
   return out;
 }
 
+std::vector<std::string> Section::strings(const std::string& key, const std::vector<std::string>& def) {
+  const auto* v = find(key);
+  if (!v) return def;
+  if (!v->is_array())
+    throw ConfigError("scenario key '" + key_path(key) + "': expected a list of strings, got " + v->dump() +
+                      " (a JSON list; on the command line: --set '" + key_path(key) + "=[\"a\",\"b\"]')");
+  std::vector<std::string> out;
+  for (const auto& x : *v) {
+    if (!x.is_string())
+      throw ConfigError("scenario key '" + key_path(key) + "': expected a list of strings, got " + x.dump() +
+                        " in it");
+    out.push_back(x.get<std::string>());
+  }
+  return out;
+}
+
 std::vector<std::array<double, 4>> Section::rows4(const std::string& key) {
   std::vector<std::array<double, 4>> out;
   const auto* v = find(key);

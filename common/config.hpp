@@ -42,6 +42,8 @@ class Section {
   /// A list of finite numbers in [lo, hi]; `def` when absent.
   std::vector<double> numbers(const std::string& key, const std::vector<double>& def, double lo,
                               double hi);
+  /// A list of strings; `def` when absent.
+  std::vector<std::string> strings(const std::string& key, const std::vector<std::string>& def);
   /// A list of rows of 4 finite numbers each.
   std::vector<std::array<double, 4>> rows4(const std::string& key);
   /// A nested section; an absent key gives an empty section.

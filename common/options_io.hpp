@@ -41,6 +41,22 @@ struct Reader {
     throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x + "' is not one of " + list +
                       did_you_mean(x, allowed));
   }
+  /// A non-empty list of distinct names, each one of `allowed` (did-you-mean for a misspelt one).
+  void choices(const char* k, std::vector<std::string>& x, const std::vector<std::string>& allowed) {
+    x = s.strings(k, x);
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    if (x.empty()) throw ConfigError("scenario key '" + s.key_path(k) + "': the list is empty; give one or more of " + list);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      bool known = false;
+      for (const auto& a : allowed) known = known || a == x[i];
+      if (!known)
+        throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x[i] + "' is not one of " + list +
+                          did_you_mean(x[i], allowed));
+      for (std::size_t j = 0; j < i; ++j)
+        if (x[j] == x[i]) throw ConfigError("scenario key '" + s.key_path(k) + "': '" + x[i] + "' is listed twice");
+    }
+  }
   void list(const char* k, std::vector<double>& x, double lo, double hi) {
     x = s.numbers(k, x, lo, hi);
   }
@@ -62,6 +78,7 @@ struct Writer {
   void flag(const char* k, bool& x) { j[k] = x; }
   void str(const char* k, std::string& x) { j[k] = x; }
   void choice(const char* k, std::string& x, const std::vector<std::string>&) { j[k] = x; }
+  void choices(const char* k, std::vector<std::string>& x, const std::vector<std::string>&) { j[k] = x; }
   void list(const char* k, std::vector<double>& x, double, double) { j[k] = x; }
   void intervals(const char* k, std::vector<std::pair<double, double>>& x, double, double) {
     j[k] = nlohmann::json::array();

@@ -2,6 +2,7 @@
 
 #include "options_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rnav {
@@ -33,7 +34,7 @@ template <class V> void visit(ObserverOptions& o, V& v) {
   v.num("wind_north_mps", o.wind_north_mps, -100, 100);
   v.num("wind_east_mps", o.wind_east_mps, -100, 100);
   v.num("estimate_latency_s", o.estimate_latency_s, 0.01, 100);
-  v.choice("guidance_estimator", o.guidance_estimator, {"ekf", "rpekf"});
+  v.choice("guidance_estimator", o.guidance_estimator, TmaOptions::known_estimators());
 }
 template <class V> void visit(ObserverNavOptions& o, V& v) {
   v.num("white_sigma_m", o.white_sigma_m, 0, 100);
@@ -69,6 +70,7 @@ template <class V> void visit(TmaOptions& o, V& v) {
   v.num("bank_min_m", o.bank_min_m, 1, 1e6);
   v.num("bank_max_m", o.bank_max_m, 1, 1e6);
   v.flag("add_nav_noise", o.add_nav_noise);
+  v.choices("estimators", o.estimators, TmaOptions::known_estimators());
 }
 template <class V> void visit(UavLoggerOptions& o, V& v) {
   v.num("eval_time_s", o.eval_time_s, -1, 1e6);
@@ -130,6 +132,10 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
       throw ConfigError("scenario keys 'uav.wind_north_mps', 'uav.wind_east_mps': the wind speed must be below the airspeed uav.speed_mps");
   }
   require_multiple(sc.runner.window_s, sc.sensor.period_s, "runner.window_s", "sensor.period_s");
+  if (sc.closed_loop() && std::find(sc.tma.estimators.begin(), sc.tma.estimators.end(), sc.uav.guidance_estimator) ==
+                              sc.tma.estimators.end())
+    throw ConfigError("scenario key 'uav.guidance_estimator' = \"" + sc.uav.guidance_estimator +
+                      "\" is not among tma.estimators: guidance would get no estimate (add it to tma.estimators)");
   if (sc.tma.bank_min_m >= sc.tma.bank_max_m)
     throw ConfigError("scenario key 'tma.bank_min_m' must be below tma.bank_max_m");
   for (const auto& m : sc.target.manoeuvres)
@@ -153,6 +159,11 @@ void check_track_realization(const UavLoggerOptions& o, long n_realizations) {
     throw ConfigError("scenario key 'logger.track_realization' = " + std::to_string(o.track_realization) +
                       " names no realization of this run (0 ... " + std::to_string(n_realizations - 1) +
                       "; -1: no track.csv)");
+}
+
+const std::vector<std::string>& TmaOptions::known_estimators() {
+  static const std::vector<std::string> names{"ekf", "rpekf", "ml"};
+  return names;
 }
 
 double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / uav.speed_mps; }

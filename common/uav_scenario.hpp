@@ -104,6 +104,12 @@ struct TmaOptions {
   double bank_min_m = 50;       ///< [m] RP-EKF: smallest range
   double bank_max_m = 3000;     ///< [m] RP-EKF: largest range
   bool add_nav_noise = true;    ///< bearing variance + (nav sigma / range)^2
+  /// The estimators the node runs and publishes, in this order (UAV_TMA's `estimator`):
+  /// "ekf" (the paper's Cartesian EKF), "rpekf" (the range-parameterised bank), "ml" (the batch
+  /// MAP estimator, tma_batch_ml.hpp). At least one, no repeats.
+  std::vector<std::string> estimators{"ekf", "rpekf"};
+  /// Every name `estimators` accepts.
+  static const std::vector<std::string>& known_estimators();
 };
 
 struct UavLoggerOptions {

@@ -51,8 +51,9 @@ EST_SUFFIXES = ("_n", "_rmse_pos_m", "_rmse_vel_mps", "_nees_mean", "_nis_mean")
 EST_STYLE = {
     "ekf": ("Cartesian EKF (paper)", "#d62728"),
     "rpekf": ("range-parameterised EKF bank", "#1f77b4"),
+    "ml": ("batch MAP (all bearings)", "#2ca02c"),
 }
-OTHER_COLOURS = ("#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
+OTHER_COLOURS = ("#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
 C_PCRB = "black"
 C_BAND = "#9e9e9e"
 C_EVAL = "#555555"

@@ -483,7 +483,9 @@ TEST_CASE("real-time mode is paced by the wall clock and gives the lock-step sta
 TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has the documented shape",
           "[integration][uav]") {
   const fs::path d = scratch("uav");
-  const std::string uav = kRoot + "/scripts/run uav --no-plots --net netns --realizations 10 --seed 3 ";
+  // All three estimators: the list value of tma.estimators reaches every process through --set.
+  const std::string uav = kRoot + "/scripts/run uav --no-plots --net netns --realizations 10 --seed 3 "
+                          "--set 'tma.estimators=[\"ekf\",\"rpekf\",\"ml\"]' ";
   const auto mp = sh(uav + "--out " + (d / "mp").string());
   const auto ip = sh(uav + "--inproc --out " + (d / "ip").string());
   INFO(mp.output << ip.output);
@@ -496,7 +498,9 @@ TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has 
   }
   const auto j = nlohmann::json::parse(slurp(d / "mp" / "summary.json"));
   CHECK(j["pcrb_pos_m"].get<double>() > 0);
-  for (const char* e : {"ekf", "rpekf"}) {
+  CHECK(j["estimators"].size() == 3);
+  for (const char* e : {"ekf", "rpekf", "ml"}) {
+    INFO(e);
     const auto& s = j["estimators"][e];
     CHECK(s["rmse_pos_m"].get<double>() > 0);
     CHECK(s["nees_band"].size() == 2);
@@ -562,7 +566,10 @@ TEST_CASE("UAV scenario: bad input is an error naming the key", "[integration][u
                         Case{"--set uav.guidance=los --set uav.wind_north_mps=20", "uav.wind_north_mps"},
                         Case{"--set uav.guidance=los --set uav.estimate_latency_s=0.3", "uav.estimate_latency_s"},
                         Case{"--set uav.guidance_estimator=kf", "uav.guidance_estimator"},
-                        Case{"--set uav.max_bank_deg=90", "uav.max_bank_deg"}}) {
+                        Case{"--set uav.max_bank_deg=90", "uav.max_bank_deg"},
+                        Case{"--set 'tma.estimators=[\"ekf\",\"mll\"]'",
+                             "'tma.estimators': 'mll' is not one of ekf, rpekf, ml (did you mean 'ml'?)"},
+                        Case{"--set tma.estimators=ml", "'tma.estimators': expected a list of strings"}}) {
     const auto r = sh(uav + " " + c.args);
     INFO(c.args << "\n" << r.output);
     CHECK(r.status == 2);

@@ -1,6 +1,7 @@
 #include "tma_estimators.hpp"
 
 #include "frames.hpp"
+#include "tma_batch_ml.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -122,8 +123,12 @@ double RangeParameterisedEkf::process(const BearingMeas& z) {
 
 std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o) {
   std::vector<std::unique_ptr<TmaEstimator>> v;
-  v.push_back(std::make_unique<CartesianEkf>(o, o.range_prior_m, o.range_sigma_m));
-  v.push_back(std::make_unique<RangeParameterisedEkf>(o));
+  for (const std::string& name : o.estimators) {
+    if (name == "ekf") v.push_back(std::make_unique<CartesianEkf>(o, o.range_prior_m, o.range_sigma_m));
+    else if (name == "rpekf") v.push_back(std::make_unique<RangeParameterisedEkf>(o));
+    else if (name == "ml") v.push_back(std::make_unique<BatchMl>(o));
+    else throw std::invalid_argument("make_estimators: unknown estimator '" + name + "' (tma.estimators)");
+  }
   return v;
 }
 

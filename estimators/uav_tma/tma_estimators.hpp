@@ -9,6 +9,7 @@
 //    weighted by their innovation likelihoods; the output is the mixture's mean and covariance.
 //    It removes the single EKF's dependence on one range guess, the cause of its early
 //    over-confidence (Peach 1995; Arulampalam & Ristic 2000).
+//  - BatchMl ("ml", tma_batch_ml.hpp): the batch MAP estimate over all bearings so far.
 #pragma once
 
 #include "kalman_core.hpp"
@@ -81,7 +82,9 @@ class RangeParameterisedEkf : public TmaEstimator {
 /// NIS of a bearing against a Gaussian prediction (wrapped innovation).
 double bearing_nis(const Gaussian& predicted, const BearingMeas& z, bool add_nav_noise);
 
-/// The estimators compared by default: the paper's EKF and the RP-EKF bank.
+/// The estimators named in o.estimators, in that order: "ekf" (CartesianEkf), "rpekf"
+/// (RangeParameterisedEkf), "ml" (BatchMl, tma_batch_ml.hpp); by default the paper's EKF and the
+/// RP-EKF bank. An unknown name throws std::invalid_argument (the scenario reader rejects it first).
 std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o);
 
 }  // namespace rnav::tma
