@@ -1,18 +1,17 @@
 """geometry.png of an azimuth-only (UAV) run, from its track.csv (loggers/uav_track.hpp).
 
-Used by plot_uav.py. Plan view (north up, east right, equal aspect) of one realization: the
-UAV's true path, the object's true track (start marked), each estimator's estimate track, and at
-a few times (TIMES_N, spaced logarithmically from the first estimate to the end, so that most
+Used by plot_uav.py. Three panels of one realization, north up, east right, equal aspect:
+(a) plan view: the UAV's true path, the object's true track (start marked), each estimator's
+estimate track, and at TIMES_N marked times (pick_times: they follow the convergence, so most
 fall where the estimates have not yet converged) the estimates with their 2-sigma position
 ellipses (k = 2 on the Mahalanobis distance: the 86.5 % region of a 2-D Gaussian), a line from
 each estimate to the true object position at that time, and the measured bearing ray from the
-UAV. A second panel zooms on the object at the last of those times, where the ellipses are too
-small to see in the plan view.
+UAV; (b) the same around the object at the marked times but the last; (c) a zoom on the object
+at the last marked time, where the ellipses are too small to see in (a) and (b).
 """
 
 import csv
 import math
-import os
 
 import numpy as np
 from matplotlib.patches import Ellipse, Rectangle
@@ -133,7 +132,7 @@ def fmt_t(t):
     return "%.0f s" % t if t >= 9.95 else "%.1f s" % t
 
 
-def draw_estimates(ax, c, names, styles, i, with_time=False, lw=1.3):
+def draw_estimates(ax, c, names, styles, i, lw=1.3):
     """At row i: each estimate with its ellipse and a line to the true object position."""
     on, oe = c["object_north_m"][i], c["object_east_m"][i]
     for e in names:
