@@ -70,6 +70,7 @@ template <class V> void visit(TmaOptions& o, V& v) {
   v.num("bank_min_m", o.bank_min_m, 1, 1e6);
   v.num("bank_max_m", o.bank_max_m, 1, 1e6);
   v.flag("add_nav_noise", o.add_nav_noise);
+  v.integer("pf_particles", o.pf_particles, 100, 1000000);
   v.choices("estimators", o.estimators, TmaOptions::known_estimators());
 }
 template <class V> void visit(UavLoggerOptions& o, V& v) {
@@ -162,7 +163,7 @@ void check_track_realization(const UavLoggerOptions& o, long n_realizations) {
 }
 
 const std::vector<std::string>& TmaOptions::known_estimators() {
-  static const std::vector<std::string> names{"ekf", "rpekf", "ml"};
+  static const std::vector<std::string> names{"ekf", "rpekf", "ml", "pf"};
   return names;
 }
 

@@ -104,9 +104,15 @@ struct TmaOptions {
   double bank_min_m = 50;       ///< [m] RP-EKF: smallest range
   double bank_max_m = 3000;     ///< [m] RP-EKF: largest range
   bool add_nav_noise = true;    ///< bearing variance + (nav sigma / range)^2
+  /// Particle filter "pf": number of particles M, [100, 1000000]. Its initial range is drawn
+  /// log-uniform over [bank_min_m, bank_max_m]. Cost O(M) per bearing: the default run takes
+  /// about 0.35 s per realization at 8000. With 4000 the default run's mean NEES left the 95 %
+  /// band for one of three seeds (4.58 > 4.40, 200 runs); with 1000 it was 25.
+  long pf_particles = 8000;
   /// The estimators the node runs and publishes, in this order (UAV_TMA's `estimator`):
   /// "ekf" (the paper's Cartesian EKF), "rpekf" (the range-parameterised bank), "ml" (the batch
-  /// MAP estimator, tma_batch_ml.hpp). At least one, no repeats.
+  /// MAP estimator, tma_batch_ml.hpp), "pf" (the regularised particle filter, tma_particle.hpp).
+  /// At least one, no repeats.
   std::vector<std::string> estimators{"ekf", "rpekf"};
   /// Every name `estimators` accepts.
   static const std::vector<std::string>& known_estimators();

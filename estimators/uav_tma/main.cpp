@@ -6,11 +6,13 @@
 #include "uav_tma_node.hpp"
 
 #include <cstring>
+#include <limits>
 
 int main(int argc, char** argv) {
   const rnav::NodeProgram program = {"rnav_uav_tma", "uav_tma",
                           "Azimuth-only estimates of the object's position and velocity with covariance: the "
-                          "paper's linearised Kalman filter (ekf) and the range-parameterised bank (rpekf).",
+                          "paper's linearised Kalman filter (ekf), the range-parameterised bank (rpekf), the batch MAP estimator (ml) "
+                          "and the particle filter (pf), as tma.estimators lists them.",
                           false, true};
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--free") == 0) {
@@ -20,9 +22,13 @@ int main(int argc, char** argv) {
           [&o](rnav::cli::Parser& p) {
             p.value("--bearing-lateness-s", "S", "[s] single samples: how far the bearings may lag the nav states; a frame is processed once a nav state this much later has arrived", "1",
                     [&o](const std::string& v) { o.bearing_lateness_s = rnav::cli::number("--bearing-lateness-s", v, 0, 3600); });
+            p.value("--seed", "S", "ensemble seed of the recorded run (an integer): the particle filter's (pf) random stream is that of (seed, realization)", "1",
+                    [&o](const std::string& v) {
+                      o.seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+                    });
           },
           [&o](rnav::Bus& bus, const rnav::UavScenario& sc) -> std::unique_ptr<rnav::FreeNode> {
-            std::cerr << "rnav_uav_tma: bearing_lateness_s " << o.bearing_lateness_s << "\n";
+            std::cerr << "rnav_uav_tma: bearing_lateness_s " << o.bearing_lateness_s << " seed " << o.seed << "\n";
             return std::make_unique<rnav::UavTmaFreeNode>(bus, sc, o);
           });
     }

@@ -2,6 +2,7 @@
 
 #include "frames.hpp"
 #include "tma_batch_ml.hpp"
+#include "tma_particle.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -121,12 +122,14 @@ double RangeParameterisedEkf::process(const BearingMeas& z) {
   return nis;
 }
 
-std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o) {
+std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o, std::uint64_t seed,
+                                                           std::uint64_t realization) {
   std::vector<std::unique_ptr<TmaEstimator>> v;
   for (const std::string& name : o.estimators) {
     if (name == "ekf") v.push_back(std::make_unique<CartesianEkf>(o, o.range_prior_m, o.range_sigma_m));
     else if (name == "rpekf") v.push_back(std::make_unique<RangeParameterisedEkf>(o));
     else if (name == "ml") v.push_back(std::make_unique<BatchMl>(o));
+    else if (name == "pf") v.push_back(std::make_unique<ParticleFilter>(o, seed, realization));
     else throw std::invalid_argument("make_estimators: unknown estimator '" + name + "' (tma.estimators)");
   }
   return v;

@@ -10,11 +10,14 @@
 //    It removes the single EKF's dependence on one range guess, the cause of its early
 //    over-confidence (Peach 1995; Arulampalam & Ristic 2000).
 //  - BatchMl ("ml", tma_batch_ml.hpp): the batch MAP estimate over all bearings so far.
+//  - ParticleFilter ("pf", tma_particle.hpp): a regularised particle filter (the whole posterior
+//    as weighted samples; random, from the realization's own stream).
 #pragma once
 
 #include "kalman_core.hpp"
 #include "uav_scenario.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -83,8 +86,11 @@ class RangeParameterisedEkf : public TmaEstimator {
 double bearing_nis(const Gaussian& predicted, const BearingMeas& z, bool add_nav_noise);
 
 /// The estimators named in o.estimators, in that order: "ekf" (CartesianEkf), "rpekf"
-/// (RangeParameterisedEkf), "ml" (BatchMl, tma_batch_ml.hpp); by default the paper's EKF and the
-/// RP-EKF bank. An unknown name throws std::invalid_argument (the scenario reader rejects it first).
-std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o);
+/// (RangeParameterisedEkf), "ml" (BatchMl, tma_batch_ml.hpp), "pf" (ParticleFilter,
+/// tma_particle.hpp, whose random stream is that of (seed, realization)); by default the paper's
+/// EKF and the RP-EKF bank. An unknown name throws std::invalid_argument (the scenario reader
+/// rejects it first).
+std::vector<std::unique_ptr<TmaEstimator>> make_estimators(const TmaOptions& o, std::uint64_t seed,
+                                                           std::uint64_t realization);
 
 }  // namespace rnav::tma

@@ -7,7 +7,7 @@
 namespace rnav {
 
 UavTmaFreeNode::UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFreeOptions& o)
-    : bus_(bus), sc_(sc), o_(o), est_(tma::make_estimators(sc.tma)),
+    : bus_(bus), sc_(sc), o_(o), est_(tma::make_estimators(sc.tma, static_cast<std::uint64_t>(o.seed), 0)),
       nav_order_(ch::kUavNav), bearing_order_(ch::kUavBearing) {
   if (!(o.bearing_lateness_s >= 0 && o.bearing_lateness_s <= 3600))
     throw std::invalid_argument("bearing_lateness_s must be in [0, 3600] s");
@@ -20,7 +20,7 @@ void UavTmaFreeNode::enter_flight(const FlightKey& f) {
   if (!nav_q_.empty() || !bearing_q_.empty()) ++incomplete_flights_;
   nav_q_.clear();
   bearing_q_.clear();
-  est_ = tma::make_estimators(sc_.tma);
+  est_ = tma::make_estimators(sc_.tma, static_cast<std::uint64_t>(o_.seed), static_cast<std::uint64_t>(f.first));
   flight_ = f;
   ++flights_;
 }

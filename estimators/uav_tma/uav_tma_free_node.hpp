@@ -28,6 +28,10 @@ struct UavTmaFreeOptions {
   /// [s] >= 0, default 1: how far the bearings may lag the nav states when both come as single
   /// messages (see the file comment).
   double bearing_lateness_s = 1.0;
+  /// Ensemble seed of the recorded run, default 1: with the flight's realization it selects the
+  /// particle filter's random stream ("pf" in tma.estimators), so a lock-step run's pf estimates
+  /// are reproduced from its log when this is that run's --seed. The other estimators draw nothing.
+  long long seed = 1;
 };
 
 class UavTmaFreeNode : public FreeNode {

@@ -15,7 +15,9 @@ UavTmaNode::UavTmaNode(Bus& bus, const UavScenario& sc)
   add_input<bearing_batch_t>(ch::kUavBearing);
 }
 
-void UavTmaNode::reset(const sim_window_t&) { est_ = tma::make_estimators(sc_.tma); }
+void UavTmaNode::reset(const sim_window_t& w) {
+  est_ = tma::make_estimators(sc_.tma, static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization));
+}
 
 int UavTmaNode::process(const sim_window_t&) {
   tma_batch_t out;
