@@ -52,6 +52,7 @@ EST_STYLE = {
     "ekf": ("Cartesian EKF (paper)", "#d62728"),
     "rpekf": ("range-parameterised EKF bank", "#1f77b4"),
     "ml": ("batch MAP (all bearings)", "#2ca02c"),
+    "pf": ("particle filter", "#ff7f0e"),
 }
 OTHER_COLOURS = ("#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
 C_PCRB = "black"

@@ -247,32 +247,44 @@ def ex_python(tmp):
         fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, the README quotes %s" % (rows, quoted.split()[0]))
 
 
-def ex_uav_ml(tmp):
-    """The batch estimator's table: every row against the summary.json of the run it names."""
-    lines, after = block_after("scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=")
+def uav_estimator_table(tmp, first_command, what):
+    """A README table of UAV estimators: its commands run, every row against the summary.json of
+    the run it names."""
+    lines, after = block_after(first_command)
     for cmd in commands(lines):
-        run_ok(cmd, tmp, "UAV ml example")
+        run_ok(cmd, tmp, what + " example")
     table = after[after.index("| run (`--out`)"):]
     table = table[:table.index("\n\n")]
     rows = re.findall(r"^\| `(out/[^`]+)` \| `(\w+)` \| ([\d.]+) m \| ([\d.]+) \| ([\d. ]+) \((inside|outside)\) "
                       r"\| (\d+) / (\d+) \|$", table, re.M)
     if len(rows) != table.count("\n") - 1:
-        raise SystemExit("check_readme: a row of the UAV ml table does not parse; update test/check_readme.py")
+        raise SystemExit("check_readme: a row of the %s table does not parse; update test/check_readme.py" % what)
     for out, name, rmse, ratio, nees, inside, diverged, runs in rows:
         e = json.load(open(os.path.join(tmp, out, "summary.json")))["estimators"][name]
-        what = "UAV ml table %s %s" % (out, name)
-        agree(what + " RMSE", rmse, e["rmse_pos_m"])
-        agree(what + " RMSE/PCRB", ratio, e["rmse_pos_over_pcrb"])
-        agree(what + " mean NEES", nees, e["nees_mean"])
+        row = "%s table %s %s" % (what, out, name)
+        agree(row + " RMSE", rmse, e["rmse_pos_m"])
+        agree(row + " RMSE/PCRB", ratio, e["rmse_pos_over_pcrb"])
+        agree(row + " mean NEES", nees, e["nees_mean"])
         if (inside == "inside") != e["nees_within_band"]:
-            fail(what + ": the README says NEES %s the band, the run says within_band=%s" % (inside, e["nees_within_band"]))
+            fail(row + ": the README says NEES %s the band, the run says within_band=%s" % (inside, e["nees_within_band"]))
         if int(diverged) != e["diverged"] or int(runs) != e["runs"]:
-            fail(what + ": the README quotes %s / %s diverged, the run gives %d / %d" % (diverged, runs, e["diverged"], e["runs"]))
+            fail(row + ": the README quotes %s / %s diverged, the run gives %d / %d" % (diverged, runs, e["diverged"], e["runs"]))
+
+
+def ex_uav_ml(tmp):
+    """The batch estimator's table."""
+    uav_estimator_table(tmp, "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"ekf\"", "UAV ml")
+
+
+def ex_uav_pf(tmp):
+    """The particle filter's table."""
+    uav_estimator_table(tmp, "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"rpekf\"", "UAV pf")
 
 
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
-            "replay": ex_replay, "python": ex_python, "uav_ml": ex_uav_ml}
+            "replay": ex_replay, "python": ex_python, "uav_ml": ex_uav_ml,
+            "uav_pf": ex_uav_pf}
 
 for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:

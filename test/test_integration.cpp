@@ -483,9 +483,10 @@ TEST_CASE("real-time mode is paced by the wall clock and gives the lock-step sta
 TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has the documented shape",
           "[integration][uav]") {
   const fs::path d = scratch("uav");
-  // All three estimators: the list value of tma.estimators reaches every process through --set.
+  // All four estimators: the list value of tma.estimators reaches every process through --set, and
+  // the particle filter's random draws are the same in the uav_tma process as in one process.
   const std::string uav = kRoot + "/scripts/run uav --no-plots --net netns --realizations 10 --seed 3 "
-                          "--set 'tma.estimators=[\"ekf\",\"rpekf\",\"ml\"]' ";
+                          "--set 'tma.estimators=[\"ekf\",\"rpekf\",\"ml\",\"pf\"]' --set tma.pf_particles=2000 ";
   const auto mp = sh(uav + "--out " + (d / "mp").string());
   const auto ip = sh(uav + "--inproc --out " + (d / "ip").string());
   INFO(mp.output << ip.output);
@@ -498,8 +499,8 @@ TEST_CASE("UAV scenario: multi-process over LCM equals one process, summary has 
   }
   const auto j = nlohmann::json::parse(slurp(d / "mp" / "summary.json"));
   CHECK(j["pcrb_pos_m"].get<double>() > 0);
-  CHECK(j["estimators"].size() == 3);
-  for (const char* e : {"ekf", "rpekf", "ml"}) {
+  CHECK(j["estimators"].size() == 4);
+  for (const char* e : {"ekf", "rpekf", "ml", "pf"}) {
     INFO(e);
     const auto& s = j["estimators"][e];
     CHECK(s["rmse_pos_m"].get<double>() > 0);
