@@ -40,6 +40,45 @@ TEST_CASE("pf: Silverman's bandwidth", "[tma][pf]") {
   CHECK_THROWS(silverman_bandwidth(0, 4));
 }
 
+TEST_CASE("pf: the Liu-West kernel keeps the cloud's mean and covariance and separates duplicates",
+          "[tma][pf]") {
+  // A cloud of M = 20000 draws from N(m, S), then every particle duplicated (as resampling does).
+  // After the kernel the sample mean must be within 4 standard errors (sqrt(S_kk / M') per
+  // component, M' = 10000 distinct draws, the duplicates adding no information) of m, and each
+  // variance within 4 standard errors of S_kk (relative standard error sqrt(2 / M') = 1.4 %).
+  const long M = 20000;
+  Vec4 m(100, -50, 3, -1);
+  Mat4 S;
+  S << 400, 120, 10, 0,  //
+      120, 100, 0, 2,    //
+      10, 0, 4, 0.5,     //
+      0, 2, 0.5, 1;
+  const Mat4 L = S.llt().matrixL();
+  Rng rng(3, 0, Stream::kTest);
+  std::vector<Vec4> x;
+  for (long i = 0; i < M / 2; ++i) {
+    Vec4 n;
+    for (int k = 0; k < 4; ++k) n(k) = rng.normal();
+    x.push_back(m + L * n);
+    x.push_back(x.back());
+  }
+  liu_west_regularise(x, m, S, 0.46, rng);
+  Vec4 mean = Vec4::Zero();
+  for (const Vec4& xi : x) mean += xi / static_cast<double>(M);
+  Mat4 C = Mat4::Zero();
+  for (const Vec4& xi : x) C += (xi - mean) * (xi - mean).transpose() / static_cast<double>(M - 1);
+  const double distinct = M / 2.0;
+  for (int k = 0; k < 4; ++k) {
+    INFO("component " << k << ": mean " << mean(k) << " (" << m(k) << "), variance " << C(k, k) << " (" << S(k, k) << ")");
+    CHECK(std::abs(mean(k) - m(k)) < 4 * std::sqrt(S(k, k) / distinct));
+    CHECK(std::abs(C(k, k) / S(k, k) - 1) < 4 * std::sqrt(2 / distinct));
+  }
+  CHECK(x[0] != x[1]);  // the duplicates separated
+  // The test can fail: a kernel without shrinkage (a = 1) grows each variance by 1 + h^2 = 1.21,
+  // 15 standard errors off. h = 1 leaves a = 0 (every particle replaced by noise): refused.
+  CHECK_THROWS_WITH(liu_west_regularise(x, m, S, 1.0, rng), Catch::Contains("h must be in (0, 1)"));
+}
+
 TEST_CASE("pf: an update multiplies each weight by its bearing likelihood", "[tma][pf]") {
   TmaOptions o;
   o.pf_particles = 500;

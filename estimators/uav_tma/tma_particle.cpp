@@ -136,20 +136,26 @@ double ParticleFilter::effective_sample_size() const {
   return 1.0 / s2;
 }
 
-void ParticleFilter::resample() {
-  // The weighted cloud's mean and covariance, kept by the shrinkage kernel.
-  const Vec4 xbar = est_.x;
-  const Mat4 L = psd_sqrt(est_.P);
-  const double h = s_.kernel_scale * silverman_bandwidth(static_cast<long>(x_.size()), kStateDim);
+void liu_west_regularise(std::vector<Vec4>& x, const Vec4& xbar, const Mat4& S, double h, Rng& rng) {
+  if (!(h > 0 && h < 1)) throw std::invalid_argument("liu_west_regularise: h must be in (0, 1)");
+  const Mat4 L = psd_sqrt(S);
   const double a = std::sqrt(1 - h * h);
-  const std::vector<int> idx = systematic_resample(w_, rng_.uniform());
-  std::vector<Vec4> y(x_.size());
-  for (std::size_t i = 0; i < y.size(); ++i) {
+  for (Vec4& xi : x) {
     // x_i <- a x_i + (1 - a) xbar + h L_S n_i.
     Vec4 n;
-    for (int k = 0; k < kStateDim; ++k) n(k) = rng_.normal();
-    y[i] = a * x_[static_cast<std::size_t>(idx[i])] + (1 - a) * xbar + h * (L * n);
+    for (int k = 0; k < kStateDim; ++k) n(k) = rng.normal();
+    xi = a * xi + (1 - a) * xbar + h * (L * n);
   }
+}
+
+void ParticleFilter::resample() {
+  // The weighted cloud's mean and covariance (est_, refreshed after the update) are what the
+  // shrinkage kernel keeps.
+  const double h = s_.kernel_scale * silverman_bandwidth(static_cast<long>(x_.size()), kStateDim);
+  const std::vector<int> idx = systematic_resample(w_, rng_.uniform());
+  std::vector<Vec4> y(x_.size());
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = x_[static_cast<std::size_t>(idx[i])];
+  liu_west_regularise(y, est_.x, est_.P, h, rng_);
   x_.swap(y);
   std::fill(w_.begin(), w_.end(), 1.0 / static_cast<double>(w_.size()));
   ++resamples_;

@@ -65,6 +65,12 @@ double silverman_bandwidth(long m, int d);
 /// times, u in [0, 1) the one uniform draw. w must be normalised (sum 1, each >= 0).
 std::vector<int> systematic_resample(const std::vector<double>& w, double u);
 
+/// The Liu-West shrinkage kernel on an equally weighted (resampled) cloud x whose source had mean
+/// xbar and covariance S: x_i <- a x_i + (1 - a) xbar + h L n_i, a = sqrt(1 - h^2), L L^T = S,
+/// n_i ~ N(0, I) from rng. If x's mean and covariance are xbar and S, they stay so in expectation:
+/// E = a xbar + (1 - a) xbar = xbar, Cov = a^2 S + h^2 S = S. h in (0, 1).
+void liu_west_regularise(std::vector<Vec4>& x, const Vec4& xbar, const Mat4& S, double h, Rng& rng);
+
 class ParticleFilter : public TmaEstimator {
  public:
   /// @param o          tma options: pf_particles (M), bank_min_m/bank_max_m (range prior span),
