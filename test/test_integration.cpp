@@ -569,7 +569,7 @@ TEST_CASE("UAV scenario: bad input is an error naming the key", "[integration][u
                         Case{"--set uav.guidance_estimator=kf", "uav.guidance_estimator"},
                         Case{"--set uav.max_bank_deg=90", "uav.max_bank_deg"},
                         Case{"--set 'tma.estimators=[\"ekf\",\"mll\"]'",
-                             "'tma.estimators': 'mll' is not one of ekf, rpekf, ml (did you mean 'ml'?)"},
+                             "'tma.estimators': 'mll' is not one of ekf, rpekf, ml, pf (did you mean 'ml'?)"},
                         Case{"--set tma.estimators=ml", "'tma.estimators': expected a list of strings"}}) {
     const auto r = sh(uav + " " + c.args);
     INFO(c.args << "\n" << r.output);
