@@ -27,6 +27,7 @@ PrlLoggerNode::PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir)
 
 void PrlLoggerNode::reset(const sim_window_t& w) {
   seed_ = w.seed;
+  realization_ = w.realization;
   truth_.clear();
   apoi_.clear();
   toi_.clear();
@@ -92,7 +93,7 @@ int PrlLoggerNode::process(const sim_window_t& w) {
 }
 
 void PrlLoggerNode::commit() {
-  stats_.add_realization(current_);
+  stats_.add_realization(current_, realization_);
   current_.clear();
 }
 

@@ -33,6 +33,7 @@ class PrlLoggerNode : public LockstepNode {
   Eigen::Isometry3d T_L_R_;  // radar frame R -> landing frame L
   PrlStats stats_;
   std::int64_t seed_ = 0;
+  long realization_ = 0;  // the current realization's index in the ensemble
   std::map<std::int64_t, Eigen::Vector3d> truth_;  // utime -> p_TA_L
   std::map<std::int64_t, prl_plot_t> apoi_, toi_;   // plot_id -> plot
   std::map<std::int64_t, prl_error_t> err_;

@@ -1,6 +1,7 @@
 #include "prl_stats.hpp"
 
 #include "atomic_file.hpp"
+#include "realization_set.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -50,7 +51,10 @@ PrlStats::PrlStats(const Scenario& sc)
       table_toi_(sc.logger.table_ranges_m.size()),
       table_plots_(sc.logger.table_ranges_m.size(), -1) {}
 
-void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
+void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realization) {
+  if (realization < 0) realization = held_.empty() ? 0 : *held_.rbegin() + 1;
+  if (held_.count(realization))
+    throw std::runtime_error("realization " + std::to_string(realization) + " added twice");
   const auto& ranges = sc_.logger.table_ranges_m;
   // Validate first, then add: a rejected realization leaves no partial contribution.
   std::vector<Moments<3>> a(ranges.size()), t(ranges.size()), be(ranges.size());
@@ -91,13 +95,14 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
     m[1].add(p.toi);
     m[2].add(p.bias_err);
   }
+  std::string& rows = realization_rows_[realization];
   auto row = [&](const char* kind, double lo, double hi, const Moments<3>& ap, const Moments<3>& to, const Moments<3>& bi) {
     const double scale[3] = {1, kRadToDeg, kRadToDeg};
-    realization_rows_ += std::to_string(n_real_) + "," + kind + "," + fixed(lo, 0) + "," + fixed(hi, 0) + "," + std::to_string(ap.n);
+    rows += std::to_string(realization) + "," + kind + "," + fixed(lo, 0) + "," + fixed(hi, 0) + "," + std::to_string(ap.n);
     for (const auto* m : {&ap, &to})
-      for (int k = 0; k < 3; ++k) realization_rows_ += "," + full(m->mean(k));
-    for (int k = 0; k < 3; ++k) realization_rows_ += "," + full(bi.mean(k) * scale[k]);
-    realization_rows_ += "\n";
+      for (int k = 0; k < 3; ++k) rows += "," + full(m->mean(k));
+    for (int k = 0; k < 3; ++k) rows += "," + full(bi.mean(k) * scale[k]);
+    rows += "\n";
   };
   for (std::size_t i = 0; i < ranges.size(); ++i)
     row("table", ranges[i] - sc_.logger.table_halfwidth_m, ranges[i] + sc_.logger.table_halfwidth_m, a[i], t[i], be[i]);
@@ -113,6 +118,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots) {
     table_apoi_[i].add(ma);
     table_toi_[i].add(mt);
   }
+  held_.insert(realization);
   ++n_real_;
 }
 
@@ -155,6 +161,19 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
 }
 
 void PrlStats::write(const std::string& dir, std::int64_t seed) const {
+  if (realization_rows_.size() != held_.size())
+    throw std::logic_error("PrlStats::write: merged shards' realizations.csv rows are not held here (write_statistics, "
+                           "then join the shards' files)");
+  write_statistics(dir, seed);
+  // Per realization (in order) and bin: "table" rows are Table 2's bins (true distance in the
+  // sense of logger.table_range_origin within +-table_halfwidth_m of a table range), whose
+  // ensemble means table2.json holds; "range" rows the 1 km slant-range bins of stats_range.csv.
+  write_file_atomic(dir, "realizations.csv",
+                    "realization,bin,lo_m,hi_m,plots,apoi_x_m,apoi_z_m,apoi_y_m,toi_x_m,toi_z_m,toi_y_m,"
+                    "biaserr_range_m,biaserr_course_deg,biaserr_glide_deg\n" + all_rows());
+}
+
+void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const {
   if (n_real_ == 0) throw std::runtime_error("no complete realization to write");
   std::filesystem::create_directories(dir);
   const auto& ranges = sc_.logger.table_ranges_m;
@@ -242,13 +261,128 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
     rs << "\n";
   }
   write_file_atomic(dir, "stats_range.csv", rs.str());
+  write_file_atomic(dir, "ensemble_state.json", state(seed).dump() + "\n");
+}
 
-  // Per realization (in order) and bin: "table" rows are Table 2's bins (true distance in the
-  // sense of logger.table_range_origin within +-table_halfwidth_m of a table range), whose
-  // ensemble means table2.json holds; "range" rows the 1 km slant-range bins of stats_range.csv.
-  write_file_atomic(dir, "realizations.csv",
-                    "realization,bin,lo_m,hi_m,plots,apoi_x_m,apoi_z_m,apoi_y_m,toi_x_m,toi_z_m,toi_y_m,"
-                    "biaserr_range_m,biaserr_course_deg,biaserr_glide_deg\n" + realization_rows_);
+std::string PrlStats::all_rows() const {
+  std::string s;
+  for (const auto& [r, rows] : realization_rows_) s += rows;
+  return s;
+}
+
+nlohmann::ordered_json PrlStats::state(std::int64_t seed) const {
+  using J = nlohmann::ordered_json;
+  J j;
+  j["kind"] = "landing";
+  j["format"] = 1;
+  j["seed"] = seed;
+  j["realizations"] = n_real_;
+  j["by_time"] = J::array();
+  for (const auto& [utime, b] : by_time_)
+    j["by_time"].push_back({{"utime", utime}, {"range_true_m", full(b.range_true_m)}, {"range_table_m", full(b.range_table_m)},
+                            {"p_true_L", {full(b.p_true_L[0]), full(b.p_true_L[1]), full(b.p_true_L[2])}},
+                            {"apoi", b.apoi.state()}, {"toi", b.toi.state()}, {"bias_err", b.bias_err.state()},
+                            {"bias_var", b.bias_var.state()}});
+  j["by_range"] = J::array();
+  for (const auto& [bin, m] : by_range_) j["by_range"].push_back({{"bin", bin}, {"apoi", m.first.state()}, {"toi", m.second.state()}});
+  j["table"] = J::array();
+  for (std::size_t i = 0; i < table_apoi_.size(); ++i)
+    j["table"].push_back({{"plots", table_plots_[i]}, {"apoi", table_apoi_[i].state()}, {"toi", table_toi_[i].state()}});
+  j["held"] = realization_intervals(held_);
+  return j;
+}
+
+namespace {
+
+// A double written by full() (or any decimal): exact, or an error naming `what`.
+double read_full(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_string()) throw std::invalid_argument(what + ": expected a number as text");
+  const std::string t = j.get<std::string>();
+  char* end = nullptr;
+  const double x = std::strtod(t.c_str(), &end);
+  if (t.empty() || *end != '\0' || !std::isfinite(x)) throw std::invalid_argument(what + ": not a finite number: '" + t + "'");
+  return x;
+}
+
+const nlohmann::json& member(const nlohmann::json& j, const char* key, const std::string& what) {
+  if (!j.is_object() || !j.contains(key)) throw std::invalid_argument(what + ": '" + key + "' is missing");
+  return j.at(key);
+}
+
+}  // namespace
+
+void PrlStats::merge_state(const nlohmann::json& j, std::int64_t seed, const std::string& what) {
+  if (member(j, "kind", what) != "landing" || member(j, "format", what) != 1)
+    throw std::invalid_argument(what + ": not a landing-radar ensemble state (format 1)");
+  if (member(j, "seed", what) != seed)
+    throw std::invalid_argument(what + ": seed " + member(j, "seed", what).dump() + ", the merged ensemble's is " + std::to_string(seed));
+  const auto& ranges = sc_.logger.table_ranges_m;
+  // Parse everything into a PrlStats of its own first: a rejected shard changes nothing here.
+  PrlStats o(sc_);
+  o.n_real_ = member(j, "realizations", what).get<long>();
+  o.held_ = rnav::realization_set(member(j, "held", what), what);
+  for (long r : o.held_)
+    if (held_.count(r)) throw std::invalid_argument(what + ": realization " + std::to_string(r) + " is already in the merged ensemble");
+  if (static_cast<long>(o.held_.size()) != o.n_real_)
+    throw std::invalid_argument(what + ": " + std::to_string(o.n_real_) + " realizations but 'held' names " +
+                                std::to_string(o.held_.size()));
+  for (const auto& b : member(j, "by_time", what)) {
+    const std::string w = what + " by_time[" + member(b, "utime", what).dump() + "]";
+    auto& tb = o.by_time_[member(b, "utime", w).get<std::int64_t>()];
+    tb.range_true_m = read_full(member(b, "range_true_m", w), w + ".range_true_m");
+    tb.range_table_m = read_full(member(b, "range_table_m", w), w + ".range_table_m");
+    const auto& p = member(b, "p_true_L", w);
+    if (!p.is_array() || p.size() != 3) throw std::invalid_argument(w + ".p_true_L: expected 3 numbers");
+    for (int k = 0; k < 3; ++k) tb.p_true_L[k] = read_full(p[k], w + ".p_true_L");
+    tb.apoi = Moments<3>::from_state(member(b, "apoi", w), w + ".apoi");
+    tb.toi = Moments<3>::from_state(member(b, "toi", w), w + ".toi");
+    tb.bias_err = Moments<3>::from_state(member(b, "bias_err", w), w + ".bias_err");
+    tb.bias_var = Moments<3>::from_state(member(b, "bias_var", w), w + ".bias_var");
+  }
+  for (const auto& b : member(j, "by_range", what)) {
+    const std::string w = what + " by_range";
+    auto& rb = o.by_range_[member(b, "bin", w).get<long>()];
+    rb.first = Moments<3>::from_state(member(b, "apoi", w), w + ".apoi");
+    rb.second = Moments<3>::from_state(member(b, "toi", w), w + ".toi");
+  }
+  const auto& table = member(j, "table", what);
+  if (!table.is_array() || table.size() != ranges.size())
+    throw std::invalid_argument(what + ": table has " + std::to_string(table.size()) + " ranges, the scenario " +
+                                std::to_string(ranges.size()));
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    o.table_plots_[i] = member(table[i], "plots", what).get<long>();
+    o.table_apoi_[i] = Moments<3>::from_state(member(table[i], "apoi", what), what + " table.apoi");
+    o.table_toi_[i] = Moments<3>::from_state(member(table[i], "toi", what), what + " table.toi");
+    if (n_real_ > 0 && o.n_real_ > 0 && table_plots_[i] != o.table_plots_[i])
+      throw std::invalid_argument(what + ": table range " + range_key(ranges[i]) +
+                                  " m: realizations differ in the number of plots in the bin");
+  }
+  // Every check passed: add.
+  for (auto& [utime, b] : o.by_time_) {
+    auto it = by_time_.find(utime);
+    if (it == by_time_.end()) {
+      by_time_.emplace(utime, b);
+      continue;
+    }
+    if (it->second.p_true_L != b.p_true_L || it->second.range_true_m != b.range_true_m)
+      throw std::invalid_argument(what + ": the true aircraft position at utime " + std::to_string(utime) +
+                                  " differs from the merged ensemble's (another scenario?)");
+    it->second.apoi.merge(b.apoi);
+    it->second.toi.merge(b.toi);
+    it->second.bias_err.merge(b.bias_err);
+    it->second.bias_var.merge(b.bias_var);
+  }
+  for (auto& [bin, m] : o.by_range_) {
+    by_range_[bin].first.merge(m.first);
+    by_range_[bin].second.merge(m.second);
+  }
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    if (o.n_real_ > 0) table_plots_[i] = o.table_plots_[i];
+    table_apoi_[i].merge(o.table_apoi_[i]);
+    table_toi_[i].merge(o.table_toi_[i]);
+  }
+  held_.insert(o.held_.begin(), o.held_.end());
+  n_real_ += o.n_real_;
 }
 
 }  // namespace rnav

@@ -35,7 +35,6 @@ void UavLoggerNode::reset(const sim_window_t& w) {
 }
 
 int UavLoggerNode::process(const sim_window_t& w) {
-  check_track_realization(sc_.logger, w.n_realizations);  // scripts/run checks first; a node started by hand
   // Everything of one frame arrives in the same window (all are produced per frame).
   std::map<std::int64_t, tma::Vec4> truth;
   for (const auto& s : input<target_truth_batch_t>("TRUTH_TARGET").states)
@@ -105,7 +104,7 @@ int UavLoggerNode::process(const sim_window_t& w) {
 }
 
 void UavLoggerNode::commit() {
-  stats_.add_realization(cur_);  // validates first: a rejected realization writes no rows
+  stats_.add_realization(cur_, realization_);  // validates first: a rejected realization writes no rows
   if (!out_dir_.empty()) {
     if (!rows_) {
       std::filesystem::create_directories(out_dir_);  // as the results at FINISH (a caller may not have made it)
@@ -126,7 +125,9 @@ void UavLoggerNode::finish(const sim_window_t& w) {
   if (out_dir_.empty()) return;
   stats_.write(out_dir_, seed_);
   if (rows_) rows_->commit();
-  if (sc_.logger.track_realization >= 0) {
+  // This run holds realizations first ... w.realization (the last one run; FINISH carries it).
+  const long first = static_cast<long>(w.realization) - w.n_realizations + 1;
+  if (sc_.logger.track_realization >= first && sc_.logger.track_realization <= w.realization) {
     if (track_csv_.empty())
       throw std::runtime_error("track.csv: realization " + std::to_string(sc_.logger.track_realization) +
                                " (logger.track_realization) was never committed");

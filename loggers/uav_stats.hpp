@@ -2,8 +2,11 @@
 // position and velocity, mean NEES (4 dof) and mean NIS (1 dof) with their 95 % chi-square
 // bands for the number of runs, and the posterior Cramer-Rao bound (TmaPcrb) for the same
 // truth, detections and noise; at the evaluation time (two orbits) the summary per estimator
-// and the share of diverged runs. Realizations are added in order (deterministic sums).
+// and the share of diverged runs. Sums are exact (ExactSum), so the outputs do not depend on the
+// order realizations are added or shards (ensemble_state.json) are merged in.
 #pragma once
+
+#include "exact_sum.hpp"
 
 #include "tma_pcrb.hpp"
 #include "uav_scenario.hpp"
@@ -12,6 +15,8 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <set>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -59,23 +64,39 @@ std::pair<double, double> chi2_mean_band(long n, int dof, double z = 1.959963984
 class UavStats {
  public:
   explicit UavStats(const UavScenario& sc);
-  void add_realization(const TmaRealization& r);
+  /// Add one complete realization; `realization` is its index in the ensemble (each at most
+  /// once; -1: the next after the highest so far).
+  void add_realization(const TmaRealization& r, long realization = -1);
   long realizations() const { return n_; }
-  /// Write uav_stats_time.csv and summary.json into dir (atomically renamed).
+  /// Write uav_stats_time.csv, summary.json, summary.txt and ensemble_state.json (state()) into
+  /// dir (atomically renamed). realizations.csv is the logger's (streamed), not this class's.
   void write(const std::string& dir, std::int64_t seed) const;
+  /// The same (the name PrlStats uses for "everything but realizations.csv").
+  void write_statistics(const std::string& dir, std::int64_t seed) const { write(dir, seed); }
   /// The PCRB position RMSE [m] per frame time (utime -> value), computed from the ensemble.
   std::map<std::int64_t, double> pcrb_pos() const;
   std::map<std::int64_t, double> pcrb_vel() const;
 
   struct Acc {
     long n = 0, n_upd = 0;
-    double pos2 = 0, vel2 = 0, nees = 0, nis = 0;
+    ExactSum pos2, vel2, nees, nis;
   };
   struct FinalAcc {
     long n = 0, diverged = 0;
-    double pos2 = 0, vel2 = 0, nees = 0;
+    ExactSum pos2, vel2, nees;
   };
   const std::map<std::string, FinalAcc>& at_eval() const { return final_; }
+
+  /// The exact state (every sum as ExactSum text) and the realizations it holds: what merging
+  /// shards needs (written as ensemble_state.json by write()).
+  nlohmann::ordered_json state(std::int64_t seed) const;
+  /// Add a shard's state (of other realizations of the same scenario and seed): the result
+  /// equals adding those realizations here, whatever the order of shards. Throws
+  /// std::invalid_argument naming `what` on a malformed state, another seed or a realization
+  /// present in both; nothing is added then.
+  void merge_state(const nlohmann::json& state, std::int64_t seed, const std::string& what);
+  /// The realizations held, by index.
+  const std::set<long>& realization_set() const { return held_; }
 
  private:
   void pcrb(std::map<std::int64_t, double>* pos, std::map<std::int64_t, double>* vel) const;
@@ -83,13 +104,18 @@ class UavStats {
   long n_ = 0;
   std::map<std::string, std::map<std::int64_t, Acc>> by_time_;
   std::map<std::string, FinalAcc> final_;
-  std::map<std::int64_t, tma::Mat4> info_sum_;
-  tma::Mat4 J0_sum_ = tma::Mat4::Zero();
+  using MatSum = std::array<ExactSum, 16>;  // a 4x4 matrix's exact sum, column-major
+  static void add_to(MatSum& s, const tma::Mat4& m);
+  static tma::Mat4 value(const MatSum& s);
+  std::map<std::int64_t, MatSum> info_sum_;
+  MatSum J0_sum_;
   std::int64_t first_utime_ = -1;
   std::vector<std::int64_t> frames_;  // all frame times seen
+  std::set<long> held_;               // the realizations added
   // True UAV-object range over all frames of all realizations [m]; runs whose object stayed
   // inside the orbit (range <= 2 uav.radius_m at every frame: the object within the orbit's disc).
-  double range_min_m_ = std::numeric_limits<double>::infinity(), range_max_m_ = 0, range_sum_m_ = 0;
+  double range_min_m_ = std::numeric_limits<double>::infinity(), range_max_m_ = 0;
+  ExactSum range_sum_m_;
   long range_n_ = 0, inside_orbit_runs_ = 0;
 };
 

@@ -185,6 +185,16 @@ void LcmLogStreams::check_stream(Stream& s) {
     const std::size_t i = s.used.size();
     const std::string at = "window " + std::to_string(it.h.window) + " (event " + std::to_string(it.event) + ")";
     if (it.h.window < 0) throw ConfigError(w + ": " + at + ": a negative window index (corrupt)");
+    // A copy of an earlier window - also of the last one, after it - is a resend (byte-identical).
+    if (it.h.window < static_cast<int>(i)) {
+      const Item& first = *s.used[static_cast<std::size_t>(it.h.window)];
+      if (it.h.seq == first.h.seq && it.digest == first.digest) {
+        ++n_resent_;  // published again on a consumer's WAITING: byte-identical, ignored
+        continue;
+      }
+      throw ConfigError(w + ": " + at + " is a duplicate or out of order (expected window " +
+                        std::to_string(i) + "; it differs from the batch of event " + std::to_string(first.event) + ")");
+    }
     if (i >= n)
       throw ConfigError(w + ": " + at + " after the attempt's last window " + std::to_string(n - 1) +
                         " (duplicate or out of order)");
@@ -194,15 +204,6 @@ void LcmLogStreams::check_stream(Stream& s) {
           throw ConfigError(w + ": window " + std::to_string(i) + " is out of order (event " +
                             std::to_string(later.event) + ", after " + at + ")");
       throw ConfigError(w + ": window " + std::to_string(i) + " is missing (lost; the next batch is " + at + ")");
-    }
-    if (it.h.window < static_cast<int>(i)) {
-      const Item& first = *s.used[static_cast<std::size_t>(it.h.window)];
-      if (it.h.seq == first.h.seq && it.digest == first.digest) {
-        ++n_resent_;  // published again on a consumer's WAITING: byte-identical, ignored
-        continue;
-      }
-      throw ConfigError(w + ": " + at + " is a duplicate or out of order (expected window " +
-                        std::to_string(i) + "; it differs from the batch of event " + std::to_string(first.event) + ")");
     }
     if (i > 0 && it.h.seq != s.used[0]->h.seq + static_cast<std::int64_t>(i))
       throw ConfigError(w + ": " + at + " has seq " + std::to_string(it.h.seq) + ", expected " +

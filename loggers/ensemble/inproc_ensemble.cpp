@@ -49,7 +49,7 @@ InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<Lockst
 }
 
 InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
-                                 const std::string& out_dir, const std::vector<std::string>& drops) {
+                                 const std::string& out_dir, const std::vector<std::string>& drops, int first) {
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
   nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
@@ -57,18 +57,22 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));
-  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed, drops);
+  ConductorOptions shard;
+  shard.first_realization = first;
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed, drops, shard);
 }
 
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
-                                 const std::string& out_dir, const std::vector<std::string>& drops) {
+                                 const std::string& out_dir, const std::vector<std::string>& drops, int first) {
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
   nodes.push_back(std::make_unique<TargetNode>(bus, sc));
   nodes.push_back(std::make_unique<UavNode>(bus, sc));
   nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
   nodes.push_back(std::make_unique<UavLoggerNode>(bus, sc, out_dir));
-  return run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops);
+  ConductorOptions shard;
+  shard.first_realization = first;
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops, shard);
 }
 
 }  // namespace rnav

@@ -28,14 +28,15 @@ InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<Lockst
                               std::int64_t seed, const std::vector<std::string>& drops = {},
                               const ConductorOptions& base = {});
 
-/// Run n realizations with `seed`; write the logger's files into out_dir (if not empty).
+/// Run n realizations with `seed` (realizations first ... first+n-1: a shard of a larger
+/// ensemble when first > 0); write the logger's files into out_dir (if not empty).
 /// `drops` inject deliberate message losses (tests).
 InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir,
-                                 const std::vector<std::string>& drops = {});
+                                 const std::vector<std::string>& drops = {}, int first = 0);
 /// The same for the azimuth-only (UAV) scenario.
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir,
-                                 const std::vector<std::string>& drops = {});
+                                 const std::vector<std::string>& drops = {}, int first = 0);
 
 }  // namespace rnav

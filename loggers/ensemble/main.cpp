@@ -13,9 +13,10 @@ int main(int argc, char** argv) {
     std::string file, out;
     std::vector<std::string> overrides, drops;
     bool force = false;
-    int n = 1;
+    int n = 1, first = 0;
+    bool shard = false;  // --first-realization given: a shard of a larger ensemble
     std::int64_t seed = 1;
-    rnav::cli::Parser p("rnav_inproc", "--scenario FILE [--set key=value]... [--realizations N] [--seed S] [--out DIR] [--force]",
+    rnav::cli::Parser p("rnav_inproc", "--scenario FILE [--set key=value]... [--realizations N] [--first-realization F] [--seed S] [--out DIR] [--force]",
                         "The whole ensemble (landing radar or azimuth-only, as the scenario's kind says) in one process: "
                         "the same nodes as scripts/run, over an in-process bus instead of LCM. Its statistics are "
                         "byte-identical to the multi-process run's for the same seed (benchmark, determinism reference).");
@@ -23,6 +24,13 @@ int main(int argc, char** argv) {
         .repeated("--set", "key=value", "override a scenario key, e.g. --set radar.x_m=-1200", overrides)
         .value("--realizations", "N", "ensemble size, 1 ... 1e9", "1",
                [&](const std::string& v) { n = static_cast<int>(rnav::parse_integer("--realizations", v, 1, 1000000000)); })
+        .value("--first-realization", "F",
+               "index of the first realization: run F ... F+N-1, a shard of a larger ensemble whose "
+               "ensemble_state.json rnav_merge joins with the others', 0 ... 2^31-1",
+               "0", [&](const std::string& v) { 
+                 first = static_cast<int>(rnav::parse_integer("--first-realization", v, 0, 2147483647));
+                 shard = true;
+               })
         .value("--seed", "S", "ensemble seed (an integer)", "1",
                [&](const std::string& v) {
                  seed = rnav::parse_integer("--seed", v, std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
@@ -42,12 +50,13 @@ int main(int argc, char** argv) {
     const double t0 = rnav::wall_seconds();
     const auto uav = [&] {
       const auto sc = rnav::UavScenario::load(file, overrides);
-      rnav::check_track_realization(sc.logger, n);
-      return rnav::run_inproc_ensemble(sc, n, seed, out, drops);
+      // A shard's logger.track_realization may lie in another shard: rnav_merge checks it.
+      if (!shard) rnav::check_track_realization(sc.logger, n);
+      return rnav::run_inproc_ensemble(sc, n, seed, out, drops, first);
     };
     const auto r = rnav::scenario_kind(file) == "uav"
                        ? uav()
-                       : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops);
+                       : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops, first);
     if (r.exit_code != 0) {
       std::cerr << rnav::cli::error_line("rnav_inproc", "run failed: " + r.failure) << "\n";
       return r.exit_code;

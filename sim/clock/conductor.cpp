@@ -8,12 +8,17 @@
 #include <algorithm>
 #include <cmath>
 
+#include <limits>
+
 namespace rnav {
 
 Conductor::Conductor(Bus& bus, const RunnerOptions& runner, double step_s,
                      const ConductorOptions& o, double duration_s)
     : bus_(bus), runner_(runner), o_(o) {
   if (o.n_realizations < 1) throw ConfigError("--realizations must be >= 1");
+  if (o.first_realization < 0 || o.first_realization > std::numeric_limits<std::int32_t>::max() - o.n_realizations)
+    throw ConfigError("--first-realization must be in 0 ... 2^31-1 - realizations, got " + std::to_string(o.first_realization));
+  r_ = o.first_realization;
   if (o.nodes.empty()) throw ConfigError("the clock needs the list of nodes (--nodes)");
   if (!(o.speed > 0)) throw ConfigError("--speed must be > 0");
   const std::int64_t step = to_us(step_s);
@@ -144,8 +149,9 @@ void Conductor::next_window() {
   if (w_ + 1 < n_windows_) {
     ++w_;
   } else {
-    if (on_progress) on_progress(r_ + 1, o_.n_realizations, static_cast<int>(retries_.size()));
-    if (r_ + 1 >= o_.n_realizations) {
+    const int done = r_ - o_.first_realization + 1;
+    if (on_progress) on_progress(done, o_.n_realizations, static_cast<int>(retries_.size()));
+    if (done >= o_.n_realizations) {
       state_ = State::kFinishing;
       acked_.clear();
       finish_sent_s_ = last_finish_s_ = now_s_;

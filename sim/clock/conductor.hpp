@@ -22,7 +22,11 @@
 namespace rnav {
 
 struct ConductorOptions {
-  int n_realizations = 1;          ///< ensemble size, >= 1
+  int n_realizations = 1;          ///< ensemble size (of this run: a shard's count), >= 1
+  /// Index of the first realization run: realizations first_realization ...
+  /// first_realization + n_realizations - 1 (a shard of a larger ensemble; each realization's
+  /// random streams depend on its index only). >= 0.
+  int first_realization = 0;
   std::int64_t seed = 1;           ///< ensemble seed
   std::vector<std::string> nodes;  ///< names of the nodes that must ack every window
   bool realtime = false;           ///< pace windows to the wall clock

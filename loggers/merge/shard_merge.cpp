@@ -1,0 +1,149 @@
+#include "shard_merge.hpp"
+
+#include "atomic_file.hpp"
+#include "prl_stats.hpp"
+#include "realization_set.hpp"
+#include "uav_scenario.hpp"
+#include "uav_stats.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace rnav {
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error(path + ": cannot be read (is it a shard's output folder?)");
+  std::ostringstream s;
+  s << f.rdbuf();
+  if (f.bad()) throw std::runtime_error(path + ": read error");
+  return s.str();
+}
+
+struct Shard {
+  std::string dir;
+  nlohmann::json state;
+  std::set<long> held;  // its realizations
+  long first = -1;      // its lowest realization (-1: none)
+};
+
+// The merged realizations must be 0 ... n-1 (merge_state checked that no two shards share
+// one): no gap may pass for a smaller ensemble. Names the missing ranges.
+void check_complete(const std::set<long>& all) {
+  if (all.empty()) throw std::invalid_argument("the shards hold no realization");
+  const long top = *all.rbegin();
+  if (static_cast<long>(all.size()) == top + 1) return;
+  std::string gaps;
+  long next = 0;
+  for (long r : all) {
+    if (r > next) gaps += (gaps.empty() ? "" : ", ") + std::to_string(next) + (r - 1 == next ? "" : " ... " + std::to_string(r - 1));
+    next = r + 1;
+  }
+  throw std::invalid_argument("the shards hold " + std::to_string(all.size()) + " realizations, not realizations 0 ... " +
+                              std::to_string(top) + " each once: missing " + gaps);
+}
+
+// The body of a CSV file (after its header line), checking the header.
+std::string body_of(const std::string& path, const std::string& text, std::string& header) {
+  const auto nl = text.find('\n');
+  if (nl == std::string::npos) throw std::runtime_error(path + ": no header line");
+  const std::string h = text.substr(0, nl + 1);
+  if (header.empty()) header = h;
+  else if (h != header) throw std::runtime_error(path + ": its header differs from the other shards'");
+  return text.substr(nl + 1);
+}
+
+}  // namespace
+
+MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::string& out_dir) {
+  if (shard_dirs.empty()) throw std::invalid_argument("no shard to merge");
+  std::string scenario_text;
+  std::vector<Shard> shards;
+  MergeResult res;
+  for (const auto& dir : shard_dirs) {
+    const std::string sc_path = dir + "/scenario.json", st_path = dir + "/ensemble_state.json";
+    const std::string sc = read_text(sc_path);
+    if (scenario_text.empty()) scenario_text = sc;
+    else if (sc != scenario_text)
+      throw std::invalid_argument(sc_path + " differs from " + shard_dirs.front() +
+                                  "/scenario.json: shards of one ensemble run the same scenario");
+    Shard s{dir, nlohmann::json::parse(read_text(st_path), nullptr, false)};
+    if (s.state.is_discarded() || !s.state.is_object() || !s.state.contains("kind") || !s.state.contains("seed") ||
+        !s.state["seed"].is_number_integer())
+      throw std::invalid_argument(st_path + ": not an ensemble state (JSON with kind and seed)");
+    const std::string kind = s.state["kind"].is_string() ? s.state["kind"].get<std::string>() : "";
+    if (res.kind.empty()) {
+      res.kind = kind;
+      res.seed = s.state["seed"].get<std::int64_t>();
+    } else if (kind != res.kind) {
+      throw std::invalid_argument(st_path + ": kind '" + kind + "', the first shard's is '" + res.kind + "'");
+    }
+    shards.push_back(std::move(s));
+  }
+  const std::string sc_file = shard_dirs.front() + "/scenario.json";
+  // The statistics: each shard's exact state merged (any order), then written once.
+  std::set<long> all;
+  long track_realization = -1;
+  std::filesystem::create_directories(out_dir);
+  const auto merge_all = [&](auto& st) {
+    for (auto& s : shards) {
+      st.merge_state(s.state, res.seed, s.dir + "/ensemble_state.json");
+      s.held = realization_set(s.state["held"], s.dir + "/ensemble_state.json");
+      s.first = s.held.empty() ? -1 : *s.held.begin();
+    }
+    all = st.realization_set();
+    res.realizations = st.realizations();
+    check_complete(all);
+    // realizations.csv: each shard's rows are in its realization order; shards go in theirs, so
+    // they must be ranges that do not interleave.
+    std::sort(shards.begin(), shards.end(), [](const Shard& a, const Shard& b) { return a.first < b.first; });
+    for (std::size_t i = 1; i < shards.size(); ++i)
+      if (!shards[i - 1].held.empty() && *shards[i - 1].held.rbegin() > shards[i].first)
+        throw std::invalid_argument(shards[i - 1].dir + " and " + shards[i].dir +
+                                    ": shards must be realization ranges that do not interleave");
+    st.write_statistics(out_dir, res.seed);
+  };
+  if (res.kind == "landing") {
+    PrlStats st(Scenario::load(sc_file, {}));
+    merge_all(st);
+  } else if (res.kind == "uav") {
+    const UavScenario sc = UavScenario::load(sc_file, {});
+    UavStats st(sc);
+    merge_all(st);
+    track_realization = sc.logger.track_realization;
+  } else {
+    throw std::invalid_argument(shard_dirs.front() + "/ensemble_state.json: unknown kind '" + res.kind + "'");
+  }
+  {
+    std::string header;
+    AtomicFileWriter rows(out_dir, "realizations.csv");
+    for (const auto& s : shards) {
+      const std::string path = s.dir + "/realizations.csv";
+      const std::string body = body_of(path, read_text(path), header);
+      if (&s == &shards.front()) rows.append(header);
+      rows.append(body);
+    }
+    rows.commit();
+  }
+  // track.csv (azimuth-only): from the shard that ran logger.track_realization.
+  if (track_realization >= 0) {
+    if (track_realization >= res.realizations)
+      throw std::invalid_argument("logger.track_realization " + std::to_string(track_realization) +
+                                  " names no realization of the merged ensemble (0 ... " + std::to_string(res.realizations - 1) + ")");
+    for (const auto& s : shards)
+      if (s.held.count(track_realization)) write_file_atomic(out_dir, "track.csv", read_text(s.dir + "/track.csv"));
+  }
+  write_file_atomic(out_dir, "scenario.json", scenario_text);
+  return res;
+}
+
+}  // namespace rnav

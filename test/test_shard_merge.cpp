@@ -1,0 +1,143 @@
+// Shards of one ensemble joined by merge_shards (loggers/merge) give the outputs of one run of
+// the whole ensemble byte for byte, for any split and any order - the property MPI ranks and
+// resumable sweeps rely on - and every way shards can fail to be one ensemble is an error
+// naming the culprit.
+#include <catch2/catch.hpp>
+
+#include "inproc_ensemble.hpp"
+#include "scenario.hpp"
+#include "shard_merge.hpp"
+#include "uav_scenario.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace rnav;
+
+namespace {
+
+const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.json";
+const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json";
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("rnav_test_shard_merge_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Every file of `ref` is in `got` with the same bytes, and `got` holds no other file.
+void require_same_files(const fs::path& ref, const fs::path& got) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(ref)) {
+    const auto name = e.path().filename().string();
+    if (name.front() == '.') continue;
+    INFO(name);
+    REQUIRE(fs::exists(got / name));
+    CHECK(slurp(e.path()) == slurp(got / name));
+    ++n;
+  }
+  std::size_t m = 0;
+  for (const auto& e : fs::directory_iterator(got)) m += e.path().filename().string().front() != '.';
+  CHECK(m == n);
+  CHECK(n >= 7);  // the statistics files, realizations.csv, ensemble_state.json, scenario.json
+}
+
+template <class Sc> void run(const Sc& sc, const fs::path& dir, int first, int n, std::int64_t seed) {
+  const auto r = run_inproc_ensemble(sc, n, seed, dir.string(), {}, first);
+  REQUIRE(r.exit_code == 0);
+}
+
+std::string merge_error(const std::vector<fs::path>& shards, const fs::path& out) {
+  std::vector<std::string> s;
+  for (const auto& p : shards) s.push_back(p.string());
+  try {
+    merge_shards(s, out.string());
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("shards of a landing ensemble merged in any order equal one run", "[merge]") {
+  const auto d = scratch("landing");
+  const Scenario sc = Scenario::load(kPaper, {});
+  run(sc, d / "whole", 0, 12, 5);
+  // Splits of 0 ... 11 into realization ranges, given to the merge in a scrambled order.
+  const std::vector<std::vector<std::pair<int, int>>> splits{{{5, 7}, {0, 5}}, {{4, 8}, {0, 1}, {1, 3}}, {{0, 12}}};
+  int k = 0;
+  for (const auto& split : splits) {
+    std::vector<std::string> dirs;
+    for (const auto& [first, n] : split) {
+      const fs::path p = d / ("s" + std::to_string(k) + "_" + std::to_string(first));
+      run(sc, p, first, n, 5);
+      dirs.push_back(p.string());
+    }
+    const fs::path out = d / ("merged" + std::to_string(k++));
+    const auto r = merge_shards(dirs, out.string());
+    CHECK(r.kind == "landing");
+    CHECK(r.realizations == 12);
+    require_same_files(d / "whole", out);
+  }
+}
+
+TEST_CASE("shards of an azimuth-only ensemble merged in any order equal one run", "[merge]") {
+  const auto d = scratch("uav");
+  // The tracked realization (track.csv) lies in the middle shard.
+  const UavScenario sc = UavScenario::load(kUav, {"logger.track_realization=3"});
+  run(sc, d / "whole", 0, 6, 2);
+  run(sc, d / "a", 0, 2, 2);
+  run(sc, d / "b", 2, 3, 2);
+  run(sc, d / "c", 5, 1, 2);
+  CHECK(fs::exists(d / "b" / "track.csv"));
+  CHECK_FALSE(fs::exists(d / "a" / "track.csv"));
+  const auto r = merge_shards({(d / "c").string(), (d / "a").string(), (d / "b").string()}, (d / "m").string());
+  CHECK(r.kind == "uav");
+  CHECK(r.realizations == 6);
+  require_same_files(d / "whole", d / "m");
+}
+
+TEST_CASE("shards that are not one ensemble are refused naming the culprit", "[merge]") {
+  const auto d = scratch("bad");
+  const Scenario sc = Scenario::load(kPaper, {});
+  run(sc, d / "a", 0, 3, 5);
+  run(sc, d / "b", 3, 3, 5);
+  run(sc, d / "gap", 7, 2, 5);
+  run(sc, d / "seed6", 3, 3, 6);
+  run(Scenario::load(kPaper, {"radar.x_m=-1300"}), d / "other", 3, 3, 5);
+  CHECK_THAT(merge_error({d / "a", d / "gap"}, d / "o1"), Catch::Contains("missing 3 ... 6"));
+  CHECK_THAT(merge_error({d / "a", d / "b", d / "a"}, d / "o2"),
+             Catch::Contains((d / "a").string() + "/ensemble_state.json") && Catch::Contains("realization 0 is already"));
+  CHECK_THAT(merge_error({d / "a", d / "seed6"}, d / "o3"),
+             Catch::Contains((d / "seed6").string()) && Catch::Contains("seed 6"));
+  CHECK_THAT(merge_error({d / "a", d / "other"}, d / "o4"),
+             Catch::Contains((d / "other").string() + "/scenario.json differs"));
+  CHECK_THAT(merge_error({d / "a", d / "nowhere"}, d / "o5"), Catch::Contains((d / "nowhere").string()));
+  CHECK_THAT(merge_error({}, d / "o6"), Catch::Contains("no shard"));
+  // A damaged exact sum in a state file: named with the file and where in it.
+  {
+    std::string st = slurp(d / "b" / "ensemble_state.json");
+    const auto at = st.find("\"sum\":[\"");
+    REQUIRE(at != std::string::npos);
+    st.insert(at + 8, "zz");
+    std::ofstream(d / "b" / "ensemble_state.json", std::ios::binary) << st;
+  }
+  CHECK_THAT(merge_error({d / "a", d / "b"}, d / "o7"),
+             Catch::Contains((d / "b").string() + "/ensemble_state.json") && Catch::Contains("not an exact sum"));
+  // Nothing was written by a refused merge.
+  CHECK_FALSE(fs::exists(d / "o1" / "table2.json"));
+}
