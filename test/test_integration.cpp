@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "shell.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,43 +21,15 @@
 #include <thread>
 
 namespace fs = std::filesystem;
+using rnav_test::Result;
+using rnav_test::scratch;
+using rnav_test::sh;
+using rnav_test::slurp;
 
 namespace {
 
 const std::string kRoot = RNAV_SOURCE_DIR;
 const std::string kBuild = RNAV_BINARY_DIR;
-
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result sh(const std::string& cmd) {
-  Result r;
-  const std::string full = "RNAV_BUILD='" + kBuild + "' " + cmd + " 2>&1";
-  FILE* p = popen(full.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) r.output += buf.data();
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  return r;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-// A fresh directory per test (ctest may run tests in parallel).
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(kBuild) / "test_scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // The pid of process `name` of the run whose work folder is scratch folder d's "out.partial.*"
 // (from its logs/pids file; other tests may run their own processes of the same name); 0 if it
