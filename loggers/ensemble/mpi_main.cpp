@@ -224,7 +224,18 @@ int main(int argc, char** argv) {
   }
   const double secs = rnav::wall_seconds() - t0;
 
-  // 3. Gather: status, time, host, then the packs.
+  // 3. Wait for every rank without spinning (MPI implementations busy-poll inside collectives:
+  // a rank done early would take a core from the ranks still running when ranks outnumber
+  // cores), then gather: status, time, host, then the packs.
+  {
+    MPI_Request req;
+    MPI_Ibarrier(MPI_COMM_WORLD, &req);
+    for (int done = 0;;) {
+      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+      if (done) break;
+      usleep(5000);
+    }
+  }
   int failed = failure.empty() ? 0 : 1, len = static_cast<int>(pack.size());
   std::vector<int> all_failed(k), lens(k);
   std::vector<double> all_secs(k);
