@@ -247,6 +247,17 @@ def ex_python(tmp):
         fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, the README quotes %s" % (rows, quoted.split()[0]))
 
 
+def ex_shards(tmp):
+    """Shards run with --first-realization and joined by rnav_merge equal one run (the block's
+    last command compares them with cmp, so run_ok fails on a difference)."""
+    lines, _ = block_after("scripts/run paper --inproc --realizations 200 --first-realization 0")
+    cmds = commands(lines)
+    if not any(c.startswith("cmp ") for c in cmds):
+        fail("the shards example no longer compares the merged and the whole run")
+    for c in cmds:
+        run_ok(c, tmp, "the shards example")
+
+
 def uav_estimator_table(tmp, first_command, what):
     """A README table of UAV estimators: its commands run, every row against the summary.json of
     the run it names."""
@@ -284,7 +295,7 @@ def ex_uav_pf(tmp):
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
             "replay": ex_replay, "python": ex_python, "uav_ml": ex_uav_ml,
-            "uav_pf": ex_uav_pf}
+            "uav_pf": ex_uav_pf, "shards": ex_shards}
 
 for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:
