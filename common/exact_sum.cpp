@@ -13,22 +13,37 @@ void ExactSum::add(double x) {
     return;
   }
   // Two-sum of x with each partial in increasing magnitude: hi + lo = x + y exactly
-  // (|x| >= |y|: hi = fl(x + y), lo = y - (hi - x)); the non-zero lo's stay, hi moves on.
-  std::size_t i = 0;
-  for (double y : partials_) {
-    if (std::abs(x) < std::abs(y)) std::swap(x, y);
+  // (Knuth's branch-free TwoSum: hi = fl(x + y), b = hi - x, lo = (x - (hi - b)) + (y - b));
+  // the non-zero lo's stay, hi moves on.
+  double* p = data();
+  int i = 0;
+  for (int j = 0; j < size_; ++j) {
+    const double y = p[j];
     const double hi = x + y;
-    const double lo = y - (hi - x);
-    if (lo != 0) partials_[i++] = lo;
+    const double b = hi - x;
+    const double lo = (x - (hi - b)) + (y - b);
+    if (lo != 0) p[i++] = lo;
     x = hi;
   }
   if (!std::isfinite(x)) throw std::overflow_error("ExactSum: the sum exceeds the double range");
-  partials_.resize(i);
-  if (x != 0) partials_.push_back(x);
+  size_ = i;
+  if (x != 0) push(x);
+}
+
+void ExactSum::push(double x) {
+  if (heap_.empty() && size_ < kInline) {
+    inline_[size_++] = x;
+    return;
+  }
+  if (heap_.empty()) heap_.assign(inline_, inline_ + size_);
+  heap_.resize(static_cast<std::size_t>(size_));
+  heap_.push_back(x);
+  ++size_;
 }
 
 void ExactSum::merge(const ExactSum& o) {
-  for (double p : o.partials_) add(p);
+  const double* p = o.data();
+  for (int j = 0; j < o.size_; ++j) add(p[j]);
   if (o.nonfinite_ != 0 || std::isnan(o.nonfinite_)) nonfinite_ += o.nonfinite_;
 }
 
@@ -36,17 +51,18 @@ double ExactSum::value() const {
   if (nonfinite_ != 0 || std::isnan(nonfinite_)) return nonfinite_;
   // From the largest partial down, until a rounding error appears; then round half-way cases
   // by the sign of the rest (the partials below), as math.fsum does.
-  std::size_t n = partials_.size();
+  const double* p = data();
+  int n = size_;
   if (n == 0) return 0.0;
-  double hi = partials_[--n], lo = 0;
+  double hi = p[--n], lo = 0;
   while (n > 0) {
-    const double x = hi, y = partials_[--n];
+    const double x = hi, y = p[--n];
     hi = x + y;
     const double yr = hi - x;
     lo = y - yr;
     if (lo != 0) break;
   }
-  if (n > 0 && ((lo < 0 && partials_[n - 1] < 0) || (lo > 0 && partials_[n - 1] > 0))) {
+  if (n > 0 && ((lo < 0 && p[n - 1] < 0) || (lo > 0 && p[n - 1] > 0))) {
     const double y = lo * 2, x = hi + y;
     if (y == x - hi) hi = x;
   }
@@ -57,9 +73,9 @@ std::string ExactSum::to_text() const {
   // Canonical: the greedy expansion of the exact sum S (v1 = round(S), v2 = round(S - v1), ...),
   // which depends on S alone - not on the order the terms came in.
   std::vector<double> canon;
-  ExactSum rest;
-  rest.partials_ = partials_;
-  while (!rest.partials_.empty()) {
+  ExactSum rest = *this;
+  rest.nonfinite_ = 0;
+  while (rest.size_ > 0) {
     const double v = rest.value();
     canon.push_back(v);
     rest.add(-v);
@@ -102,11 +118,11 @@ ExactSum ExactSum::from_text(const std::string& text, const std::string& what) {
     char* end = nullptr;
     const double x = std::strtod(p, &end);
     if (end == p || (*end != ' ' && *end != '\0') || !std::isfinite(x) || x == 0) throw bad("a partial is not a finite non-zero number");
-    if (!e.partials_.empty()) {
+    if (e.size_ > 0) {
       // Partials are held in increasing magnitude.
-      if (std::abs(x) <= std::abs(e.partials_.back())) throw bad("partials out of order");
+      if (std::abs(x) <= std::abs(e.data()[e.size_ - 1])) throw bad("partials out of order");
     }
-    e.partials_.push_back(x);
+    e.push(x);
     p = end;
   }
   return e;

@@ -7,8 +7,8 @@
 //
 // Inputs: any doubles. +-inf and NaN are kept apart (value() is then inf or NaN, as a plain sum
 // would be); a finite sum whose magnitude exceeds DBL_MAX throws std::overflow_error.
-// Cost: add() is O(k) for k held partials; k stays small (<= 4 or so) for values of similar
-// magnitude and is bounded by about 40 (the double exponent range / 53 bits).
+// Cost: add() is O(k) for k held partials; k stays small (1 to 3) for values of similar
+// magnitude, which are held inline (no allocation up to kInline partials).
 #pragma once
 
 #include <string>
@@ -41,8 +41,16 @@ class ExactSum {
   static ExactSum from_text(const std::string& text, const std::string& what);
 
  private:
-  std::vector<double> partials_;  // non-overlapping, increasing magnitude, non-zero
-  double nonfinite_ = 0;          // plain sum of the inf/NaN inputs (0: none)
+  static constexpr int kInline = 6;
+  const double* data() const { return heap_.empty() ? inline_ : heap_.data(); }
+  double* data() { return heap_.empty() ? inline_ : heap_.data(); }
+  void push(double x);
+  // The partials: non-overlapping, increasing magnitude, non-zero; size_ of them, in inline_
+  // until more than kInline are needed, then in heap_ (which stays in use from then on).
+  double inline_[kInline] = {};
+  std::vector<double> heap_;
+  int size_ = 0;
+  double nonfinite_ = 0;  // plain sum of the inf/NaN inputs (0: none)
 };
 
 }  // namespace rnav

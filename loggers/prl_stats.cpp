@@ -57,7 +57,9 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     throw std::runtime_error("realization " + std::to_string(realization) + " added twice");
   const auto& ranges = sc_.logger.table_ranges_m;
   // Validate first, then add: a rejected realization leaves no partial contribution.
-  std::vector<Moments<3>> a(ranges.size()), t(ranges.size()), be(ranges.size());
+  // Within this realization (a fixed order wherever it runs): plain sums.
+  using Local = Moments<3, PlainSum>;
+  std::vector<Local> a(ranges.size()), t(ranges.size()), be(ranges.size());
   for (const auto& p : plots)
     for (std::size_t i = 0; i < ranges.size(); ++i)
       if (std::abs(p.range_table_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
@@ -88,7 +90,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     rb.second.add(p.toi);
   }
   // realizations.csv: this realization's mean errors per Table 2 bin and per slant-range bin.
-  std::map<long, std::array<Moments<3>, 3>> bins;  // bin index -> (apoi, toi, bias_err)
+  std::map<long, std::array<Local, 3>> bins;  // bin index -> (apoi, toi, bias_err)
   for (const auto& p : plots) {
     auto& m = bins[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
     m[0].add(p.apoi);
@@ -96,7 +98,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     m[2].add(p.bias_err);
   }
   std::string& rows = realization_rows_[realization];
-  auto row = [&](const char* kind, double lo, double hi, const Moments<3>& ap, const Moments<3>& to, const Moments<3>& bi) {
+  auto row = [&](const char* kind, double lo, double hi, const Local& ap, const Local& to, const Local& bi) {
     const double scale[3] = {1, kRadToDeg, kRadToDeg};
     rows += std::to_string(realization) + "," + kind + "," + fixed(lo, 0) + "," + fixed(hi, 0) + "," + std::to_string(ap.n);
     for (const auto* m : {&ap, &to})

@@ -42,10 +42,20 @@ struct PlotErrors {
   int mode = 0;                     ///< prl_bias_estimate_t mode
 };
 
-/// Running sums of a vector quantity, held exactly (order-independent; mergeable).
-template <int N> struct Moments {
+/// A plain running double sum, for sums that are always made in one fixed order (within one
+/// realization): the ExactSum interface without its cost.
+struct PlainSum {
+  double s = 0;
+  void add(double x) { s += x; }
+  void merge(const PlainSum& o) { s += o.s; }
+  double value() const { return s; }
+};
+
+/// Running sums of a vector quantity, held exactly by default (ExactSum: order-independent,
+/// mergeable); with Sum = PlainSum for sums within one realization.
+template <int N, class Sum = ExactSum> struct Moments {
   long n = 0;
-  std::array<ExactSum, N> sum{}, sumsq{};
+  std::array<Sum, N> sum{}, sumsq{};
   void add(const std::array<double, N>& x) {
     ++n;
     for (int i = 0; i < N; ++i) {

@@ -110,3 +110,26 @@ TEST_CASE("ExactSum: malformed text names its source", "[exact_sum]") {
   }
   CHECK(ExactSum::from_text("", "x").value() == 0.0);
 }
+
+TEST_CASE("ExactSum: many partials (beyond the inline ones) stay exact and order-free", "[exact_sum]") {
+  // 2^(-60 k), k = 0 ... 15, with alternating signs: no two fit one double, so 16 partials.
+  std::vector<double> v;
+  for (int k = 0; k < 16; ++k) v.push_back((k % 2 ? -1.0 : 1.0) * std::ldexp(1.0, -60 * k));
+  ExactSum ref;
+  for (double x : v) ref.add(x);
+  const std::string text = ref.to_text();
+  CHECK(std::count(text.begin(), text.end(), ' ') == 15);  // 16 partials held
+  std::mt19937_64 g(3);
+  for (int trial = 0; trial < 10; ++trial) {
+    std::shuffle(v.begin(), v.end(), g);
+    ExactSum a, b;
+    for (std::size_t i = 0; i < v.size(); ++i) (i % 3 ? a : b).add(v[i]);
+    b.merge(a);
+    CHECK(b.to_text() == text);
+    CHECK(same_bits(b.value(), ref.value()));
+    // Cancelling every term leaves exactly zero.
+    for (double x : v) b.add(-x);
+    CHECK(b.value() == 0.0);
+    CHECK(b.to_text().empty());
+  }
+}
