@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# ctest sweep.grid_and_resume: scripts/sweep runs one ensemble per grid setting, its rows equal
+# the settings' own runs, a rerun reuses finished settings and rebuilds the same table, an
+# unfinished setting is run again, and bad grids are refused naming the option.
+# Usage: check_sweep.sh SOURCE_DIR BUILD_DIR
+set -euo pipefail
+SRC=$1
+export RNAV_BUILD=$2
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+SW=("$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=0.5,1 --realizations 6 --seed 3 --out "$T/sw")
+
+"${SW[@]}" 2>"$T/first.err" || { cat "$T/first.err"; fail "the sweep failed"; }
+grep -q "4 settings: 4 run, 0 from an earlier run, 0 failed" "$T/first.err" || { cat "$T/first.err"; fail "not 4 settings run"; }
+[[ $(wc -l <"$T/sw/sweep.csv") == 5 ]] || fail "sweep.csv does not hold a header and 4 rows"
+[[ -s $T/sw/sweep.png && -s $T/sw/sweep.json ]] || fail "sweep.png or sweep.json missing"
+
+# Row 3 (radar.x_m=-1000, prl.period_s=0.5: the first key varies slowest) equals that setting's own run.
+"$SRC/scripts/run" paper --inproc --no-plots --realizations 6 --seed 3 --set radar.x_m=-1000 --set prl.period_s=0.5 \
+  --out "$T/one" >/dev/null 2>&1 || fail "the single run failed"
+/usr/bin/python3 - "$T/sw/sweep.csv" "$T/one/table2_detail.json" <<'PY' || fail "row 3 differs from the setting's own run"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+r = rows[2]
+assert (r["radar.x_m"], r["prl.period_s"]) == ("-1000", "0.5"), r
+d = json.load(open(sys.argv[2]))
+for kind in ("APOI", "TOI"):
+    for rng, v in d[kind].items():
+        for axis, m, se in zip("xzy", v["mean"], v["stderr"]):
+            col = "%s_%s_%s_m" % (kind.lower(), rng, axis)
+            assert abs(float(r[col]) - m) <= 1e-9 * max(1, abs(m)), (col, r[col], m)
+            assert abs(float(r[col + "_se"]) - se) <= 1e-9 * max(1, abs(se)), (col, r[col + "_se"], se)
+PY
+
+# Resume: nothing to run, the same table; a setting left unfinished is run again, the same table.
+cp "$T/sw/sweep.csv" "$T/first.csv"
+"${SW[@]}" 2>"$T/second.err" || fail "the rerun failed"
+grep -q "4 settings: 0 run, 4 from an earlier run" "$T/second.err" || { cat "$T/second.err"; fail "the rerun ran settings again"; }
+cmp -s "$T/first.csv" "$T/sw/sweep.csv" || fail "the rerun's sweep.csv differs"
+rm "$T/sw/settings/002/sweep_setting.json"
+"${SW[@]}" 2>"$T/third.err" || fail "the resumed sweep failed"
+grep -q "4 settings: 1 run, 3 from an earlier run" "$T/third.err" || { cat "$T/third.err"; fail "the unfinished setting was not run again"; }
+cmp -s "$T/first.csv" "$T/sw/sweep.csv" || fail "the resumed sweep.csv differs"
+
+# Another N into the same folder is refused (its rows would mix two sweeps).
+if "$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=0.5,1 --realizations 7 --seed 3 \
+     --out "$T/sw" 2>"$T/other.err"; then fail "another N was accepted into the same folder"; fi
+grep -q "holds a sweep of another grid" "$T/other.err" || { cat "$T/other.err"; fail "no clear message for another sweep"; }
+# Bad grids.
+check_bad() {
+  local want=$1; shift
+  if "$SRC/scripts/sweep" paper --realizations 3 --out "$T/bad" "$@" 2>"$T/bad.err"; then fail "accepted: $*"; fi
+  grep -qF "$want" "$T/bad.err" || { cat "$T/bad.err"; fail "no '$want' for: $*"; }
+}
+check_bad "at least one --grid" 
+check_bad "expected key=v1,v2" --grid radar.x_m
+check_bad "a value given twice" --grid radar.x_m=1,1
+check_bad "key 'radar.x_m' given twice" --grid radar.x_m=1 --grid radar.x_m=2
+check_bad "radar.x_mm" --grid radar.x_mm=1,2
+echo "sweep: ok"
