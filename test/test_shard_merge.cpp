@@ -138,6 +138,22 @@ TEST_CASE("shards that are not one ensemble are refused naming the culprit", "[m
   }
   CHECK_THAT(merge_error({d / "a", d / "b"}, d / "o7"),
              Catch::Contains((d / "b").string() + "/ensemble_state.json") && Catch::Contains("not an exact sum"));
+  // A value of the wrong type, and JSON nested beyond the parser's limit: named, no crash.
+  {
+    std::string st = slurp(d / "a" / "ensemble_state.json");
+    const auto frames = st.find("\"by_time\":[{\"utime\":");
+    REQUIRE(frames != std::string::npos);
+    const auto number = frames + 20, end = st.find(',', number);
+    st.replace(number, end - number, "\"x\"");  // the first utime as a string
+    std::ofstream(d / "a2.json", std::ios::binary) << st;
+    fs::create_directories(d / "a2");
+    fs::copy_file(d / "a" / "scenario.json", d / "a2" / "scenario.json");
+    fs::copy_file(d / "a" / "realizations.csv", d / "a2" / "realizations.csv");
+    fs::rename(d / "a2.json", d / "a2" / "ensemble_state.json");
+    CHECK_THAT(merge_error({d / "a2"}, d / "o8"), Catch::Contains((d / "a2").string() + "/ensemble_state.json"));
+    std::ofstream(d / "a2" / "ensemble_state.json", std::ios::binary) << std::string(100000, '[') << std::string(100000, ']');
+    CHECK_THAT(merge_error({d / "a2"}, d / "o9"), Catch::Contains("nested deeper"));
+  }
   // Nothing was written by a refused merge.
   CHECK_FALSE(fs::exists(d / "o1" / "table2.json"));
 }

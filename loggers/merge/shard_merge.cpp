@@ -1,6 +1,7 @@
 #include "shard_merge.hpp"
 
 #include "atomic_file.hpp"
+#include "config.hpp"
 #include "prl_stats.hpp"
 #include "realization_set.hpp"
 #include "uav_scenario.hpp"
@@ -76,8 +77,9 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
     else if (sc != scenario_text)
       throw std::invalid_argument(sc_path + " differs from " + shard_dirs.front() +
                                   "/scenario.json: shards of one ensemble run the same scenario");
-    Shard s{dir, nlohmann::json::parse(read_text(st_path), nullptr, false)};
-    if (s.state.is_discarded() || !s.state.is_object() || !s.state.contains("kind") || !s.state.contains("seed") ||
+    // Depth-limited, duplicate keys refused (the scenario files' parser): a state file is input.
+    Shard s{dir, parse_json_checked(read_text(st_path), st_path, /*allow_comments=*/false)};
+    if (!s.state.is_object() || !s.state.contains("kind") || !s.state.contains("seed") ||
         !s.state["seed"].is_number_integer())
       throw std::invalid_argument(st_path + ": not an ensemble state (JSON with kind and seed)");
     const std::string kind = s.state["kind"].is_string() ? s.state["kind"].get<std::string>() : "";
@@ -96,7 +98,11 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
   std::filesystem::create_directories(out_dir);
   const auto merge_all = [&](auto& st) {
     for (auto& s : shards) {
-      st.merge_state(s.state, res.seed, s.dir + "/ensemble_state.json");
+      try {
+        st.merge_state(s.state, res.seed, s.dir + "/ensemble_state.json");
+      } catch (const nlohmann::json::exception& e) {  // a value of the wrong type
+        throw std::invalid_argument(s.dir + "/ensemble_state.json: " + e.what());
+      }
       s.held = realization_set(s.state["held"], s.dir + "/ensemble_state.json");
       s.first = s.held.empty() ? -1 : *s.held.begin();
     }
