@@ -66,7 +66,10 @@ Range shard_of(long long n, int r, int k) {
 int run_script(const Options& o, const Range& s, const std::string& out, const std::string& log) {
   std::vector<std::string> args{o.run_script, o.scenario, "--realizations", std::to_string(s.count),
                                 "--first-realization", std::to_string(s.first), "--seed", std::to_string(o.seed),
-                                "--out", out, "--no-plots"};
+                                "--out", out, "--no-plots",
+                                // Each rank in a network namespace of its own, or a clear error:
+                                // ranks sharing a host's multicast group would hear each other.
+                                "--net", "netns"};
   for (const auto& v : o.overrides) {
     args.push_back("--set");
     args.push_back(v);
