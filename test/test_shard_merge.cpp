@@ -6,6 +6,7 @@
 
 #include "inproc_ensemble.hpp"
 #include "scenario.hpp"
+#include "folder_pack.hpp"
 #include "shard_merge.hpp"
 #include "uav_scenario.hpp"
 
@@ -156,4 +157,36 @@ TEST_CASE("shards that are not one ensemble are refused naming the culprit", "[m
   }
   // Nothing was written by a refused merge.
   CHECK_FALSE(fs::exists(d / "o1" / "table2.json"));
+}
+
+TEST_CASE("folder packs carry a shard's files between ranks and refuse damaged packs", "[merge]") {
+  const auto d = scratch("pack");
+  fs::create_directories(d / "src");
+  std::ofstream(d / "src" / "a.csv", std::ios::binary) << "x,y\n1,2\n";
+  std::ofstream(d / "src" / "empty.txt", std::ios::binary) << "";
+  std::ofstream(d / "src" / "bin.dat", std::ios::binary) << std::string("\0\n7\n\xff", 5);
+  std::ofstream(d / "src" / ".rnav-output", std::ios::binary) << "marker";  // hidden: not carried
+  const std::string pack = pack_folder((d / "src").string());
+  unpack_folder(pack, (d / "dst").string(), "test pack");
+  for (const char* f : {"a.csv", "empty.txt", "bin.dat"}) {
+    INFO(f);
+    CHECK(slurp(d / "dst" / f) == slurp(d / "src" / f));
+  }
+  CHECK_FALSE(fs::exists(d / "dst" / ".rnav-output"));
+  const auto bad = [&](const std::string& p) {
+    try {
+      unpack_folder(p, (d / "bad").string(), "rank 2 on hostx");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string head = "rnav-folder-pack 1\n";
+  CHECK_THAT(bad("not a pack"), Catch::Contains("rank 2 on hostx: not a folder pack"));
+  CHECK_THAT(bad(head + "../x\n1\nA"), Catch::Contains("bad file name '../x'"));
+  CHECK_THAT(bad(head + "a/b\n1\nA"), Catch::Contains("bad file name 'a/b'"));
+  CHECK_THAT(bad(head + "a\n99\nA"), Catch::Contains("file 'a': bad size '99'"));
+  CHECK_THAT(bad(head + "a\n-1\nA"), Catch::Contains("bad size"));
+  CHECK_THAT(bad(head + "a"), Catch::Contains("ends inside a file's name"));
+  CHECK_FALSE(fs::exists(d / "bad" / "x"));
 }
