@@ -40,7 +40,7 @@ TEST_CASE("ExactSum: the correctly rounded sum of integers spanning 50 binary or
     const long long ki = k(g);
     const int ei = e(g);
     v.push_back(std::ldexp(static_cast<double>(ki), ei));
-    exact += static_cast<__int128>(ki) << ei;
+    exact += static_cast<__int128>(ki) * (static_cast<__int128>(1) << ei);  // (a negative value may not be shifted)
   }
   const double ref = static_cast<double>(exact);
   CHECK(same_bits(sum_in_order(v), ref));
