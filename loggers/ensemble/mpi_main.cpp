@@ -166,9 +166,8 @@ bool parse(int argc, char** argv, Options& o, std::ostream& help) {
 }
 
 // Rank 0's verdict broadcast to all: 0 go on, else the exit code every rank returns.
-int agree(int rank, int code) {
+int agree(int code) {
   MPI_Bcast(&code, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  (void)rank;
   return code;
 }
 
@@ -204,7 +203,7 @@ int main(int argc, char** argv) {
     code = 1;
   }
   if (!go && code == 0) return finish(0);  // --help
-  if (agree(rank, code) != 0) return finish(code);
+  if ((code = agree(code)) != 0) return finish(code);
 
   // 2. This rank's shard.
   const Range s = shard_of(o.n, rank, k);
@@ -259,7 +258,7 @@ int main(int argc, char** argv) {
     std::cerr << rnav::cli::error_line(kProg, "the shards' outputs (" + std::to_string(total) +
                                                   " bytes) exceed MPI's 2 GiB gather: use fewer realizations per run")
               << "\n";
-  if (agree(rank, code) != 0) return finish(code);
+  if ((code = agree(code)) != 0) return finish(code);
   std::vector<char> all(rank == 0 ? static_cast<std::size_t>(total) : 0);
   MPI_Gatherv(pack.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
   if (rank != 0) return finish(0);
