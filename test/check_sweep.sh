@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ctest sweep.grid_and_resume: scripts/sweep runs one ensemble per grid setting, its rows equal
 # the settings' own runs, a rerun reuses finished settings and rebuilds the same table, an
-# unfinished setting is run again, and bad grids are refused naming the option.
+# unfinished setting is run again, settings on 2 MPI ranks or 2 at once give the same table, and bad grids are refused naming the option.
 # Usage: check_sweep.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 SRC=$1
@@ -38,10 +38,20 @@ cp "$T/sw/sweep.csv" "$T/first.csv"
 "${SW[@]}" 2>"$T/second.err" || fail "the rerun failed"
 grep -q "4 settings: 0 run, 4 from an earlier run" "$T/second.err" || { cat "$T/second.err"; fail "the rerun ran settings again"; }
 cmp -s "$T/first.csv" "$T/sw/sweep.csv" || fail "the rerun's sweep.csv differs"
-rm "$T/sw/settings/002/sweep_setting.json"
+rm "$T/sw/settings/002/job.json"
 "${SW[@]}" 2>"$T/third.err" || fail "the resumed sweep failed"
 grep -q "4 settings: 1 run, 3 from an earlier run" "$T/third.err" || { cat "$T/third.err"; fail "the unfinished setting was not run again"; }
 cmp -s "$T/first.csv" "$T/sw/sweep.csv" || fail "the resumed sweep.csv differs"
+
+# The settings sharded over 2 MPI ranks, and 2 at once on this host: the same table.
+if command -v mpirun >/dev/null; then
+  "$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=0.5,1 --realizations 6 --seed 3 --ranks 2 \
+    --out "$T/mpi" 2>"$T/mpi.err" || { cat "$T/mpi.err"; fail "the sweep on 2 ranks failed"; }
+  cmp -s "$T/first.csv" "$T/mpi/sweep.csv" || fail "sweep.csv on 2 MPI ranks differs"
+fi
+"$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=0.5,1 --realizations 6 --seed 3 --jobs 2 \
+  --out "$T/jobs" 2>"$T/jobs.err" || { cat "$T/jobs.err"; fail "the sweep with --jobs 2 failed"; }
+cmp -s "$T/first.csv" "$T/jobs/sweep.csv" || fail "sweep.csv with --jobs 2 differs"
 
 # Another N into the same folder is refused (its rows would mix two sweeps).
 if "$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=0.5,1 --realizations 7 --seed 3 \
@@ -51,11 +61,13 @@ grep -q "holds a sweep of another grid" "$T/other.err" || { cat "$T/other.err"; 
 check_bad() {
   local want=$1; shift
   if "$SRC/scripts/sweep" paper --realizations 3 --out "$T/bad" "$@" 2>"$T/bad.err"; then fail "accepted: $*"; fi
-  grep -qF "$want" "$T/bad.err" || { cat "$T/bad.err"; fail "no '$want' for: $*"; }
+  grep -qF -- "$want" "$T/bad.err" || { cat "$T/bad.err"; fail "no '$want' for: $*"; }
 }
 check_bad "at least one --grid" 
 check_bad "expected key=v1,v2" --grid radar.x_m
 check_bad "a value given twice" --grid radar.x_m=1,1
 check_bad "key 'radar.x_m' given twice" --grid radar.x_m=1 --grid radar.x_m=2
 check_bad "radar.x_mm" --grid radar.x_mm=1,2
+check_bad "exclude each other" --grid radar.x_m=1,2 --ranks 2 --setting-ranks 2
+check_bad "--jobs must be >= 1" --grid radar.x_m=1,2 --jobs 0
 echo "sweep: ok"

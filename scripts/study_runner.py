@@ -1,0 +1,258 @@
+"""The one runner under scripts/sweep and every study (geometry, UAV, guidance, false-alarm,
+power): named jobs, each a short list of commands writing into the job's own folder, run on this
+host (J at once) or sharded over K MPI ranks (mpirun or srun). A job that finished is kept and
+not run again, so a study that stopped (killed, a machine lost, a failed job) resumes where it
+was; a job that failed, or whose rank died, is named.
+
+A job, Job(name, steps, env=None, timeout_s=None):
+  name       unique within a run, [A-Za-z0-9_.+=-]+ (no '/'); its folder is OUT/NAME
+  steps      a list of argv lists run in order, each only if the one before succeeded; every
+             '{dir}' inside an argument becomes the job's folder (absolute path)
+  env        extra environment variables for the steps (not part of the job's identity)
+  timeout_s  a step running longer is killed and the job fails (None: no limit)
+Outcome of a job (Result.status):
+  ok       every step exited 0
+  invalid  a step exited 2, the project's status for input it refuses (e.g. a trajectory that
+           does not fit); the same input is refused again, so it is kept like an ok job
+  failed   any other failure (a crash, a signal, a timeout, a rank that died); not kept: the
+           next run runs the job again
+The job's folder holds job.log (every step's stderr) and, written last and atomically, job.json:
+{"command_id": sha256 of the steps, "status", "message", "wall_s"}. A folder whose job.json is
+missing, failed, or of other steps is emptied and the job run again; nothing outside OUT/NAME is
+touched.
+
+Under MPI (ranks=K) rank r of K runs jobs floor(rN/K) ... floor((r+1)N/K)-1 of the N in order,
+one at a time; OUT must be on a file system every rank sees (one host, or a shared one on a
+cluster). Rank failures are named by scripts/mpi.bash (rank, host, the rank's jobs).
+"""
+import hashlib
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+SCRIPTS = os.path.dirname(os.path.abspath(__file__))
+MARKER = "job.json"
+LOG = "job.log"
+KEPT = ("ok", "invalid")
+INVALID_INPUT_STATUS = 2     # the exit status every project program uses for refused input
+NAME_RE = re.compile(r"[A-Za-z0-9_.+=-]+")
+
+
+class StudyError(Exception):
+    """Bad use of the runner (a bad job list, MPI missing); the message names the culprit."""
+
+
+class Job:
+    def __init__(self, name, steps, env=None, timeout_s=None):
+        if not isinstance(name, str) or not NAME_RE.fullmatch(name) or name in (".", ".."):
+            raise StudyError("job name %r: use letters, digits and _.+=- only" % (name,))
+        if not steps or not all(isinstance(s, list) and s and all(isinstance(a, str) for a in s) for s in steps):
+            raise StudyError("job %s: steps must be a non-empty list of non-empty argv lists of strings" % name)
+        if timeout_s is not None and not timeout_s > 0:
+            raise StudyError("job %s: timeout_s must be > 0, got %r" % (name, timeout_s))
+        self.name, self.steps, self.env, self.timeout_s = name, steps, dict(env or {}), timeout_s
+
+    def command_id(self):
+        """What a kept result must have been made with: the steps, {dir} unexpanded."""
+        return hashlib.sha256(json.dumps(self.steps).encode()).hexdigest()
+
+    def to_dict(self):
+        return {"name": self.name, "steps": self.steps, "env": self.env, "timeout_s": self.timeout_s}
+
+
+class Result:
+    """A job's outcome: name, status (ok / invalid / failed), folder, message (the failing
+    step's last error line, or ''), wall_s (its run time, also for a kept result), reused (True
+    when kept from an earlier run)."""
+
+    def __init__(self, name, status, folder, message="", wall_s=0.0, reused=False):
+        self.name, self.status, self.folder = name, status, folder
+        self.message, self.wall_s, self.reused = message, wall_s, reused
+
+    @property
+    def ok(self):
+        return self.status == "ok"
+
+
+def _read_marker(folder):
+    try:
+        with open(os.path.join(folder, MARKER)) as f:
+            m = json.load(f)
+        return m if isinstance(m, dict) else None
+    except (OSError, ValueError):
+        return None
+
+
+def kept(job, out):
+    """The Result of an earlier run of this job in OUT, or None when it must run."""
+    folder = os.path.join(out, job.name)
+    m = _read_marker(folder)
+    if m and m.get("command_id") == job.command_id() and m.get("status") in KEPT:
+        return Result(job.name, m["status"], folder, m.get("message", ""), m.get("wall_s", 0.0), True)
+    return None
+
+
+def _error_line(text):
+    lines = [l for l in text.strip().splitlines() if l.strip()]
+    return next((l for l in reversed(lines) if "error" in l.lower()), lines[-1] if lines else "")
+
+
+def run_one(job, out):
+    """Run one job now (its earlier folder, if any, emptied first) and record its outcome."""
+    folder = os.path.join(out, job.name)
+    if os.path.lexists(folder):
+        if os.path.islink(folder) or not os.path.isdir(folder):
+            raise StudyError("%s is not a job folder (a link or a file): remove it" % folder)
+        shutil.rmtree(folder)
+    os.makedirs(folder)
+    env = dict(os.environ, **job.env)
+    t0 = time.time()
+    status, message = "ok", ""
+    with open(os.path.join(folder, LOG), "w") as log:
+        for step in job.steps:
+            argv = [a.replace("{dir}", folder) for a in step]
+            log.write("$ %s\n" % " ".join(argv))
+            log.flush()
+            with tempfile.TemporaryFile("w+") as err:
+                try:
+                    p = subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=err, env=env,
+                                       timeout=job.timeout_s)
+                    rc = p.returncode
+                except subprocess.TimeoutExpired:
+                    rc = None
+                except OSError as e:
+                    rc, message = 127, "cannot start %s: %s" % (argv[0], e)
+                err.seek(0)
+                text = err.read()
+            log.write(text)
+            if rc == 0:
+                continue
+            if rc is None:
+                status, message = "failed", "%s timed out after %g s" % (os.path.basename(argv[0]), job.timeout_s)
+            elif rc == INVALID_INPUT_STATUS:
+                status, message = "invalid", _error_line(text)
+            else:
+                why = "exit status %d" % rc if rc > 0 else "signal %d" % -rc
+                status, message = "failed", "%s: %s%s" % (os.path.basename(argv[0]), why,
+                                                          (": " + _error_line(text)) if _error_line(text) else message)
+            break
+    wall = round(time.time() - t0, 3)
+    marker = {"command_id": job.command_id(), "status": status, "message": message, "wall_s": wall}
+    tmp = os.path.join(folder, MARKER + ".partial")
+    with open(tmp, "w") as f:
+        json.dump(marker, f)
+    os.replace(tmp, os.path.join(folder, MARKER))
+    return Result(job.name, status, folder, message, wall, False)
+
+
+def _check_jobs(jobs):
+    names = set()
+    for j in jobs:
+        if not isinstance(j, Job):
+            raise StudyError("not a Job: %r" % (j,))
+        if j.name in names:
+            raise StudyError("job name %s given twice" % j.name)
+        names.add(j.name)
+
+
+def shard(n, k, r):
+    """Rank r of k runs items shard(n, k, r) = range(floor(rn/k), floor((r+1)n/k))."""
+    return range(n * r // k, n * (r + 1) // k)
+
+
+def _run_mpi(jobs, todo, out, ranks, log):
+    """The jobs `todo` (indices into jobs) over `ranks` MPI ranks; returns '' or the failure."""
+    plan = os.path.join(out, ".study_plan.json")
+    with open(plan, "w") as f:
+        json.dump({"out": out, "jobs": [jobs[i].to_dict() for i in todo]}, f)
+    describe = os.path.join(out, ".study_ranks.txt")
+    with open(describe, "w") as f:
+        for r in range(ranks):
+            s = shard(len(todo), ranks, r)
+            f.write(("jobs %s ... %s" % (jobs[todo[s[0]]].name, jobs[todo[s[-1]]].name) if len(s) else "no jobs") + "\n")
+    log("%d jobs over %d MPI ranks" % (len(todo), ranks))
+    # Inside describe, $1 is the rank; the script's own arguments are $1 ... $6 outside it.
+    script = ('source "$1/mpi.bash"; describe() { sed -n "$(($1 + 1))p" "$DESCRIBE"; }; '
+              'mpi_run "$2" "$3" describe "$4" "$5" --worker "$6" && exit 0; echo "$MPI_FAILURE" >&2; exit 1')
+    p = subprocess.run(["bash", "-c", script, "study_runner", SCRIPTS, str(ranks), os.path.join(out, ".study_mpi.log"),
+                        sys.executable, os.path.abspath(__file__), plan],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                       env=dict(os.environ, DESCRIBE=describe))
+    return "" if p.returncode == 0 else (p.stderr.strip() or "mpirun failed (exit %d)" % p.returncode)
+
+
+def run(jobs, out, parallel=1, ranks=0, log=None):
+    """Run the jobs not kept from an earlier run into OUT/NAME; returns a Result per job, in the
+    order given. parallel: jobs at once on this host (>= 1); ranks: > 0 shards the jobs over
+    that many MPI ranks instead. Raises StudyError on bad use; failed jobs are Results."""
+    log = log or (lambda msg: None)
+    _check_jobs(jobs)
+    if not (isinstance(parallel, int) and parallel >= 1):
+        raise StudyError("parallel must be an integer >= 1, got %r" % (parallel,))
+    if not (isinstance(ranks, int) and 0 <= ranks <= 1024):
+        raise StudyError("ranks must be an integer in 0 ... 1024, got %r" % (ranks,))
+    out = os.path.abspath(out)
+    os.makedirs(out, exist_ok=True)
+    results = [kept(j, out) for j in jobs]
+    todo = [i for i, r in enumerate(results) if r is None]
+    if todo and ranks > 0:
+        failure = _run_mpi(jobs, todo, out, ranks, log)
+        for i in todo:
+            r = kept(jobs[i], out)
+            if r is not None:
+                r.reused = False
+            else:
+                m = _read_marker(os.path.join(out, jobs[i].name)) or {}
+                r = Result(jobs[i].name, "failed", os.path.join(out, jobs[i].name),
+                           m.get("message") or "no result: " + (failure or "its rank ended without one"),
+                           m.get("wall_s", 0.0))
+            results[i] = r
+    elif todo:
+        def one(i):
+            log("job %s" % jobs[i].name)
+            return run_one(jobs[i], out)
+        with ThreadPoolExecutor(max_workers=parallel) as ex:
+            for i, r in zip(todo, ex.map(one, todo)):
+                results[i] = r
+    return results
+
+
+def summary(results):
+    """'N jobs: R run, K from an earlier run, F failed' (I of them invalid input when any)."""
+    ran = sum(1 for r in results if not r.reused)
+    reused = len(results) - ran
+    failed = sum(1 for r in results if r.status == "failed")
+    invalid = sum(1 for r in results if r.status == "invalid")
+    return "%d jobs: %d run, %d from an earlier run, %d failed%s" % (
+        len(results), ran, reused, failed, (", %d invalid input" % invalid) if invalid else "")
+
+
+def failures(results):
+    """'NAME: message' for every failed job (invalid input is an outcome, not a failure)."""
+    return ["%s: %s" % (r.name, r.message) for r in results if r.status == "failed"]
+
+
+def _worker(plan_path):
+    """An MPI rank: its shard of the plan's jobs, one at a time. Job failures are recorded in
+    the jobs' folders (exit 0); only a broken plan makes the rank fail."""
+    rank = int(os.environ.get("OMPI_COMM_WORLD_RANK", os.environ.get("PMIX_RANK", os.environ.get("SLURM_PROCID", "0"))))
+    size = int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("SLURM_NTASKS", "1")))
+    with open(plan_path) as f:
+        plan = json.load(f)
+    jobs = [Job(d["name"], d["steps"], d["env"], d["timeout_s"]) for d in plan["jobs"]]
+    for i in shard(len(jobs), size, rank):
+        run_one(jobs[i], plan["out"])
+    return 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--worker":
+        sys.exit(_worker(sys.argv[2]))
+    sys.stderr.write("study_runner: a library (import it); '--worker PLAN' is how MPI ranks run it\n")
+    sys.exit(2)
