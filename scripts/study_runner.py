@@ -4,12 +4,15 @@ host (J at once) or sharded over K MPI ranks (mpirun or srun). A job that finish
 not run again, so a study that stopped (killed, a machine lost, a failed job) resumes where it
 was; a job that failed, or whose rank died, is named.
 
-A job, Job(name, steps, env=None, timeout_s=None):
+A job, Job(name, steps, env=None, timeout_s=None, keep=None):
   name       unique within a run, [A-Za-z0-9_.+=-]+ (no '/'); its folder is OUT/NAME
   steps      a list of argv lists run in order, each only if the one before succeeded; every
              '{dir}' inside an argument becomes the job's folder (absolute path)
   env        extra environment variables for the steps (not part of the job's identity)
   timeout_s  a step running longer is killed and the job fails (None: no limit)
+  keep       once every step succeeded, only the files matching these patterns (fnmatch, paths
+             relative to the job's folder, e.g. 'run/summary.json') stay, with job.json and
+             job.log; empty folders go too. None keeps everything. Part of the job's identity.
 Outcome of a job (Result.status):
   ok       every step exited 0
   invalid  a step exited 2, the project's status for input it refuses (e.g. a trajectory that
@@ -25,6 +28,7 @@ Under MPI (ranks=K) rank r of K runs jobs floor(rN/K) ... floor((r+1)N/K)-1 of t
 one at a time; OUT must be on a file system every rank sees (one host, or a shared one on a
 cluster). Rank failures are named by scripts/mpi.bash (rank, host, the rank's jobs).
 """
+import fnmatch
 import hashlib
 import json
 import os
@@ -49,21 +53,27 @@ class StudyError(Exception):
 
 
 class Job:
-    def __init__(self, name, steps, env=None, timeout_s=None):
+    def __init__(self, name, steps, env=None, timeout_s=None, keep=None):
         if not isinstance(name, str) or not NAME_RE.fullmatch(name) or name in (".", ".."):
             raise StudyError("job name %r: use letters, digits and _.+=- only" % (name,))
         if not steps or not all(isinstance(s, list) and s and all(isinstance(a, str) for a in s) for s in steps):
             raise StudyError("job %s: steps must be a non-empty list of non-empty argv lists of strings" % name)
         if timeout_s is not None and not timeout_s > 0:
             raise StudyError("job %s: timeout_s must be > 0, got %r" % (name, timeout_s))
+        if keep is not None and not (isinstance(keep, list) and all(isinstance(k, str) and k for k in keep)):
+            raise StudyError("job %s: keep must be None or a list of file patterns" % name)
         self.name, self.steps, self.env, self.timeout_s = name, steps, dict(env or {}), timeout_s
+        self.keep = keep
 
     def command_id(self):
-        """What a kept result must have been made with: the steps, {dir} unexpanded."""
-        return hashlib.sha256(json.dumps(self.steps).encode()).hexdigest()
+        """What a kept result must have been made with: the steps, {dir} unexpanded (and what
+        was kept of their files)."""
+        ident = self.steps if self.keep is None else {"steps": self.steps, "keep": self.keep}
+        return hashlib.sha256(json.dumps(ident).encode()).hexdigest()
 
     def to_dict(self):
-        return {"name": self.name, "steps": self.steps, "env": self.env, "timeout_s": self.timeout_s}
+        return {"name": self.name, "steps": self.steps, "env": self.env, "timeout_s": self.timeout_s,
+                "keep": self.keep}
 
 
 class Result:
@@ -142,6 +152,8 @@ def run_one(job, out):
                 status, message = "failed", "%s: %s%s" % (os.path.basename(argv[0]), why,
                                                           (": " + _error_line(text)) if _error_line(text) else message)
             break
+    if status == "ok" and job.keep is not None:
+        _prune(folder, job.keep)
     wall = round(time.time() - t0, 3)
     marker = {"command_id": job.command_id(), "status": status, "message": message, "wall_s": wall}
     tmp = os.path.join(folder, MARKER + ".partial")
@@ -149,6 +161,17 @@ def run_one(job, out):
         json.dump(marker, f)
     os.replace(tmp, os.path.join(folder, MARKER))
     return Result(job.name, status, folder, message, wall, False)
+
+
+def _prune(folder, keep):
+    """Remove every file under folder but job.json, job.log and those matching keep."""
+    for root, dirs, files in os.walk(folder, topdown=False):
+        for f in files:
+            rel = os.path.relpath(os.path.join(root, f), folder)
+            if rel not in (MARKER, LOG) and not any(fnmatch.fnmatchcase(rel, k) for k in keep):
+                os.remove(os.path.join(root, f))
+        if root != folder and not os.listdir(root):
+            os.rmdir(root)
 
 
 def _check_jobs(jobs):
@@ -245,7 +268,7 @@ def _worker(plan_path):
     size = int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("SLURM_NTASKS", "1")))
     with open(plan_path) as f:
         plan = json.load(f)
-    jobs = [Job(d["name"], d["steps"], d["env"], d["timeout_s"]) for d in plan["jobs"]]
+    jobs = [Job(d["name"], d["steps"], d["env"], d["timeout_s"], d["keep"]) for d in plan["jobs"]]
     for i in shard(len(jobs), size, rank):
         run_one(jobs[i], plan["out"])
     return 0

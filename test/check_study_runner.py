@@ -76,6 +76,15 @@ check(len(sr.failures(res)) == 3 and sr.failures(res)[0].startswith("crash: "), 
 res = sr.run(bad, os.path.join(T, "bad"))
 check([r.reused for r in res] == [True, False, False, False], "invalid kept, failures rerun: %s" % [r.reused for r in res])
 
+# keep: once the job succeeded only the matching files (and the job's own two) stay.
+kj = sr.Job("kept", [["sh", "-c", "mkdir -p {dir}/run/sub; echo 1 > {dir}/run/a.json; echo 2 > {dir}/run/b.csv; echo 3 > {dir}/run/sub/c"]],
+            keep=["run/*.json"])
+r = sr.run([kj], os.path.join(T, "keep"))[0]
+left = sorted(os.path.relpath(os.path.join(d, f), r.folder) for d, _, fs in os.walk(r.folder) for f in fs)
+check(r.ok and left == ["job.json", "job.log", "run/a.json"], "keep left %s" % left)
+check(not sr.run([sr.Job("kept", kj.steps, keep=["run/*.csv"])], os.path.join(T, "keep"))[0].reused,
+      "a job keeping other files was not run again")
+
 # Bad use is refused naming the culprit.
 for jobs_bad, want in (([sr.Job("a", [["true"]]), sr.Job("a", [["true"]])], "job name a given twice"),):
     try:
