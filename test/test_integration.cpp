@@ -61,8 +61,9 @@ bool alive(pid_t pid) {
 }
 
 const std::string kRun = kRoot + "/scripts/run paper --no-plots --net netns ";
-// Small, fast settings for failure-path tests: wall timeouts short, few realizations.
-const std::string kFast = " --set runner.stall_timeout_s=0.5 --set runner.ack_timeout_s=2 ";
+// Small, fast settings for failure-path tests: wall timeouts short, few realizations; windows of
+// 100 s (scripts/run would take a whole realization as one window), so --drop can name window 3.
+const std::string kFast = " --set runner.stall_timeout_s=0.5 --set runner.ack_timeout_s=2 --set runner.window_s=100 ";
 
 }  // namespace
 

@@ -112,6 +112,25 @@ TEST_CASE("shards of an azimuth-only ensemble merged in any order equal one run"
   require_same_files(d / "whole", d / "m");
 }
 
+TEST_CASE("shards run with other lock-step settings join: the runner section changes no result", "[merge]") {
+  // scripts/run takes a whole landing realization as one window over LCM; one process keeps
+  // 100 s. Shards of both kinds join into one run's statistics; scenario.json is realization 0's.
+  const auto d = scratch("runner");
+  const Scenario sc = Scenario::load(kPaper, {});
+  run(sc, d / "whole", 0, 5, 4);
+  run(Scenario::load(kPaper, {"runner.window_s=37", "runner.wire=sample"}), d / "a", 0, 2, 4);
+  run(sc, d / "b", 2, 3, 4);
+  REQUIRE(slurp(d / "a" / "scenario.json") != slurp(d / "b" / "scenario.json"));
+  const auto r = merge_shards({(d / "b").string(), (d / "a").string()}, (d / "m").string());
+  CHECK(r.realizations == 5);
+  for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv", "realizations.csv",
+                        "ensemble_state.json"}) {
+    INFO(f);
+    CHECK(slurp(d / "m" / f) == slurp(d / "whole" / f));
+  }
+  CHECK(slurp(d / "m" / "scenario.json") == slurp(d / "a" / "scenario.json"));
+}
+
 TEST_CASE("shards that are not one ensemble are refused naming the culprit", "[merge]") {
   const auto d = scratch("bad");
   const Scenario sc = Scenario::load(kPaper, {});

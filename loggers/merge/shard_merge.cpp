@@ -33,6 +33,7 @@ std::string read_text(const std::string& path) {
 struct Shard {
   std::string dir;
   nlohmann::json state;
+  std::string scenario_text;  // its scenario.json
   std::set<long> held;  // its realizations
   long first = -1;      // its lowest realization (-1: none)
 };
@@ -67,18 +68,23 @@ std::string body_of(const std::string& path, const std::string& text, std::strin
 
 MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::string& out_dir) {
   if (shard_dirs.empty()) throw std::invalid_argument("no shard to merge");
-  std::string scenario_text;
+  std::string model_text;  // the first shard's scenario without its runner section
   std::vector<Shard> shards;
   MergeResult res;
   for (const auto& dir : shard_dirs) {
     const std::string sc_path = dir + "/scenario.json", st_path = dir + "/ensemble_state.json";
     const std::string sc = read_text(sc_path);
-    if (scenario_text.empty()) scenario_text = sc;
-    else if (sc != scenario_text)
+    // The runner section (lock-step window, wire, timeouts) does not change a result: shards run
+    // in one process and over LCM (whose window scripts/run chooses) join. Everything else must match.
+    nlohmann::json model = parse_json_checked(sc, sc_path, /*allow_comments=*/false);
+    if (model.is_object()) model.erase("runner");
+    const std::string m = model.dump();
+    if (model_text.empty()) model_text = m;
+    else if (m != model_text)
       throw std::invalid_argument(sc_path + " differs from " + shard_dirs.front() +
                                   "/scenario.json: shards of one ensemble run the same scenario");
     // Depth-limited, duplicate keys refused (the scenario files' parser): a state file is input.
-    Shard s{dir, parse_json_checked(read_text(st_path), st_path, /*allow_comments=*/false)};
+    Shard s{dir, parse_json_checked(read_text(st_path), st_path, /*allow_comments=*/false), sc, {}, -1};
     if (!s.state.is_object() || !s.state.contains("kind") || !s.state.contains("seed") ||
         !s.state["seed"].is_number_integer())
       throw std::invalid_argument(st_path + ": not an ensemble state (JSON with kind and seed)");
@@ -148,7 +154,8 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
     for (const auto& s : shards)
       if (s.held.count(track_realization)) write_file_atomic(out_dir, "track.csv", read_text(s.dir + "/track.csv"));
   }
-  write_file_atomic(out_dir, "scenario.json", scenario_text);
+  // The scenario as the shard holding realization 0 ran it (whatever order the shards came in).
+  write_file_atomic(out_dir, "scenario.json", shards.front().scenario_text);
   return res;
 }
 
