@@ -2,6 +2,7 @@
 
 #include "atomic_file.hpp"
 #include "realization_set.hpp"
+#include "state_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -18,12 +19,8 @@ namespace {
 constexpr double kRadToDeg = 57.29577951308232;
 constexpr double kZ95 = 1.959963984540054;  // two-sided 95 % normal quantile
 
-// x exactly (17 significant digits: it reads back as the same double).
-std::string full(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
+using state_json::exact_text;
+using state_json::member;
 
 std::string range_key(double r) {
   char b[32];
@@ -102,8 +99,8 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     const double scale[3] = {1, kRadToDeg, kRadToDeg};
     rows += std::to_string(realization) + "," + kind + "," + fixed(lo, 0) + "," + fixed(hi, 0) + "," + std::to_string(ap.n);
     for (const auto* m : {&ap, &to})
-      for (int k = 0; k < 3; ++k) rows += "," + full(m->mean(k));
-    for (int k = 0; k < 3; ++k) rows += "," + full(bi.mean(k) * scale[k]);
+      for (int k = 0; k < 3; ++k) rows += "," + exact_text(m->mean(k));
+    for (int k = 0; k < 3; ++k) rows += "," + exact_text(bi.mean(k) * scale[k]);
     rows += "\n";
   };
   for (std::size_t i = 0; i < ranges.size(); ++i)
@@ -281,8 +278,8 @@ nlohmann::ordered_json PrlStats::state(std::int64_t seed) const {
   j["realizations"] = n_real_;
   j["by_time"] = J::array();
   for (const auto& [utime, b] : by_time_)
-    j["by_time"].push_back({{"utime", utime}, {"range_true_m", full(b.range_true_m)}, {"range_table_m", full(b.range_table_m)},
-                            {"p_true_L", {full(b.p_true_L[0]), full(b.p_true_L[1]), full(b.p_true_L[2])}},
+    j["by_time"].push_back({{"utime", utime}, {"range_true_m", exact_text(b.range_true_m)}, {"range_table_m", exact_text(b.range_table_m)},
+                            {"p_true_L", {exact_text(b.p_true_L[0]), exact_text(b.p_true_L[1]), exact_text(b.p_true_L[2])}},
                             {"apoi", b.apoi.state()}, {"toi", b.toi.state()}, {"bias_err", b.bias_err.state()},
                             {"bias_var", b.bias_var.state()}});
   j["by_range"] = J::array();
@@ -296,20 +293,7 @@ nlohmann::ordered_json PrlStats::state(std::int64_t seed) const {
 
 namespace {
 
-// A double written by full() (or any decimal): exact, or an error naming `what`.
-double read_full(const nlohmann::json& j, const std::string& what) {
-  if (!j.is_string()) throw std::invalid_argument(what + ": expected a number as text");
-  const std::string t = j.get<std::string>();
-  char* end = nullptr;
-  const double x = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || !std::isfinite(x)) throw std::invalid_argument(what + ": not a finite number: '" + t + "'");
-  return x;
-}
-
-const nlohmann::json& member(const nlohmann::json& j, const char* key, const std::string& what) {
-  if (!j.is_object() || !j.contains(key)) throw std::invalid_argument(what + ": '" + key + "' is missing");
-  return j.at(key);
-}
+double read_full(const nlohmann::json& j, const std::string& what) { return state_json::read_exact(j, what, true); }
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 
 #include "atomic_file.hpp"
 #include "realization_set.hpp"
+#include "state_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -225,37 +226,12 @@ namespace {
 
 using J = nlohmann::ordered_json;
 
-std::string full17(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", x);
-  return b;
-}
+using state_json::exact_sum_member;
+using state_json::exact_text;
+using state_json::int_member;
+using state_json::member;
 
-double read17(const nlohmann::json& j, const std::string& what) {
-  if (!j.is_string()) throw std::invalid_argument(what + ": expected a number as text");
-  const std::string t = j.get<std::string>();
-  char* end = nullptr;
-  const double x = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || std::isnan(x)) throw std::invalid_argument(what + ": not a number: '" + t + "'");
-  return x;
-}
-
-const nlohmann::json& at(const nlohmann::json& j, const char* key, const std::string& what) {
-  if (!j.is_object() || !j.contains(key)) throw std::invalid_argument(what + ": '" + key + "' is missing");
-  return j.at(key);
-}
-
-ExactSum sum_at(const nlohmann::json& j, const char* key, const std::string& what) {
-  const auto& v = at(j, key, what);
-  if (!v.is_string()) throw std::invalid_argument(what + "." + key + ": expected an exact sum as text");
-  return ExactSum::from_text(v.get<std::string>(), what + "." + key);
-}
-
-template <class T> T int_at(const nlohmann::json& j, const char* key, const std::string& what) {
-  const auto& v = at(j, key, what);
-  if (!v.is_number_integer()) throw std::invalid_argument(what + "." + key + ": expected an integer");
-  return v.get<T>();
-}
+double read17(const nlohmann::json& j, const std::string& what) { return state_json::read_exact(j, what, false); }
 
 }  // namespace
 
@@ -268,7 +244,7 @@ nlohmann::ordered_json UavStats::state(std::int64_t seed) const {
   j["held"] = realization_intervals(held_);
   j["first_utime"] = first_utime_;
   j["frames"] = frames_;
-  j["range"] = {{"min", full17(range_min_m_)}, {"max", full17(range_max_m_)}, {"sum", range_sum_m_.to_text()},
+  j["range"] = {{"min", exact_text(range_min_m_)}, {"max", exact_text(range_max_m_)}, {"sum", range_sum_m_.to_text()},
                 {"n", range_n_}, {"inside_orbit_runs", inside_orbit_runs_}};
   j["by_time"] = J::object();
   for (const auto& [name, m] : by_time_) {
@@ -293,48 +269,48 @@ nlohmann::ordered_json UavStats::state(std::int64_t seed) const {
 }
 
 void UavStats::merge_state(const nlohmann::json& j, std::int64_t seed, const std::string& what) {
-  if (at(j, "kind", what) != "uav" || at(j, "format", what) != 1)
+  if (member(j, "kind", what) != "uav" || member(j, "format", what) != 1)
     throw std::invalid_argument(what + ": not an azimuth-only ensemble state (format 1)");
-  if (at(j, "seed", what) != seed)
-    throw std::invalid_argument(what + ": seed " + at(j, "seed", what).dump() + ", the merged ensemble's is " + std::to_string(seed));
+  if (member(j, "seed", what) != seed)
+    throw std::invalid_argument(what + ": seed " + member(j, "seed", what).dump() + ", the merged ensemble's is " + std::to_string(seed));
   // Parse into a UavStats of its own first: a rejected shard changes nothing here.
   UavStats o(sc_);
-  o.n_ = int_at<long>(j, "realizations", what);
-  o.held_ = rnav::realization_set(at(j, "held", what), what);
+  o.n_ = int_member<long>(j, "realizations", what);
+  o.held_ = rnav::realization_set(member(j, "held", what), what);
   for (long r : o.held_)
     if (held_.count(r)) throw std::invalid_argument(what + ": realization " + std::to_string(r) + " is already in the merged ensemble");
   if (static_cast<long>(o.held_.size()) != o.n_)
     throw std::invalid_argument(what + ": " + std::to_string(o.n_) + " realizations but 'held' names " + std::to_string(o.held_.size()));
-  o.first_utime_ = int_at<std::int64_t>(j, "first_utime", what);
+  o.first_utime_ = int_member<std::int64_t>(j, "first_utime", what);
   if (n_ > 0 && o.n_ > 0 && o.first_utime_ != first_utime_)
     throw std::invalid_argument(what + ": first detection at utime " + std::to_string(o.first_utime_) +
                                 ", the merged ensemble's at " + std::to_string(first_utime_) + " (the PCRB's prior would differ)");
-  o.frames_ = at(j, "frames", what).get<std::vector<std::int64_t>>();
-  const auto& rg = at(j, "range", what);
-  o.range_min_m_ = read17(at(rg, "min", what), what + " range.min");
-  o.range_max_m_ = read17(at(rg, "max", what), what + " range.max");
-  o.range_sum_m_ = sum_at(rg, "sum", what + " range");
-  o.range_n_ = int_at<long>(rg, "n", what + " range");
-  o.inside_orbit_runs_ = int_at<long>(rg, "inside_orbit_runs", what + " range");
-  for (const auto& [name, rows] : at(j, "by_time", what).items())
+  o.frames_ = member(j, "frames", what).get<std::vector<std::int64_t>>();
+  const auto& rg = member(j, "range", what);
+  o.range_min_m_ = read17(member(rg, "min", what), what + " range.min");
+  o.range_max_m_ = read17(member(rg, "max", what), what + " range.max");
+  o.range_sum_m_ = exact_sum_member(rg, "sum", what + " range");
+  o.range_n_ = int_member<long>(rg, "n", what + " range");
+  o.inside_orbit_runs_ = int_member<long>(rg, "inside_orbit_runs", what + " range");
+  for (const auto& [name, rows] : member(j, "by_time", what).items())
     for (const auto& r : rows) {
       const std::string w = what + " by_time." + name;
-      auto& a = o.by_time_[name][int_at<std::int64_t>(r, "utime", w)];
-      a.n = int_at<long>(r, "n", w);
-      a.n_upd = int_at<long>(r, "n_upd", w);
-      a.pos2 = sum_at(r, "pos2", w);
-      a.vel2 = sum_at(r, "vel2", w);
-      a.nees = sum_at(r, "nees", w);
-      a.nis = sum_at(r, "nis", w);
+      auto& a = o.by_time_[name][int_member<std::int64_t>(r, "utime", w)];
+      a.n = int_member<long>(r, "n", w);
+      a.n_upd = int_member<long>(r, "n_upd", w);
+      a.pos2 = exact_sum_member(r, "pos2", w);
+      a.vel2 = exact_sum_member(r, "vel2", w);
+      a.nees = exact_sum_member(r, "nees", w);
+      a.nis = exact_sum_member(r, "nis", w);
     }
-  for (const auto& [name, f] : at(j, "final", what).items()) {
+  for (const auto& [name, f] : member(j, "final", what).items()) {
     const std::string w = what + " final." + name;
     auto& a = o.final_[name];
-    a.n = int_at<long>(f, "n", w);
-    a.diverged = int_at<long>(f, "diverged", w);
-    a.pos2 = sum_at(f, "pos2", w);
-    a.vel2 = sum_at(f, "vel2", w);
-    a.nees = sum_at(f, "nees", w);
+    a.n = int_member<long>(f, "n", w);
+    a.diverged = int_member<long>(f, "diverged", w);
+    a.pos2 = exact_sum_member(f, "pos2", w);
+    a.vel2 = exact_sum_member(f, "vel2", w);
+    a.nees = exact_sum_member(f, "nees", w);
   }
   const auto mat = [&](const nlohmann::json& a, const std::string& w) {
     if (!a.is_array() || a.size() != 16) throw std::invalid_argument(w + ": expected 16 exact sums");
@@ -345,8 +321,8 @@ void UavStats::merge_state(const nlohmann::json& j, std::int64_t seed, const std
     }
     return s;
   };
-  for (const auto& e : at(j, "info", what)) o.info_sum_[int_at<std::int64_t>(e, "utime", what + " info")] = mat(at(e, "sum", what), what + " info");
-  o.J0_sum_ = mat(at(j, "J0", what), what + " J0");
+  for (const auto& e : member(j, "info", what)) o.info_sum_[int_member<std::int64_t>(e, "utime", what + " info")] = mat(member(e, "sum", what), what + " info");
+  o.J0_sum_ = mat(member(j, "J0", what), what + " J0");
   // Every check passed: add.
   for (auto& [name, m] : o.by_time_)
     for (auto& [t, a] : m) {
