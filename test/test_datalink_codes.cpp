@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <complex>
 #include <numeric>
 #include <stdexcept>
@@ -305,6 +306,31 @@ TEST_CASE("AB codes: generic seeds give balanced, non-collapsing, reproducible c
     CHECK(changes > 300);
     CHECK(dl::ab_code(spec, dl::SeedDigits::generic(42, spec.base), N) == c);  // reproducible
     CHECK(dl::ab_code(spec, dl::SeedDigits::generic(43, spec.base), N) != c);  // the seed indexes the family
+  }
+  // The tent map's binary code is the doubling map's (T(x) = +-2x mod 1, cos even); the phase
+  // readout differs (exp(2 pi i x) is not even).
+  for (std::uint64_t seed : {1u, 2u, 77u}) {
+    CHECK(dl::ab_code(dl::AbSpec::parse("tent"), dl::SeedDigits::generic(seed, 2), N) ==
+          dl::ab_code(dl::AbSpec::parse("ab2"), dl::SeedDigits::generic(seed, 2), N));
+    CHECK(dl::ab_code(dl::AbSpec::parse("tent-phase"), dl::SeedDigits::generic(seed, 2), 64) !=
+          dl::ab_code(dl::AbSpec::parse("ab2-phase"), dl::SeedDigits::generic(seed, 2), 64));
+  }
+  // ab3 chips are correlated, E[c_k c_{k+j}] = (-1/3)^j (ab_codes.hpp); ab2's are not. Sample
+  // means over 20 codes of 1023 chips (20440 products, sd <= 1/sqrt(20440) = 0.007): bound 0.05.
+  for (const char* name : {"ab3", "ab2"}) {
+    const auto spec = dl::AbSpec::parse(name);
+    double lag1 = 0, lag2 = 0;
+    long n = 0;
+    for (std::uint64_t seed = 100; seed < 120; ++seed) {
+      const auto c = dl::ab_code(spec, dl::SeedDigits::generic(seed, spec.base), N);
+      for (int k = 0; k + 2 < N; ++k, ++n) {
+        lag1 += (c[static_cast<std::size_t>(k)] * c[static_cast<std::size_t>(k + 1)]).real();
+        lag2 += (c[static_cast<std::size_t>(k)] * c[static_cast<std::size_t>(k + 2)]).real();
+      }
+    }
+    INFO(name);
+    CHECK(std::abs(lag1 / n - (spec.base == 3 ? -1.0 / 3 : 0.0)) < 0.05);
+    CHECK(std::abs(lag2 / n - (spec.base == 3 ? 1.0 / 9 : 0.0)) < 0.05);
   }
   // The readout of ab2 against the seed's digits.
   auto digits = dl::SeedDigits::generic(5, 2);

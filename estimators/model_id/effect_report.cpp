@@ -100,7 +100,8 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   const Eigen::MatrixXd R = raw_model_matrix(d, chosen);
   const Eigen::Index q = p.nuisance.cols();
   res.nuisance_beta = fin.beta.head(q);
-  res.nuisance_se = cov.diagonal().head(q).cwiseSqrt();
+  // (No nuisance and no effect: cov is 0 x 0, whose diagonal() Eigen may not even take.)
+  res.nuisance_se = q > 0 ? Eigen::VectorXd(cov.diagonal().head(q).cwiseSqrt()) : Eigen::VectorXd();
   res.nuisance_fit = q > 0 ? Eigen::VectorXd(R.leftCols(q) * fin.beta.head(q)) : Eigen::VectorXd::Zero(R.rows());
   res.effect_fit = R.rightCols(R.cols() - q) * fin.beta.tail(R.cols() - q);
   res.nominal_fit = Eigen::VectorXd::Zero(R.rows());

@@ -24,6 +24,12 @@
 //   phase (polyphase, unimodular):  c_k = exp(2 pi i x_k), x_k rounded to a double at readout.
 // For the doubling map with sign_cos, c_k = +1 exactly when the first two digits of x_k agree:
 //   c_k = (-1)^(d_{k+1} XOR d_{k+2}).
+// The tent map gives the same binary code: T(x) = 2x or 2 - 2x = -2x (mod 1), so tent orbits are
+// +-2^k x_0 (mod 1), and cos(2 pi (-y)) = cos(2 pi y); only the phase readout tells them apart.
+// For a Lebesgue-typical x_0 the digits are independent fair coins, so ab2 (and tent) codes are
+// i.i.d. fair +-1 chips. x -> 3x mod 1 with sign_cos gives correlated chips: with the Fourier
+// series sgn cos(2 pi x) = sum_{m odd} (2 / (pi |m|)) (-1)^((|m|-1)/2) e^{2 pi i m x}, only the
+// harmonics m and 3^j m of c_k and c_{k+j} meet, and E[c_k c_{k+j}] = (-1/3)^j.
 //
 // The family. A code family is indexed by the seed point x_0: SeedDigits::generic(j, r) gives
 // code j the digits of a pseudo-random point (SplitMix64 stream of j), a stand-in for a

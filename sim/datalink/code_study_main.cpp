@@ -26,7 +26,7 @@ namespace {
 using rnav::ConfigError;
 namespace dl = rnav::datalink;
 
-const std::vector<std::string> kDefaultFamilies = {"gold", "ab2", "ab3", "tent", "ab2-phase", "gold-qpsk"};
+const std::vector<std::string> kDefaultFamilies = {"gold", "ab2", "ab3", "ab2-phase", "gold-qpsk"};
 const std::vector<std::string> kDefaultFilters = {"none",    "brick:0.5", "brick:0.75",   "brick:1",      "brick:1.5",
                                                   "brick:2", "brick:3",   "rc:0.5:0.25", "rc:0.5:0.5", "rc:0.5:1"};
 
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
     p.repeated("--family", "NAME",
                "code family: gold (Gold codes of a preferred pair), gold-qpsk (two Gold codes as I and Q), "
                "abR (the map x -> R x mod 1, R = 2..16, chip sgn cos 2 pi x), tent (tent map, same chip), abR-phase / "
-               "tent-phase (chip exp(2 pi i x)) (default gold, ab2, ab3, tent, ab2-phase, gold-qpsk)",
+               "tent-phase (chip exp(2 pi i x)) (default gold, ab2, ab3, ab2-phase, gold-qpsk; tent gives the same binary codes as ab2, see ab_codes.hpp)",
                [&](const std::string& v) {
                  if (v != "gold" && v != "gold-qpsk") {
                    try {
