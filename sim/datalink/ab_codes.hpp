@@ -98,7 +98,7 @@ class AbOrbit {
   AbOrbit(AbMap map, SeedDigits seed);
   /// The i-th base-r digit (i >= 1) of x_k: d_{k+i} (r-adic), d_{k+i} XOR d_k (tent).
   int digit(std::size_t k, std::size_t i);
-  /// sign(x_k - p/q) in {-1, 0, +1} (0 < q <= 2^20, 0 <= p <= q), exact: digits are compared
+  /// sign(x_k - p/q) in {-1, 0, +1} (1 <= q <= 2^20, 0 <= p < q; throws naming "q" or "p"), exact: digits are compared
   /// with those of p/q until they differ. Two equal rationals agree on every digit; the
   /// comparison stops after 2^21 + 128 equal digits, which by the Fine-Wilf bound proves
   /// equality for the rational seeds allowed (both expansions periodic with period <= 2^20).
