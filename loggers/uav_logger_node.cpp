@@ -34,7 +34,7 @@ void UavLoggerNode::reset(const sim_window_t& w) {
   track_.clear();  // also what a failed attempt of the tracked realization left
 }
 
-int UavLoggerNode::process(const sim_window_t& w) {
+int UavLoggerNode::process(const sim_window_t& /*w*/) {
   // Everything of one frame arrives in the same window (all are produced per frame).
   std::map<std::int64_t, tma::Vec4> truth;
   for (const auto& s : input<target_truth_batch_t>("TRUTH_TARGET").states)
