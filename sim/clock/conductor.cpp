@@ -49,7 +49,7 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
 
 namespace {
 constexpr std::size_t kPaceWindows = 32;   // windows the resend wait learns the run's pace from
-constexpr double kPaceFactor = 3;          // resend after this many times the median recent ack gap
+constexpr double kPaceFactor = 2;          // resend after this many times the median recent ack gap
 constexpr double kMinResendWaitS = 0.001;  // [s wall] never sooner (scheduling jitter)
 constexpr double kFirstResendWaitS = 0.05; // [s wall] before any pace is known
 constexpr double kRealtimeResendShare = 0.5;  // real time: resend after this share of a window's wall time
@@ -59,7 +59,7 @@ constexpr double kFinishRepeatS = 0.05;    // [s wall] FINISH is repeated until 
 
 double Conductor::resend_wait_s() const {
   double wait = kFirstResendWaitS;
-  // wait = max(1 ms, 3 x the median of the last windows' slowest ack gaps)
+  // wait = max(1 ms, 2 x the median of the last windows' slowest ack gaps)
   if (!pace_.empty()) wait = std::max(kMinResendWaitS, kPaceFactor * pace_median_s_);
   // Real time has slack until the next window is due: resend only after half a window's wall
   // time (a resend at the batch pace would publish copies a viewer counts as messages).
@@ -94,6 +94,7 @@ void Conductor::resend() {
     if (!acked_.count(n)) ++unanswered_[n];
   ++window_resends_;
   progress_wall_s_ = now_s_;
+  resent_since_ack_ = true;
   send(sim_window_t::RESEND, why);
 }
 
@@ -122,7 +123,8 @@ void Conductor::grant() {
   window_open_ = true;
   window_wall_s_ = progress_wall_s_ = last_ack_wall_s_ = now_s_;
   window_resends_ = 0;
-  window_max_gap_s_ = 0;
+  window_max_gap_s_ = -1;
+  resent_since_ack_ = false;
   if (w_ == 0) realization_wall_s_ = now_s_;
   if (w_ == 0 && !o_.scenario_json.empty()) {
     sim_scenario_t s;
@@ -138,16 +140,19 @@ void Conductor::grant() {
 
 void Conductor::next_window() {
   window_open_ = false;
-  // Learn the pace from every window: the median ignores the few slowed by a loss (their gap
-  // holds a resend wait) and the few a busy machine delays. (Learning from windows without
-  // resends only, as before, let the pace ratchet down to the fastest windows: a window slower
-  // than the learnt pace got a resend and so was never learnt; every other window was resent.)
-  if (pace_.size() < kPaceWindows) pace_.push_back(window_max_gap_s_);
-  else pace_[pace_next_] = window_max_gap_s_;
-  pace_next_ = (pace_next_ + 1) % kPaceWindows;
-  std::vector<double> g(pace_);
-  std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
-  pace_median_s_ = g[g.size() / 2];
+  // Learn the pace from the ack gaps no RESEND interrupted (one that did holds a resend wait:
+  // learning it would make the wait grow with itself under heavy loss), as the median of the
+  // windows' slowest such gap. (The slowest gap of windows without any resend, as before,
+  // ratcheted the wait down: a window slower than the wait got a resend and was never learnt,
+  // and every other window of a clean run was resent.)
+  if (window_max_gap_s_ >= 0) {
+    if (pace_.size() < kPaceWindows) pace_.push_back(window_max_gap_s_);
+    else pace_[pace_next_] = window_max_gap_s_;
+    pace_next_ = (pace_next_ + 1) % kPaceWindows;
+    std::vector<double> g(pace_);
+    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
+    pace_median_s_ = g[g.size() / 2];
+  }
   if (w_ + 1 < n_windows_) {
     ++w_;
   } else {
@@ -225,7 +230,8 @@ void Conductor::on_ack(const node_ack_t& a) {
   if (a.status == node_ack_t::OK && window_open_ && a.window == w_ && !acked_.count(a.node)) {
     acked_.insert(a.node);
     waiting_.erase(a.node);
-    window_max_gap_s_ = std::max(window_max_gap_s_, now_s_ - last_ack_wall_s_);
+    if (!resent_since_ack_) window_max_gap_s_ = std::max(window_max_gap_s_, now_s_ - last_ack_wall_s_);
+    resent_since_ack_ = false;
     progress_wall_s_ = last_ack_wall_s_ = now_s_;
     if (acked_.size() == o_.nodes.size()) next_window();
   }

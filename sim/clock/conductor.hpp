@@ -110,11 +110,13 @@ class Conductor {
   double progress_wall_s_ = 0;
   int window_resends_ = 0;
   std::map<std::string, std::string> waiting_;
-  // Pace of the run: the slowest ack gap [s wall] of each of the last windows.
+  // Pace of the run: per window, its slowest ack gap [s wall] that no RESEND interrupted (-1:
+  // none), of the last windows.
   std::vector<double> pace_;
   std::size_t pace_next_ = 0;
   double pace_median_s_ = 0;                   // [s wall] their median
   double window_max_gap_s_ = 0;
+  bool resent_since_ack_ = false;              // a RESEND since last_ack_wall_s_
   double last_ack_wall_s_ = 0;                 // [s wall] the open window's START or its last new ack
   double last_sent_s_ = -1;                  // [s wall] the clock's last message (for heartbeats)
   std::map<std::string, double> last_heard_; // [s wall] per node: its last message of any kind
