@@ -75,15 +75,36 @@ TEST_CASE("conductor: an overdue ack is asked for again (RESEND), and the realiz
   CHECK(rec.sent.back().window == 0);
   REQUIRE(c.resends().size() == 1);
   CHECK(c.resends()[0].reason == "logger: no ack");
-  // The logger answers WAITING: the next RESEND names what it misses; it waits twice as long.
+  // The logger answers WAITING: the next RESEND names what it misses. The answer shows the node
+  // alive, so the wait stays 50 ms (from the RESEND at 0.06).
   ack(bus, "logger", node_ack_t::WAITING, 0, "logger: waiting for realization 0 attempt 0 window 0 on PRL_TOI");
-  c.poll(0.06 + 0.09);
+  c.poll(0.06 + 0.04);
   bus.run_until_idle();
   CHECK(rec.count(kResend) == 1);
-  c.poll(0.06 + 0.11);
+  c.poll(0.06 + 0.06);
   bus.run_until_idle();
   REQUIRE(c.resends().size() == 2);
   CHECK(c.resends()[1].reason == "logger: waiting for realization 0 attempt 0 window 0 on PRL_TOI");
+  CHECK(c.resends()[1].wait_s == Approx(0.06));
+  CHECK(c.resends()[1].wall_s == Approx(0.12));
+  // This RESEND goes unanswered: the next waits twice as long (100 ms), the one after 200 ms.
+  c.poll(0.12 + 0.09);
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 2);
+  c.poll(0.12 + 0.11);
+  bus.run_until_idle();
+  REQUIRE(rec.count(kResend) == 3);
+  c.poll(0.23 + 0.19);
+  bus.run_until_idle();
+  CHECK(rec.count(kResend) == 3);
+  c.poll(0.23 + 0.21);
+  bus.run_until_idle();
+  REQUIRE(rec.count(kResend) == 4);
+  // An answer drops the wait back to 50 ms.
+  ack(bus, "logger", node_ack_t::WAITING, 0, "logger: waiting for realization 0 attempt 0 window 0 on PRL_TOI");
+  c.poll(0.44 + 0.06);
+  bus.run_until_idle();
+  REQUIRE(rec.count(kResend) == 5);
   ack(bus, "logger", node_ack_t::OK, 0);  // recovered: window 1 is granted
   CHECK(rec.sent.back().command == kStart);
   CHECK(rec.sent.back().window == 1);

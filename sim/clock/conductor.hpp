@@ -47,6 +47,8 @@ struct RetryEvent {
 struct ResendEvent {
   int realization = 0, attempt = 0, window = 0;
   std::string reason;
+  double wall_s = 0;  ///< [s wall] when it was sent, from the clock's first poll
+  double wait_s = 0;  ///< [s wall] how long the window had made no progress before it
 };
 
 class Conductor {
@@ -109,6 +111,11 @@ class Conductor {
   // RESENDs it took, and what the nodes answering WAITING said they miss.
   double progress_wall_s_ = 0;
   int window_resends_ = 0;
+  /// RESENDs in a row of the open window that no node it waits for answered (acked or said
+  /// WAITING): the resend wait doubles with each. An answer shows the network and the nodes alive,
+  /// so the wait drops back: under heavy loss a lost republished batch is then asked for again at
+  /// the run's pace, and not after an ever longer wait.
+  int unanswered_resends_ = 0;
   std::map<std::string, std::string> waiting_;
   // Pace of the run: per window, its slowest ack gap [s wall] that no RESEND interrupted (-1:
   // none), of the last windows.

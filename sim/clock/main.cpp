@@ -34,7 +34,8 @@ void write_events(const std::string& file, const rnav::Conductor& c, int n, std:
     j["retries"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"reason", e.reason}});
   j["resends"] = nlohmann::json::array();
   for (const auto& e : c.resends())
-    j["resends"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"window", e.window}, {"reason", e.reason}});
+    j["resends"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"window", e.window}, {"reason", e.reason},
+                                  {"wall_s", e.wall_s}, {"wait_s", e.wait_s}});
   rnav::write_file_atomic(file, j.dump(2) + "\n");
 }
 
