@@ -183,10 +183,23 @@ void LockstepNode::accept_grant(const sim_window_t& w) {
 void LockstepNode::on_grant(const sim_window_t& w) {
   if (done_) return;
   clock_heard_ = true;  // timed at the next poll()
+  if (finished_ && w.command == sim_window_t::CLOSE) {
+    stop(0, "");  // every node has finished: no FINISH will be repeated
+    return;
+  }
   if (finished_ && w.command != sim_window_t::FINISH) return;
   switch (w.command) {
     case sim_window_t::HEARTBEAT:
+      // The clock has started (it speaks first with a heartbeat, and again every
+      // peer_timeout_s / 8 while it waits): answer each at once, not at the next periodic HELLO
+      // (a HELLO sent before the clock was listening is lost).
+      if (!started_) {
+        last_hello_s_ = now_s_;
+        report(node_ack_t::HELLO, "");
+      }
       return;
+    case sim_window_t::CLOSE:
+      return;  // not finished: the FINISH is on its way (CLOSE follows every FINISHED)
     case sim_window_t::FINISH:
       if (!finished_) {
         if (processed_any_) commit();

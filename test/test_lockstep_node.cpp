@@ -207,6 +207,41 @@ std::vector<std::vector<double>> run_windows(rnav::InprocBus& bus, AllSink& sink
 
 }  // namespace
 
+TEST_CASE("lock-step node: HELLO answers the clock's first heartbeat at once and CLOSE ends the linger after FINISH",
+          "[lockstep][finish]") {
+  rnav::InprocBus bus;
+  Acks acks(bus);
+  Source src(bus);
+  src.poll(100.0);
+  bus.run_until_idle();  // first poll: a HELLO, the next one due 0.2 s later
+  REQUIRE(acks.count("source", node_ack_t::HELLO, -1) == 1);
+  src.poll(100.001);
+  bus.run_until_idle();
+  CHECK(acks.count("source", node_ack_t::HELLO, -1) == 1);
+  // The clock has started: its heartbeat is answered at once, even 1 ms after the last HELLO
+  // (which the clock may have missed).
+  send(bus, window(sim_window_t::HEARTBEAT, 0));
+  CHECK(acks.count("source", node_ack_t::HELLO, -1) == 2);
+  send(bus, window(kStart, 0));
+  send(bus, window(sim_window_t::HEARTBEAT, 0));  // after the first grant: no more HELLOs
+  CHECK(acks.count("source", node_ack_t::HELLO, -1) == 2);
+  // FINISH: the node reports FINISHED and lingers to answer a repeated FINISH ...
+  send(bus, window(sim_window_t::FINISH, 0));
+  src.poll(100.1);
+  bus.run_until_idle();
+  CHECK(acks.count("source", node_ack_t::FINISHED, 0) == 1);
+  send(bus, window(sim_window_t::FINISH, 0));
+  CHECK(acks.count("source", node_ack_t::FINISHED, 0) == 2);
+  src.poll(100.2);
+  bus.run_until_idle();
+  CHECK_FALSE(src.done());  // 0.1 s of the 0.5 s linger
+  // ... until CLOSE (every node has finished): it stops at once, status 0.
+  send(bus, window(sim_window_t::CLOSE, 0));
+  CHECK(src.done());
+  CHECK(src.exit_code() == 0);
+  CHECK(src.failure().empty());
+}
+
 TEST_CASE("lock-step node, wire sample: one message per sample, none in an empty window, batches as in batch form",
           "[lockstep][wire]") {
   constexpr int kWindows = 6;  // sample counts 0 1 2 0 1 2

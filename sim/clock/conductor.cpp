@@ -55,6 +55,7 @@ constexpr double kFirstResendWaitS = 0.05; // [s wall] before any pace is known
 constexpr double kRealtimeResendShare = 0.5;  // real time: resend after this share of a window's wall time
 constexpr double kHeartbeatsPerTimeout = 8;
 constexpr double kFinishRepeatS = 0.05;    // [s wall] FINISH is repeated until every node reports FINISHED
+constexpr int kCloseCopies = 3;            // CLOSE is sent this many times (nodes exit on the first)
 }  // namespace
 
 double Conductor::resend_wait_s() const {
@@ -212,7 +213,12 @@ void Conductor::on_ack(const node_ack_t& a) {
   }
   if (state_ == State::kFinishing) {
     if (a.status == node_ack_t::FINISHED) acked_.insert(a.node);
-    if (acked_.size() == o_.nodes.size()) state_ = State::kDone;
+    if (acked_.size() == o_.nodes.size()) {
+      state_ = State::kDone;
+      // Every node has finished: let them go now instead of after their linger. Sent three times
+      // (a CLOSE lost everywhere only costs the linger).
+      for (int i = 0; i < kCloseCopies; ++i) send(sim_window_t::CLOSE);
+    }
     return;
   }
   if (state_ != State::kRunning || a.realization != r_ || a.attempt != a_) return;  // stale
