@@ -6,6 +6,10 @@
 # environment (OpenMPI's mpirun or Slurm's srun); 0 and 1 outside a launcher.
 mpi_rank() { echo "${OMPI_COMM_WORLD_RANK:-${PMIX_RANK:-${SLURM_PROCID:-0}}}"; }
 mpi_size() { echo "${OMPI_COMM_WORLD_SIZE:-${SLURM_NTASKS:-1}}"; }
+# mpi_rank_exec COMMAND...: replace this shell with COMMAND, this rank's number and the number of
+# ranks appended as its last two arguments (so that no other program reads the launchers'
+# variables itself).
+mpi_rank_exec() { exec "$@" "$(mpi_rank)" "$(mpi_size)"; }
 MPI_PREFIX=()
 
 # mpi_run K LOG DESCRIBE COMMAND...: run COMMAND as K ranks on this host, its output in LOG

@@ -77,13 +77,16 @@ class Job:
 
 
 class Result:
-    """A job's outcome: name, status (ok / invalid / failed), folder, message (the failing
-    step's last error line, or ''), wall_s (its run time, also for a kept result), reused (True
-    when kept from an earlier run)."""
+    """A job's outcome: name, status (ok / invalid / failed), folder, message (which step
+    failed and how, with its last error line, or ''), wall_s (its run time, also for a kept
+    result), reused (True when kept from an earlier run), exit_code (0 ok; the failing step's
+    exit status; -N for signal N; None when it timed out or could not start) and error (the
+    failing step's last error line alone, or '')."""
 
-    def __init__(self, name, status, folder, message="", wall_s=0.0, reused=False):
+    def __init__(self, name, status, folder, message="", wall_s=0.0, reused=False, exit_code=0, error=""):
         self.name, self.status, self.folder = name, status, folder
         self.message, self.wall_s, self.reused = message, wall_s, reused
+        self.exit_code, self.error = exit_code, error
 
     @property
     def ok(self):
@@ -104,7 +107,9 @@ def kept(job, out):
     folder = os.path.join(out, job.name)
     m = _read_marker(folder)
     if m and m.get("command_id") == job.command_id() and m.get("status") in KEPT:
-        return Result(job.name, m["status"], folder, m.get("message", ""), m.get("wall_s", 0.0), True)
+        code = 0 if m["status"] == "ok" else INVALID_INPUT_STATUS
+        return Result(job.name, m["status"], folder, m.get("message", ""), m.get("wall_s", 0.0), True,
+                      code, m.get("error", m.get("message", "")))
     return None
 
 
@@ -123,7 +128,7 @@ def run_one(job, out):
     os.makedirs(folder)
     env = dict(os.environ, **job.env)
     t0 = time.time()
-    status, message = "ok", ""
+    status, message, code, error = "ok", "", 0, ""
     with open(os.path.join(folder, LOG), "w") as log:
         for step in job.steps:
             argv = [a.replace("{dir}", folder) for a in step]
@@ -143,24 +148,28 @@ def run_one(job, out):
             log.write(text)
             if rc == 0:
                 continue
+            code, error = rc, _error_line(text)
             if rc is None:
                 status, message = "failed", "%s timed out after %g s" % (os.path.basename(argv[0]), job.timeout_s)
             elif rc == INVALID_INPUT_STATUS:
-                status, message = "invalid", _error_line(text)
+                status, message = "invalid", error
             else:
                 why = "exit status %d" % rc if rc > 0 else "signal %d" % -rc
+                if not error:  # e.g. "cannot start ...": no error output, the reason is the message
+                    error, code = message, (None if rc == 127 and message else rc)
                 status, message = "failed", "%s: %s%s" % (os.path.basename(argv[0]), why,
-                                                          (": " + _error_line(text)) if _error_line(text) else message)
+                                                          (": " + error) if error else "")
             break
     if status == "ok" and job.keep is not None:
         _prune(folder, job.keep)
     wall = round(time.time() - t0, 3)
-    marker = {"command_id": job.command_id(), "status": status, "message": message, "wall_s": wall}
+    marker = {"command_id": job.command_id(), "status": status, "message": message, "wall_s": wall,
+              "exit_code": code, "error": error}
     tmp = os.path.join(folder, MARKER + ".partial")
     with open(tmp, "w") as f:
         json.dump(marker, f)
     os.replace(tmp, os.path.join(folder, MARKER))
-    return Result(job.name, status, folder, message, wall, False)
+    return Result(job.name, status, folder, message, wall, False, code, error)
 
 
 def _prune(folder, keep):
@@ -200,9 +209,11 @@ def _run_mpi(jobs, todo, out, ranks, log):
             s = shard(len(todo), ranks, r)
             f.write(("jobs %s ... %s" % (jobs[todo[s[0]]].name, jobs[todo[s[-1]]].name) if len(s) else "no jobs") + "\n")
     log("%d jobs over %d MPI ranks" % (len(todo), ranks))
-    # Inside describe, $1 is the rank; the script's own arguments are $1 ... $6 outside it.
+    # Inside describe, $1 is the rank; the script's own arguments are $1 ... $6 outside it. Each
+    # rank learns its number and the rank count from mpi.bash (mpi_rank_exec appends them).
     script = ('source "$1/mpi.bash"; describe() { sed -n "$(($1 + 1))p" "$DESCRIBE"; }; '
-              'mpi_run "$2" "$3" describe "$4" "$5" --worker "$6" && exit 0; echo "$MPI_FAILURE" >&2; exit 1')
+              'mpi_run "$2" "$3" describe bash -c \'source "$0"; mpi_rank_exec "$@"\' "$1/mpi.bash" '
+              '"$4" "$5" --worker "$6" && exit 0; echo "$MPI_FAILURE" >&2; exit 1')
     p = subprocess.run(["bash", "-c", script, "study_runner", SCRIPTS, str(ranks), os.path.join(out, ".study_mpi.log"),
                         sys.executable, os.path.abspath(__file__), plan],
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
@@ -234,7 +245,7 @@ def run(jobs, out, parallel=1, ranks=0, log=None):
                 m = _read_marker(os.path.join(out, jobs[i].name)) or {}
                 r = Result(jobs[i].name, "failed", os.path.join(out, jobs[i].name),
                            m.get("message") or "no result: " + (failure or "its rank ended without one"),
-                           m.get("wall_s", 0.0))
+                           m.get("wall_s", 0.0), False, m.get("exit_code"), m.get("error", ""))
             results[i] = r
     elif todo:
         def one(i):
@@ -261,11 +272,10 @@ def failures(results):
     return ["%s: %s" % (r.name, r.message) for r in results if r.status == "failed"]
 
 
-def _worker(plan_path):
-    """An MPI rank: its shard of the plan's jobs, one at a time. Job failures are recorded in
-    the jobs' folders (exit 0); only a broken plan makes the rank fail."""
-    rank = int(os.environ.get("OMPI_COMM_WORLD_RANK", os.environ.get("PMIX_RANK", os.environ.get("SLURM_PROCID", "0"))))
-    size = int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("SLURM_NTASKS", "1")))
+def _worker(plan_path, rank, size):
+    """An MPI rank (rank of size, from mpi.bash): its shard of the plan's jobs, one at a time.
+    Job failures are recorded in the jobs' folders (exit 0); only a broken plan makes the rank
+    fail."""
     with open(plan_path) as f:
         plan = json.load(f)
     jobs = [Job(d["name"], d["steps"], d["env"], d["timeout_s"], d["keep"]) for d in plan["jobs"]]
@@ -275,7 +285,7 @@ def _worker(plan_path):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 3 and sys.argv[1] == "--worker":
-        sys.exit(_worker(sys.argv[2]))
-    sys.stderr.write("study_runner: a library (import it); '--worker PLAN' is how MPI ranks run it\n")
+    if len(sys.argv) == 5 and sys.argv[1] == "--worker" and sys.argv[3].isdigit() and sys.argv[4].isdigit():
+        sys.exit(_worker(sys.argv[2], int(sys.argv[3]), int(sys.argv[4])))
+    sys.stderr.write("study_runner: a library (import it); '--worker PLAN RANK SIZE' is how MPI ranks run it\n")
     sys.exit(2)

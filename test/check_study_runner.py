@@ -72,9 +72,18 @@ check(st["crash"] == ("failed", "sh: exit status 3: y: error: disk full"), st["c
 check(st["sig"][0] == "failed" and "signal 11" in st["sig"][1], st["sig"])
 check(st["second"][0] == "failed" and "exit status 4" in st["second"][1], "a failed step stops its job: %s" % (st["second"],))
 check(runs() == ["ran"], "the step after a failed one ran: %s" % runs())
+# The outcome as numbers: the failing step's exit status (-N for signal N) and its error line.
+codes = {r.name: (r.exit_code, r.error) for r in res}
+check(codes["inv"] == (2, "x: error: radar.x_m out of range"), codes["inv"])
+check(codes["crash"] == (3, "y: error: disk full"), codes["crash"])
+check(codes["sig"][0] == -11 and codes["second"][0] == 4, codes)
+nostart = sr.run([sr.Job("nostart", [["/nonexistent/prog"]])], os.path.join(T, "nostart"))[0]
+check(nostart.status == "failed" and nostart.exit_code is None and "cannot start /nonexistent/prog" in nostart.error
+      and nostart.message.startswith("prog: exit status 127: cannot start"), (nostart.exit_code, nostart.message))
 check(len(sr.failures(res)) == 3 and sr.failures(res)[0].startswith("crash: "), sr.failures(res))
 res = sr.run(bad, os.path.join(T, "bad"))
 check([r.reused for r in res] == [True, False, False, False], "invalid kept, failures rerun: %s" % [r.reused for r in res])
+check((res[0].exit_code, res[0].error) == (2, "x: error: radar.x_m out of range"), "kept invalid: %s" % res[0].error)
 
 # keep: once the job succeeded only the matching files (and the job's own two) stay.
 kj = sr.Job("kept", [["sh", "-c", "mkdir -p {dir}/run/sub; echo 1 > {dir}/run/a.json; echo 2 > {dir}/run/b.csv; echo 3 > {dir}/run/sub/c"]],
