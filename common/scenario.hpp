@@ -157,7 +157,8 @@ struct RunnerOptions {
   double flush_s = 5;           ///< [s] sim time after the aircraft's last state, > prl_bias.nav_wait_s
   /// [s wall] the longest the clock waits for a window's next ack before it sends RESEND; the
   /// wait adapts to the run's own pace (twice the median over the last 32 windows of each
-  /// window's slowest ack gap that no resend interrupted, at least 1 ms) and doubles on each further resend, up to this.
+  /// window's slowest ack gap that no resend interrupted, at least 1 ms) and doubles with each resend
+  /// in a row that no overdue node answered, up to this.
   /// [0.05, 600]
   double stall_timeout_s = 1;
   /// [s wall] a window not complete this long after its START, despite resends, repeats the
