@@ -5,7 +5,8 @@ namespace rnav::ch {
 inline constexpr const char* kWindow = "SIM_WINDOW";          // rnav::sim_window_t, clock -> all
 inline constexpr const char* kAck = "SIM_ACK";                // rnav::node_ack_t, all -> clock
 inline constexpr const char* kTruth = "TRUTH_AIRCRAFT";       // rnav::aircraft_truth_batch_t
-inline constexpr const char* kNav = "NAV_SOLUTION";           // rnav::nav_batch_t
+inline constexpr const char* kNav = "NAV_SOLUTION";           // rnav::nav_batch_t, as the ground receives it
+inline constexpr const char* kNavTx = "NAV_SOLUTION_TX";      // rnav::nav_batch_t, as the aircraft sends it (datalink.enabled)
 inline constexpr const char* kApoi = "PRL_APOI";              // rnav::prl_plot_batch_t, raw plots
 inline constexpr const char* kPrlError = "TRUTH_PRL_ERROR";   // rnav::prl_error_batch_t
 inline constexpr const char* kToi = "PRL_TOI";                // rnav::prl_plot_batch_t, compensated

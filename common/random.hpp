@@ -8,7 +8,7 @@ namespace rnav {
 
 /// Stream identifiers: each node draws from its own stream so that one node's draws never
 /// shift another's (determinism whatever the scheduling).
-enum class Stream : std::uint64_t { kSnsins = 1, kPrl = 2, kTrajectory = 3, kUav = 4, kTmaParticle = 5, kTest = 99 };
+enum class Stream : std::uint64_t { kSnsins = 1, kPrl = 2, kTrajectory = 3, kUav = 4, kTmaParticle = 5, kDatalink = 6, kTest = 99 };
 
 /// A random stream determined by (ensemble seed, realization, stream) only.
 /// Uses std::mt19937_64 (fully specified by the C++ standard) and libstdc++'s normal

@@ -91,6 +91,26 @@ template <class V> void visit(SnsinsOptions& o, V& v) {
   v.num("vel_sigma_mps", o.vel_sigma_mps, 0, 100);
   v.intervals("dropouts", o.dropouts, 0, 1e6);
 }
+template <class V> void visit(DatalinkOptions& o, V& v) {
+  v.flag("enabled", o.enabled);
+  v.num("peak_power_w", o.peak_power_w, 1e-15, 1e9);
+  v.choice("family", o.family, {"gold", "gold-qpsk", "ab2", "ab3", "tent", "ab2-phase", "ab3-phase", "tent-phase"});
+  v.integer("code_length", o.code_length, 127, 1023);
+  v.choice("filter", o.filter, {"rc", "brick"});
+  v.num("bandwidth_chips", o.bandwidth_chips, 1e-3, 100);
+  v.num("rolloff", o.rolloff, 1e-3, 1);
+  v.num("pf_quantile", o.pf_quantile, 0, 1);
+  v.integer("pf_codes", o.pf_codes, 2, 4096);
+  v.integer("samples_per_chip", o.samples_per_chip, 4, 256);
+  v.num("chip_rate_hz", o.chip_rate_hz, 1, 1e11);
+  v.num("frequency_hz", o.frequency_hz, 1e6, 1e12);
+  v.num("tx_gain_dbi", o.tx_gain_dbi, -50, 60);
+  v.num("rx_gain_dbi", o.rx_gain_dbi, -50, 60);
+  v.num("noise_figure_db", o.noise_figure_db, 0, 40);
+  v.num("noise_temperature_k", o.noise_temperature_k, 1e-3, 1e5);
+  v.num("system_loss_db", o.system_loss_db, 0, 200);
+  v.integer("message_bits", o.message_bits, 1, 10000000);
+}
 template <class V> void visit(PrlBiasOptions& o, V& v) {
   v.num("switch_time_s", o.switch_time_s, 0, 1e6);
   v.num("delta_range_m", o.delta_range_m, 1e-6, 1e4);
@@ -120,6 +140,7 @@ template <class F> void for_each_section(Scenario& sc, F&& f) {
   f("prl", sc.prl);
   f("prl_effects", sc.prl_effects);
   f("snsins", sc.snsins);
+  f("datalink", sc.datalink);
   f("prl_bias", sc.prl_bias);
   f("logger", sc.logger);
   f("runner", sc.runner);
@@ -127,6 +148,32 @@ template <class F> void for_each_section(Scenario& sc, F&& f) {
 
 }  // namespace options_io
 using namespace options_io;
+
+namespace {
+
+// The datalink section's combinations (checked whether or not the link is enabled, so a file
+// that enables it later is already known to be consistent).
+void check_datalink(const Scenario& sc) {
+  const DatalinkOptions& d = sc.datalink;
+  if (d.code_length != 127 && d.code_length != 511 && d.code_length != 1023)
+    throw ConfigError("scenario key 'datalink.code_length' = " + std::to_string(d.code_length) +
+                      " must be 127, 511 or 1023 (the Gold lengths with a stored preferred pair)");
+  if ((d.family == "gold" || d.family == "gold-qpsk") && d.pf_codes > d.code_length + 2)
+    throw ConfigError("scenario key 'datalink.pf_codes' = " + std::to_string(d.pf_codes) + " exceeds the Gold family's " +
+                      std::to_string(d.code_length + 2) + " codes at datalink.code_length = " + std::to_string(d.code_length));
+  const double edge = d.filter == "rc" ? (1 + d.rolloff) * d.bandwidth_chips : d.bandwidth_chips;
+  if (!(edge < 0.5 * static_cast<double>(d.samples_per_chip)))
+    throw ConfigError("scenario key 'datalink.samples_per_chip' = " + std::to_string(d.samples_per_chip) +
+                      ": the filter's band edge " + value_text(edge) + " chip rates must lie below half of it");
+  // One message's air time must end before the next message is sent.
+  const double air_s = static_cast<double>(d.message_bits) * static_cast<double>(d.code_length) / d.chip_rate_hz;
+  if (air_s > sc.snsins.link_period_s)
+    throw ConfigError("scenario key 'datalink.message_bits': a message of " + std::to_string(d.message_bits) + " bits takes " +
+                      value_text(air_s) + " s at datalink.chip_rate_hz / datalink.code_length, longer than "
+                      "snsins.link_period_s = " + value_text(sc.snsins.link_period_s) + " s");
+}
+
+}  // namespace
 
 Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;
@@ -150,6 +197,7 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
                       "snsins.latency_s so every plot is decided before the realization ends");
   if (sc.trajectory.end_x_m >= sc.trajectory.intercept_x_m)
     throw ConfigError("scenario key 'trajectory.end_x_m' must be below trajectory.intercept_x_m");
+  check_datalink(sc);
   if (sc.logger.table_ranges_m.empty())
     throw ConfigError("scenario key 'logger.table_ranges_m' must list at least one range");
   return sc;

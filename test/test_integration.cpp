@@ -164,6 +164,58 @@ TEST_CASE("same seed: byte-identical statistics across processes, batching and t
   CHECK(slurp(d / "s6" / "stats_time.csv") != slurp(d / "a" / "stats_time.csv"));
 }
 
+TEST_CASE("data link enabled: the lossy link over LCM equals one process byte for byte",
+          "[integration][determinism][datalink]") {
+  // 0.03 W peak: the link loses about half the nav messages of the approach (its 50 % range is
+  // about 16 km), so the estimator works on what survives. Over LCM with whole-realization
+  // windows, over LCM with 100 s windows and a NAV_SOLUTION batch of the datalink node lost
+  // (the realization is repeated and must draw the same losses), and in one process.
+  const fs::path d = scratch("datalink");
+  const std::string common = "--realizations 5 --seed 5 --set datalink.enabled=true --set datalink.peak_power_w=0.03 ";
+  const auto a = sh(kRun + common + "--out " + (d / "a").string());
+  const auto b = sh(kRun + common + kFast + "--drop datalink:NAV_SOLUTION:1:0:0 --out " + (d / "b").string());
+  const auto c = sh(kRun + common + "--inproc --out " + (d / "c").string());
+  const auto off = sh(kRun + "--realizations 5 --seed 5 --inproc --out " + (d / "off").string());
+  INFO(a.output << b.output << c.output << off.output);
+  REQUIRE(a.status == 0);
+  REQUIRE(b.status == 0);
+  REQUIRE(c.status == 0);
+  REQUIRE(off.status == 0);
+  const auto ev = nlohmann::json::parse(slurp(d / "b" / "run_events.json"));
+  REQUIRE(ev["retries"].size() == 1);
+  CHECK(ev["retries"][0]["realization"] == 1);
+  for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv", "realizations.csv",
+                        "datalink.csv"}) {
+    INFO(f);
+    const std::string ref = slurp(d / "a" / f);
+    REQUIRE(ref.size() > 50);
+    CHECK(slurp(d / "b" / f) == ref);
+    CHECK(slurp(d / "c" / f) == ref);
+  }
+  CHECK(nlohmann::json::parse(slurp(d / "a" / "scenario.json"))["datalink"]["peak_power_w"] == 0.03);
+  // Every realization lost messages, and the lossy link changed the estimates (the comparison can fail).
+  std::istringstream rows(slurp(d / "a" / "datalink.csv"));
+  std::string line;
+  std::getline(rows, line);
+  CHECK(line == "realization,sent,lost");
+  int n = 0;
+  while (std::getline(rows, line)) {
+    int r = -1;
+    long sent = 0, lost = 0;
+    REQUIRE(std::sscanf(line.c_str(), "%d,%ld,%ld", &r, &sent, &lost) == 3);
+    CHECK(r == n++);
+    CHECK(sent == 997);
+    CHECK(lost > 200);
+    CHECK(lost < sent);
+  }
+  CHECK(n == 5);
+  CHECK(slurp(d / "off" / "stats_time.csv") != slurp(d / "a" / "stats_time.csv"));
+  CHECK_FALSE(fs::exists(d / "off" / "datalink.csv"));
+  const std::string log = slurp(d / "a" / "logs" / "datalink.log");
+  CHECK(log.find("P_mean = P_peak/PF^2") != std::string::npos);
+  CHECK(log.find("finished") != std::string::npos);
+}
+
 TEST_CASE("a lost message is detected, the realization repeated, the result unchanged",
           "[integration][loss]") {
   const fs::path d = scratch("loss");

@@ -96,6 +96,19 @@ TEST_CASE("shards of a landing ensemble merged in any order equal one run", "[me
   }
 }
 
+TEST_CASE("shards of a landing ensemble with the data link merged equal one run with its datalink.csv", "[merge][datalink]") {
+  const auto d = scratch("landing_datalink");
+  const Scenario sc = Scenario::load(kPaper, {"datalink.enabled=true", "datalink.peak_power_w=0.03"});
+  run(sc, d / "whole", 0, 5, 3);
+  run(sc, d / "a", 0, 2, 3);
+  run(sc, d / "b", 2, 3, 3);
+  merge_shards({(d / "b").string(), (d / "a").string()}, (d / "merged").string());
+  require_same_files(d / "whole", d / "merged");
+  const std::string rows = slurp(d / "merged" / "datalink.csv");
+  CHECK(rows.rfind("realization,sent,lost\n0,997,", 0) == 0);
+  CHECK(rows.find("\n4,997,") != std::string::npos);
+}
+
 TEST_CASE("shards of an azimuth-only ensemble merged in any order equal one run", "[merge]") {
   const auto d = scratch("uav");
   // The tracked realization (track.csv) lies in the middle shard.

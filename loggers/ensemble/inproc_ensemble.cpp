@@ -1,6 +1,7 @@
 #include "inproc_ensemble.hpp"
 
 #include "trajectory.hpp"
+#include "datalink_node.hpp"
 #include "prl_bias_node.hpp"
 #include "prl_logger_node.hpp"
 #include "prl_node.hpp"
@@ -14,6 +15,12 @@
 #include <memory>
 
 namespace rnav {
+
+void add_nav_nodes(InprocBus& bus, const Scenario& sc, std::vector<std::unique_ptr<LockstepNode>>& nodes,
+                   const std::string& out_dir) {
+  nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
+  if (sc.datalink.enabled) nodes.push_back(std::make_unique<DatalinkNode>(bus, sc, out_dir));
+}
 
 // Drive nodes and clock on one InprocBus until the clock is done.
 InprocResult run_inproc_nodes(InprocBus& bus, std::vector<std::unique_ptr<LockstepNode>>& nodes,
@@ -53,7 +60,7 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
   nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
-  nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
+  add_nav_nodes(bus, sc, nodes, out_dir);
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));

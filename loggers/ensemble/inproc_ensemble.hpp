@@ -20,6 +20,12 @@ struct InprocResult {
   int retries = 0;
 };
 
+/// The landing run's navigation chain: the node "snsins" and, when sc.datalink.enabled, the
+/// node "datalink" after it (writing datalink.csv into out_dir if not empty). Every runner
+/// builds its node set with this, so the link is part of every one.
+void add_nav_nodes(InprocBus& bus, const Scenario& sc, std::vector<std::unique_ptr<LockstepNode>>& nodes,
+                   const std::string& out_dir);
+
 /// Drive any set of nodes and the clock on one InprocBus until the clock is done.
 /// `base`: further clock options (e.g. the scenario to publish on SIM_SCENARIO); its
 /// n_realizations, seed and nodes are replaced by n, seed and the nodes' names.

@@ -56,7 +56,7 @@ int export_lcm_log(const std::string& scenario_file, const std::vector<std::stri
   } else {
     const Scenario sc = Scenario::load(scenario_file, overrides);
     nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
-    nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
+    add_nav_nodes(bus, sc, nodes, "");  // snsins, and the data link if enabled
     nodes.push_back(std::make_unique<PrlNode>(bus, sc));
     nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
     LcmLogTap tap(bus, log_file, sc.runner.epoch_utime);

@@ -14,7 +14,7 @@ int export_prl_flight(const Scenario& sc, std::int64_t seed, int realization,
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
   nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
-  nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
+  add_nav_nodes(bus, sc, nodes, "");  // snsins, and the data link if enabled
   nodes.push_back(std::make_unique<PrlNode>(bus, sc));
   nodes.push_back(std::make_unique<PrlCsvRecorderNode>(bus, sc, realization, out_dir));
   const auto r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(),

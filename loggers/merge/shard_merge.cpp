@@ -146,6 +146,19 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
     }
     rows.commit();
   }
+  // datalink.csv (a landing run with datalink.enabled): per realization, joined the same way.
+  // The shards ran one scenario (checked above), so either all have one or none.
+  if (std::filesystem::exists(shards.front().dir + "/datalink.csv")) {
+    std::string header;
+    AtomicFileWriter rows(out_dir, "datalink.csv");
+    for (const auto& s : shards) {
+      const std::string path = s.dir + "/datalink.csv";
+      const std::string body = body_of(path, read_text(path), header);
+      if (&s == &shards.front()) rows.append(header);
+      rows.append(body);
+    }
+    rows.commit();
+  }
   // track.csv (azimuth-only): from the shard that ran logger.track_realization.
   if (track_realization >= 0) {
     if (track_realization >= res.realizations)

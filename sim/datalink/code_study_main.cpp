@@ -8,6 +8,7 @@
 // 1 other failure.
 #include "ab_codes.hpp"
 #include "cli.hpp"
+#include "code_family.hpp"
 #include "code_metrics.hpp"
 #include "config.hpp"
 #include "gold.hpp"
@@ -29,48 +30,6 @@ namespace dl = rnav::datalink;
 const std::vector<std::string> kDefaultFamilies = {"gold", "ab2", "ab3", "ab2-phase", "gold-qpsk"};
 const std::vector<std::string> kDefaultFilters = {"none",    "brick:0.5", "brick:0.75",   "brick:1",      "brick:1.5",
                                                   "brick:2", "brick:3",   "rc:0.5:0.25", "rc:0.5:0.5", "rc:0.5:1"};
-
-// One code of a family: its index in the family (Gold index, or the AB seed) and its chips.
-struct Code {
-  long index;
-  dl::Signal chips;
-};
-
-int degree_of_length(int n) {
-  switch (n) {
-    case 127: return 7;
-    case 511: return 9;
-    case 1023: return 10;
-    default: throw ConfigError("--length " + std::to_string(n) + ": must be 127, 511 or 1023 (the Gold lengths with a stored preferred pair)");
-  }
-}
-
-// M codes of the family at length N. Gold (and gold-qpsk): indices floor(s (N+2) / M), s = 0..M-1,
-// spread evenly over the N+2 codes; gold-qpsk's code i is (g_i + j g_{(i + (N+2)/2) mod (N+2)}) / sqrt(2).
-// AB families: seeds seed0 .. seed0 + M - 1.
-std::vector<Code> make_codes(const std::string& family, int N, int M, std::uint64_t seed0) {
-  std::vector<Code> codes;
-  if (family == "gold" || family == "gold-qpsk") {
-    const auto g = dl::GoldFamily::preferred(degree_of_length(N));
-    const long size = g.size();
-    for (int s = 0; s < M; ++s) {
-      const long i = static_cast<long>(s) * size / M;
-      dl::Signal c = dl::to_signal(g.chips(static_cast<int>(i)));
-      if (family == "gold-qpsk") {
-        const auto q = g.chips(static_cast<int>((i + size / 2) % size));
-        for (std::size_t k = 0; k < c.size(); ++k) c[k] = std::complex<double>(c[k].real(), q[k]) / std::sqrt(2.0);
-      }
-      codes.push_back({i, std::move(c)});
-    }
-    return codes;
-  }
-  const auto spec = dl::AbSpec::parse(family);
-  for (int s = 0; s < M; ++s) {
-    const std::uint64_t seed = seed0 + static_cast<std::uint64_t>(s);
-    codes.push_back({static_cast<long>(seed), dl::ab_code(spec, dl::SeedDigits::generic(seed, spec.base), N)});
-  }
-  return codes;
-}
 
 std::string num(double x) {
   if (std::isinf(x)) return "inf";
@@ -113,7 +72,8 @@ int main(int argc, char** argv) {
         .repeated("--length", "N", "code length [chips]: 127, 511 or 1023 (default all three)",
                   [&](const std::string& v) {
                     const int n = static_cast<int>(rnav::parse_integer("--length", v, 1, 1 << 24));
-                    degree_of_length(n);
+                    if (n != 127 && n != 511 && n != 1023)
+                      throw ConfigError("--length " + std::to_string(n) + ": must be 127, 511 or 1023 (the Gold lengths with a stored preferred pair)");
                     lengths.push_back(n);
                   })
         .repeated("--filter", "SPEC",
@@ -170,7 +130,7 @@ int main(int argc, char** argv) {
                            : "family,length,filter,bandwidth,rolloff,code,peak_factor,max_auto_offpeak,max_cross\n");
     for (const auto& family : families) {
       for (int N : lengths) {
-        const auto codes = make_codes(family, N, M, static_cast<std::uint64_t>(seed));
+        const auto codes = dl::family_codes(family, N, M, static_cast<std::uint64_t>(seed));
         std::vector<double> auto_peak(codes.size()), cross_peak(codes.size());
         if (!spectrum) {
           std::vector<dl::Signal> chips;

@@ -55,7 +55,9 @@ int SnsinsNode::process(const sim_window_t& w) {
     pending_.pop_front();
   }
   batch.n = static_cast<int>(batch.solutions.size());
-  publish_batch(ch::kNav, batch);
+  // With the data link modelled, this is what the aircraft sends; the node "datalink" decides
+  // what reaches the ground (NAV_SOLUTION).
+  publish_batch(sc_.datalink.enabled ? ch::kNavTx : ch::kNav, batch);
   return batch.n;
 }
 

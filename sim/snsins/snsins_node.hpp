@@ -1,7 +1,9 @@
 // Node "snsins": turns TRUTH_AIRCRAFT into the navigation solution the ground receives
 // (NAV_SOLUTION): WGS84 position and NED velocity with SnsinsErrorModel errors, sampled at the
 // link times t = link_phase_s + k link_period_s (validity), delivered at t + latency_s.
-// A window's batch holds the solutions whose arrival time lies in the window.
+// A window's batch holds the solutions whose arrival time lies in the window. With
+// datalink.enabled it publishes on NAV_SOLUTION_TX instead (what the aircraft sends; the node
+// "datalink" passes on what survives the link).
 #pragma once
 
 #include "lockstep_node.hpp"

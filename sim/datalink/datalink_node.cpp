@@ -1,0 +1,55 @@
+#include "datalink_node.hpp"
+
+#include "atomic_file.hpp"
+#include "config.hpp"
+
+#include <rnav/nav_batch_t.hpp>
+
+#include <filesystem>
+
+namespace rnav {
+
+DatalinkNode::DatalinkNode(Bus& bus, const Scenario& sc, std::string out_dir)
+    : LockstepNode(bus, "datalink", sc.runner.peer_timeout_s), link_(sc), out_dir_(std::move(out_dir)) {
+  if (!sc.datalink.enabled)
+    throw ConfigError("the node 'datalink' runs only with scenario key 'datalink.enabled' = true (otherwise snsins "
+                      "publishes NAV_SOLUTION itself and nothing is sent on NAV_SOLUTION_TX)");
+  add_input<nav_batch_t>(ch::kNavTx);
+}
+
+void DatalinkNode::reset(const sim_window_t& w) {
+  rng_.emplace(static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization), Stream::kDatalink);
+  realization_ = w.realization;
+  cur_sent_ = cur_lost_ = 0;
+}
+
+int DatalinkNode::process(const sim_window_t&) {
+  nav_batch_t out;
+  for (const auto& s : input<nav_batch_t>(ch::kNavTx).solutions) {
+    const double u = rng_->uniform();  // one draw per message, lost or not
+    ++cur_sent_;
+    if (link_.lost(link_.range_m(s), u)) {
+      ++cur_lost_;
+      continue;
+    }
+    out.solutions.push_back(s);
+  }
+  out.n = static_cast<int>(out.solutions.size());
+  publish_batch(ch::kNav, out);
+  return out.n;
+}
+
+void DatalinkNode::commit() {
+  sent_ += cur_sent_;
+  lost_ += cur_lost_;
+  rows_ += std::to_string(realization_) + "," + std::to_string(cur_sent_) + "," + std::to_string(cur_lost_) + "\n";
+  cur_sent_ = cur_lost_ = 0;
+}
+
+void DatalinkNode::finish(const sim_window_t&) {
+  if (out_dir_.empty()) return;
+  std::filesystem::create_directories(out_dir_);
+  write_file_atomic(out_dir_, "datalink.csv", "realization,sent,lost\n" + rows_);
+}
+
+}  // namespace rnav
