@@ -91,7 +91,7 @@ struct Writer {
 };
 
 template <class V> void visit(RunnerOptions& o, V& v) {
-  v.num("window_s", o.window_s, 0.01, 1e5);
+  v.num("window_s", o.window_s, 0, 1e5);
   v.num("flush_s", o.flush_s, 0, 1e4);
   v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
   v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);

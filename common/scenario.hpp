@@ -188,7 +188,12 @@ struct LoggerOptions {
 
 /// Lock-step protocol.
 struct RunnerOptions {
-  double window_s = 100;        ///< [s] sim time per lock-step window (batch size), >= trajectory.step_s
+  /// [s] sim time per lock-step window (batch size): 0 takes each realization as one window (the
+  /// landing scenario's default: its nodes feed nothing back, so no result depends on the window,
+  /// and one round trip per realization is fastest); else a multiple of the truth step (the
+  /// landing scenario) or of sensor.period_s (the UAV scenario, whose default is 20 s and which
+  /// needs windows > 0), [0, 1e5]
+  double window_s = 0;
   double flush_s = 5;           ///< [s] sim time after the aircraft's last state, > prl_bias.nav_wait_s
   /// [s wall] the longest the clock waits for a window's next ack before it sends RESEND; the
   /// wait adapts to the run's own pace (twice the median over the last 32 windows of each

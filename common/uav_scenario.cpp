@@ -132,6 +132,9 @@ UavScenario UavScenario::from_json(const nlohmann::json& doc) {
     if (std::hypot(sc.uav.wind_north_mps, sc.uav.wind_east_mps) >= sc.uav.speed_mps)
       throw ConfigError("scenario keys 'uav.wind_north_mps', 'uav.wind_east_mps': the wind speed must be below the airspeed uav.speed_mps");
   }
+  if (!(sc.runner.window_s > 0))
+    throw ConfigError("scenario key 'runner.window_s' must be > 0 in the UAV scenario (0, the whole realization as one "
+                      "window, is for the landing scenario: the UAV's guidance feeds estimates back between windows)");
   require_multiple(sc.runner.window_s, sc.sensor.period_s, "runner.window_s", "sensor.period_s");
   if (sc.closed_loop() && std::find(sc.tma.estimators.begin(), sc.tma.estimators.end(), sc.uav.guidance_estimator) ==
                               sc.tma.estimators.end())

@@ -269,10 +269,8 @@ awk -v a="$T0" -v b="$T1" -v ab="$b_rx" -v abb="$b_by" -v ba="$a_rx" -v bab="$a_
 SCEN_FILE=$(on A bash -c "${PRELUDE}"'printf %s "${S:-}"')
 [[ -f $SCEN_FILE ]] || fail "the recipe's scenario S='$SCEN_FILE' is not a file"
 [[ $SCEN_FILE == /* ]] || SCEN_FILE=$SRC/${SCEN_FILE#./}
-# The recipe's processes keep the scenario's lock-step window (100 s); scripts/run would take a
-# whole realization as one window, which changes no statistic but scenario.json's runner section.
 RNAV_BUILD=$BUILD "$SRC/scripts/run" "$SCEN_FILE" --realizations "$N" --seed "$SEED" --no-plots \
-    --set runner.window_s=100 --out "$SCRATCH/single" >"$SCRATCH/logs/single.log" 2>&1 ||
+    --out "$SCRATCH/single" >"$SCRATCH/logs/single.log" 2>&1 ||
   { tail -n 5 "$SCRATCH/logs/single.log" >&2; fail "the single-host run (scripts/run) failed"; }
 for f in table2.json table2_detail.json table2.txt stats_time.csv stats_range.csv realizations.csv \
          ensemble_state.json scenario.json; do

@@ -111,6 +111,28 @@ TEST_CASE("conductor: an overdue ack is asked for again (RESEND), and the realiz
   CHECK(c.retries().empty());
 }
 
+TEST_CASE("conductor: runner.window_s = 0 takes the whole realization as one window", "[conductor]") {
+  // 30 s of trajectory + 5 s flush on a 0.25 s grid: one window [epoch, epoch + 35 s); 10 s
+  // windows: four, the last one short.
+  for (const double window_s : {0.0, 10.0}) {
+    rnav::InprocBus bus;
+    Recorder rec(bus);
+    rnav::RunnerOptions runner;
+    runner.window_s = window_s;
+    rnav::ConductorOptions o;
+    o.nodes = {"logger"};
+    Conductor c(bus, runner, 0.25, o, 30.0);
+    CHECK(c.windows_per_realization() == (window_s > 0 ? 4 : 1));
+    ack(bus, "logger", node_ack_t::HELLO, -1);
+    c.poll(0.0);
+    bus.run_until_idle();
+    REQUIRE(rec.count(kStart) == 1);
+    const std::int64_t first_end_us = rec.sent.back().utime_end - rec.sent.back().utime_begin;
+    CHECK(first_end_us == (window_s > 0 ? 10000000 : 35000000));
+    CHECK(rec.sent.back().last_window == (window_s == 0));
+  }
+}
+
 TEST_CASE("conductor: a node that answers no RESEND for the peer timeout fails the run, named",
           "[conductor][watchdog]") {
   rnav::InprocBus bus;

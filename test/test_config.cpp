@@ -137,6 +137,11 @@ TEST_CASE("bad values throw ConfigError naming the key", "[config]") {
     CHECK_NOTHROW(Scenario::from_json(json::parse(R"({"prl": {"period_s": 0.5}})")));
     CHECK_NOTHROW(
         Scenario::from_json(json::parse(R"({"prl": {"period_s": 0.3}, "trajectory": {"step_s": 0.05}})")));
+    // runner.window_s: 0 (the default: the whole realization), else a multiple of the step.
+    CHECK(Scenario::from_json(json::parse("{}")).runner.window_s == 0);
+    CHECK_THAT(from_json_error(json::parse(R"({"runner": {"window_s": 0.1}})")), Contains("runner.window_s"));
+    CHECK_THAT(from_json_error(json::parse(R"({"runner": {"window_s": -1}})")), Contains("runner.window_s"));
+    CHECK_NOTHROW(Scenario::from_json(json::parse(R"({"runner": {"window_s": 37}})")));
   }
   SECTION("bad intervals") {
     CHECK_THAT(from_json_error(json::parse(R"({"snsins": {"dropouts": [[10, 5]]}})")),

@@ -610,6 +610,7 @@ TEST_CASE("UAV scenario: bad input is an error naming the key", "[integration][u
                         Case{"--set sensor.period_s=NaN", "sensor.period_s"},
                         Case{"--set uav.guidance=estimat", "did you mean 'estimate'"},
                         Case{"--set uav.guidance=los --set runner.window_s=2", "uav.estimate_latency_s"},
+                        Case{"--set runner.window_s=0", "must be > 0 in the UAV scenario"},
                         Case{"--set uav.guidance=estimate --set uav.path=straight", "uav.path"},
                         Case{"--set uav.guidance=los --set uav.wind_north_mps=20", "uav.wind_north_mps"},
                         Case{"--set uav.guidance=los --set uav.estimate_latency_s=0.3", "uav.estimate_latency_s"},

@@ -22,10 +22,12 @@ Conductor::Conductor(Bus& bus, const RunnerOptions& runner, double step_s,
   if (o.nodes.empty()) throw ConfigError("the clock needs the list of nodes (--nodes)");
   if (!(o.speed > 0)) throw ConfigError("--speed must be > 0");
   const std::int64_t step = to_us(step_s);
-  window_us_ = to_us(runner.window_s);
   // The realization spans the trajectory plus the flush time, on the truth grid.
   const std::int64_t raw_end = to_us(duration_s + runner.flush_s);
   end_us_ = (raw_end + step - 1) / step * step;
+  // runner.window_s = 0: the whole realization is one window.
+  window_us_ = runner.window_s > 0 ? to_us(runner.window_s) : end_us_;
+  if (window_us_ <= 0) throw ConfigError("the clock needs a realization longer than 0 s (runner.window_s, flush_s)");
   n_windows_ = static_cast<int>((end_us_ + window_us_ - 1) / window_us_);
   bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_ack(a); });
 }
