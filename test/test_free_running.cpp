@@ -38,7 +38,9 @@ namespace {
 
 const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.json";
 // Nav drop-outs during estimation (before the 400 s switch), so the drop-out decisions are tested.
-const std::vector<std::string> kDropouts = {"snsins.dropouts=[[100,130],[250,252.5]]"};
+// 100 s windows: several batches per realization (the landing default is one window), so that
+// the free-running node is fed batch by batch.
+const std::vector<std::string> kDropouts = {"snsins.dropouts=[[100,130],[250,252.5]]", "runner.window_s=100"};
 
 fs::path scratch(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("rnav_test_free_" + name + "_" + std::to_string(::getpid()));
@@ -309,7 +311,7 @@ TEST_CASE("rnav_prl_bias --free fed by lcm-logplayer from a lock-step run's log,
           "[free][integration]") {
   const fs::path d = scratch("replay");
   const std::string run_log = (d / "run.lcmlog").string(), free_log = (d / "free.lcmlog").string();
-  const std::vector<std::string> dropouts = {"snsins.dropouts=[[100,130]]"};
+  const std::vector<std::string> dropouts = {"snsins.dropouts=[[100,130]]", "runner.window_s=100"};  // several windows
   REQUIRE(export_lcm_log(kPaper, dropouts, 2, 3, run_log) == 0);
   auto sh = [&](const std::string& cmd) {
     std::string out;

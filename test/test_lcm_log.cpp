@@ -119,7 +119,9 @@ std::string error_of(const std::function<void()>& f) {
 
 // One paper log for several tests: 2 realizations with a hidden time offset; realization 1
 // loses its PRL_APOI batch of window 2 in attempt 0, so it is repeated as attempt 1.
-const std::vector<std::string> kEffect = {"prl_effects.time_offset_s=0.4"};
+// 100 s windows: these logs hold several windows per realization (the landing default is one),
+// so that damage can be put into one window and named by it.
+const std::vector<std::string> kEffect = {"prl_effects.time_offset_s=0.4", "runner.window_s=100"};
 const std::int64_t kSeed = 5;
 
 const std::string& paper_log() {

@@ -230,7 +230,8 @@ TEST_CASE("log_reader", "[python][lcm_log]") {
     bool lcm = false;  // recorded by scripts/run from the processes, else export_lcm_log
   };
   const std::vector<Log> logs = {
-      {(d / "paper.lcmlog").string(), kPaper, {"snsins.dropouts=[[100,130]]"}, {"PRL_APOI:1:2:0"}},
+      // 100 s windows (the landing default is one per realization): window 2 exists to be dropped.
+      {(d / "paper.lcmlog").string(), kPaper, {"snsins.dropouts=[[100,130]]", "runner.window_s=100"}, {"PRL_APOI:1:2:0"}},
       {(d / "uav.lcmlog").string(), kUav, {}, {}},
       {(d / "lcm.lcmlog").string(), kPaper, {}, {}, true}};
   for (const auto& log : logs) {
@@ -379,7 +380,7 @@ TEST_CASE("corrupt_log", "[python][lcm_log][input]") {
   // Each a LogError naming the file and where, exit status 2, nothing written.
   const fs::path d = scratch("corrupt");
   const std::string good = (d / "good.lcmlog").string();
-  REQUIRE(export_lcm_log(kPaper, {}, 3, 1, good) == 0);
+  REQUIRE(export_lcm_log(kPaper, {"runner.window_s=100"}, 3, 1, good) == 0);  // several windows: a batch well inside
   const std::string bytes = read_bytes(good);
   // The events' offsets and sizes, from the C++ reader.
   std::vector<LcmEvent> ev;
