@@ -233,6 +233,13 @@ LocalLevelFrame Scenario::radar_frame() const {
   return LocalLevelFrame(radar_site(), radar.azimuth_reference_deg);
 }
 
+std::vector<std::string> Scenario::node_names() const {
+  std::vector<std::string> n{"trajectory", "snsins"};
+  if (datalink.enabled) n.push_back("datalink");
+  for (const char* m : {"prl", "prl_bias", "logger"}) n.push_back(m);
+  return n;
+}
+
 void Scenario::print(std::ostream& os) const {
   Scenario c = *this;
   nlohmann::json j;

@@ -249,6 +249,11 @@ struct Scenario {
   /// Sim time [us] -> utime [us since Unix epoch].
   std::int64_t utime(std::int64_t t_us) const { return runner.epoch_utime + t_us; }
 
+  /// The lock-step nodes a multi-process run starts, in the chain's order, each the process
+  /// rnav_<name>: trajectory, snsins, datalink (only when datalink.enabled), prl, prl_bias, logger.
+  /// scripts/run takes them from `rnav_clock --print-nodes`.
+  std::vector<std::string> node_names() const;
+
   /// Human-readable dump of every option (printed by every process at start-up).
   void print(std::ostream& os) const;
 };

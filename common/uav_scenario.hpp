@@ -157,6 +157,9 @@ struct UavScenario {
   /// [s] the summary's evaluation time.
   double eval_time_s() const;
   std::int64_t utime(std::int64_t t_us) const { return runner.epoch_utime + t_us; }
+  /// The lock-step nodes a multi-process run starts, each the process rnav_<name>: target, uav,
+  /// uav_tma, uav_logger (scripts/run takes them from `rnav_clock --print-nodes`).
+  std::vector<std::string> node_names() const { return {"target", "uav", "uav_tma", "uav_logger"}; }
 };
 
 }  // namespace rnav

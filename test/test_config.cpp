@@ -68,6 +68,14 @@ TEST_CASE("the paper scenario file loads and equals the defaults it restates", "
   CHECK(sc.prl.noise2s_glide_deg == d.prl.noise2s_glide_deg);
 }
 
+TEST_CASE("the nodes a landing run starts: the data link only when enabled", "[config]") {
+  using V = std::vector<std::string>;
+  CHECK(Scenario::from_json(json::object()).node_names() == V{"trajectory", "snsins", "prl", "prl_bias", "logger"});
+  CHECK(Scenario::from_json(json::parse(R"({"datalink": {"enabled": true}})")).node_names() ==
+        V{"trajectory", "snsins", "datalink", "prl", "prl_bias", "logger"});
+  CHECK(Scenario::from_json(json::parse(R"({"datalink": {"enabled": false}})")).node_names().size() == 5);
+}
+
 TEST_CASE("unknown keys throw ConfigError naming the full key path", "[config]") {
   CHECK_THAT(from_json_error(json::parse(R"({"prl": {"bias_rang_m": 1}})")),
              Contains("prl.bias_rang_m"));

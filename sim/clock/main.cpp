@@ -46,11 +46,12 @@ int main(int argc, char** argv) {
     std::string scenario_file, events, url, nodes, print_kind, speed;
     std::vector<std::string> overrides;
     rnav::ConductorOptions o;
-    bool check = false, n_given = false, shard = false;
+    bool check = false, n_given = false, shard = false, print_nodes = false;
     rnav::cli::Parser p(
         "rnav_clock",
         "--scenario FILE [--set key=value]... --realizations N --seed S --nodes a,b,c [options]\n"
         "--scenario FILE [--set key=value]... --check\n"
+        "--scenario FILE [--set key=value]... --print-nodes\n"
         "--print-kind FILE",
         "The clock of the lock-step simulation: grants windows of simulated time to the nodes over LCM, "
         "collects their acks, asks again for what was lost (RESEND) and repeats a realization only when a "
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
         .value("--lcm-url", "URL", "LCM provider URL", "$LCM_DEFAULT_URL, else LCM's default", url)
         .flag("--check", "validate the scenario, print it and its derived times [s], and exit", check)
         .value("--print-kind", "FILE", "print the scenario kind of FILE (prl or uav) and exit", "", print_kind)
+        .flag("--print-nodes",
+              "validate the scenario, print the nodes a run of it starts (comma-separated, each the process rnav_NAME) and exit",
+              print_nodes)
         .epilog("Scenario keys: see --check (every key with its value) or the README; units are in the key names.");
     if (!p.parse(argc, argv, std::cout)) return 0;
     if (!print_kind.empty()) {
@@ -94,6 +98,13 @@ int main(int argc, char** argv) {
       o.speed = rnav::cli::number("--speed", speed, 1e-6, 1e6);
     }
     if (scenario_file.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_clock --help)");
+    if (print_nodes) {
+      const auto names = rnav::scenario_kind(scenario_file) == "uav" ? rnav::UavScenario::load(scenario_file, overrides).node_names()
+                                                                      : rnav::Scenario::load(scenario_file, overrides).node_names();
+      for (std::size_t i = 0; i < names.size(); ++i) std::cout << (i ? "," : "") << names[i];
+      std::cout << "\n";
+      return 0;
+    }
     if (!check && nodes.empty()) throw rnav::ConfigError("--nodes a,b,c is required (see rnav_clock --help)");
     // What the clock needs of a scenario: lock-step options, truth step, duration.
     rnav::RunnerOptions runner;

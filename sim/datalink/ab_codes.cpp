@@ -10,7 +10,6 @@ namespace rnav::datalink {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::uint64_t kMaxDenominator = std::uint64_t{1} << 20;
 // Fine-Wilf: two eventually periodic digit strings (pre-period <= 64, periods <= 2^20 each) that
 // agree on this many digits agree on all of them.
@@ -154,7 +153,7 @@ Signal ab_code(const AbSpec& spec, SeedDigits seed, int length) {
   for (std::size_t k = 0; k < c.size(); ++k) {
     if (spec.readout == AbReadout::phase) {
       // c_k = exp(2 pi i x_k)
-      c[k] = std::polar(1.0, 2 * kPi * orbit.value(k));
+      c[k] = std::polar(1.0, 2 * M_PI * orbit.value(k));
     } else {
       // c_k = sgn cos(2 pi x_k): +1 iff x_k < 1/4 or x_k > 3/4
       c[k] = (orbit.compare(k, 1, 4) < 0 || orbit.compare(k, 3, 4) > 0) ? 1.0 : -1.0;

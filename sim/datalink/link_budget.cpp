@@ -10,26 +10,17 @@ namespace rnav::datalink {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-std::string text(double x) {
-  std::ostringstream o;
-  o.precision(10);
-  o << x;
-  return o.str();
-}
-
 // A finite value in [lo, hi] (lo_open: lo itself excluded), else a ConfigError naming the key.
 void check(const char* key, double x, double lo, double hi, bool lo_open, const char* unit) {
   const bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && x <= hi;
   if (!ok)
-    throw ConfigError(std::string("datalink budget: ") + key + " = " + text(x) + " " + unit + " must be finite and in " +
-                      (lo_open ? "(" : "[") + text(lo) + ", " + text(hi) + "]");
+    throw ConfigError(std::string("datalink budget: ") + key + " = " + value_text(x) + " " + unit + " must be finite and in " +
+                      (lo_open ? "(" : "[") + value_text(lo) + ", " + value_text(hi) + "]");
 }
 
 void check_range(double range_m) {
   if (!std::isfinite(range_m) || range_m <= 0)
-    throw std::invalid_argument("range_m: " + text(range_m) + " m must be finite and > 0");
+    throw std::invalid_argument("range_m: " + value_text(range_m) + " m must be finite and > 0");
 }
 
 }  // namespace
@@ -41,20 +32,20 @@ double q_function(double x) { return 0.5 * std::erfc(x / std::sqrt(2.0)); }
 double free_space_loss(double range_m, double frequency_hz) {
   check_range(range_m);
   if (!std::isfinite(frequency_hz) || frequency_hz <= 0)
-    throw std::invalid_argument("frequency_hz: " + text(frequency_hz) + " Hz must be finite and > 0");
-  const double a = 4.0 * kPi * range_m * frequency_hz / kSpeedOfLightMps;
+    throw std::invalid_argument("frequency_hz: " + value_text(frequency_hz) + " Hz must be finite and > 0");
+  const double a = 4.0 * M_PI * range_m * frequency_hz / kSpeedOfLightMps;
   return a * a;
 }
 
 // BER = Q(sqrt(2 Eb/N0)) = erfc(sqrt(Eb/N0)) / 2   (coherent BPSK, AWGN)
 double ber_bpsk(double ebn0) {
-  if (std::isnan(ebn0) || ebn0 < 0) throw std::invalid_argument("ebn0: " + text(ebn0) + " must be >= 0 (a ratio, not dB)");
+  if (std::isnan(ebn0) || ebn0 < 0) throw std::invalid_argument("ebn0: " + value_text(ebn0) + " must be >= 0 (a ratio, not dB)");
   return 0.5 * std::erfc(std::sqrt(ebn0));
 }
 
 // p_loss = 1 - (1 - BER)^N_msg = -expm1(N_msg log1p(-BER))
 double message_loss(double ber, int bits) {
-  if (!(ber >= 0 && ber <= 1)) throw std::invalid_argument("ber: " + text(ber) + " must lie in [0, 1]");
+  if (!(ber >= 0 && ber <= 1)) throw std::invalid_argument("ber: " + value_text(ber) + " must lie in [0, 1]");
   if (bits < 1) throw std::invalid_argument("bits: " + std::to_string(bits) + " must be >= 1");
   if (ber == 1) return 1.0;
   return -std::expm1(static_cast<double>(bits) * std::log1p(-ber));
@@ -122,7 +113,7 @@ double LinkBudget::ber(double range_m) const { return ber_bpsk(ebn0(range_m)); }
 double LinkBudget::p_loss(double range_m) const { return message_loss(ber(range_m), p_.message_bits); }
 
 double LinkBudget::range_for_p_loss(double p) const {
-  if (!(p > 0 && p < 1)) throw std::invalid_argument("p: " + text(p) + " must lie in (0, 1)");
+  if (!(p > 0 && p < 1)) throw std::invalid_argument("p: " + value_text(p) + " must lie in (0, 1)");
   double lo = std::log(1e-3), hi = std::log(1e12);
   if (p_loss(std::exp(lo)) >= p) return std::exp(lo);
   if (p_loss(std::exp(hi)) <= p) return std::exp(hi);

@@ -14,7 +14,6 @@ namespace rnav::datalink {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxBandwidth = 1000.0;
 
 std::string number_text(double x) {
@@ -86,7 +85,7 @@ double Filter::response(double f) const {
       if (a <= lo) return 1.0;
       if (a > hi) return 0.0;
       // H = 1/2 [1 + cos(pi (|f| - (1-beta) B) / (2 beta B))]
-      return 0.5 * (1 + std::cos(kPi * (a - lo) / (2 * rolloff_ * bandwidth_)));
+      return 0.5 * (1 + std::cos(M_PI * (a - lo) / (2 * rolloff_ * bandwidth_)));
     }
   }
   return 0;
@@ -124,9 +123,9 @@ Signal bpsk_waveform(const Signal& chips, int samples_per_chip, const Filter& fi
     const double f = static_cast<double>(m) / static_cast<double>(N);
     const double h = filter.response(f);
     if (h == 0) continue;
-    const double sinc = m == 0 ? 1.0 : std::sin(kPi * f) / (kPi * f);
+    const double sinc = m == 0 ? 1.0 : std::sin(M_PI * f) / (M_PI * f);
     const long qm = ((m % static_cast<long>(N)) + static_cast<long>(N)) % static_cast<long>(N);
-    b[q] = h * sinc * std::polar(1.0, -kPi * f) * C[static_cast<std::size_t>(qm)] / static_cast<double>(N);
+    b[q] = h * sinc * std::polar(1.0, -M_PI * f) * C[static_cast<std::size_t>(qm)] / static_cast<double>(N);
   }
   // y_j = sum_m b_m e^{2 pi i m j / L} = L * IDFT(b)_j
   Signal y = idft(b);
