@@ -115,11 +115,17 @@ if shutil.which("mpirun"):
     res = sr.run(jobs, os.path.join(T, "mpi"), ranks=3)
     check(values(res) == [str(i * i) for i in range(7)], "3 ranks: %s" % values(res))
     check(sorted(runs()) == ["j%02d" % i for i in range(7)], "3 ranks, each job once: %s" % runs())
-    # Rank 1 of 3 holds jobs floor(7/3)=2 ... floor(14/3)-1=3: its job j02 kills its rank.
-    jobs[2] = sr.Job("j02", [["sh", "-c", "kill -KILL $PPID"]])
-    res = sr.run(jobs, os.path.join(T, "mpi_kill"), ranks=3)
+    # Rank 1 of 3 holds jobs floor(7/3)=2 ... floor(14/3)-1=3: its job j02 kills its rank, once
+    # the other ranks' last jobs (j01, j06) are done: mpirun ends every rank when one dies, so a
+    # kill any earlier would, on a loaded machine, also take rank 0's or rank 2's jobs with it
+    # (at most 20 s of waiting: the kill comes anyway).
+    kill_dir = os.path.join(T, "mpi_kill")
+    jobs[2] = sr.Job("j02", [["sh", "-c", "for i in $(seq 400); do [ -e %s/j01/job.json ] && [ -e %s/j06/job.json ] && break; "
+                                           "sleep 0.05; done; kill -KILL $PPID" % (kill_dir, kill_dir)]])
+    res = sr.run(jobs, kill_dir, ranks=3)
     dead = [r for r in res if r.status == "failed"]
-    check(dead and dead[0].name == "j02", "the killed rank's job is not failed: %s" % [(r.name, r.status) for r in res])
+    check([r.name for r in dead] == ["j02", "j03"],
+          "the killed rank's jobs j02 and j03 (and only they) should have failed: %s" % [(r.name, r.status) for r in res])
     check("MPI rank 1" in dead[0].message and "jobs j02 ... j03" in dead[0].message and "signal 9" in dead[0].message,
           "the killed rank is not named: %s" % dead[0].message)
     # mpirun ends the other ranks too: a rerun with the job mended finishes what is missing.
