@@ -53,4 +53,16 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
                       num(kMaxSceneDistanceM / 1000) + " km: latitude and longitude swapped, or another place");
 }
 
+void track(const std::string& what, const std::vector<GeoSample>& v, const Geodetic* centre,
+           const std::string& centre_name, Heights heights) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string at = what + " " + std::to_string(i);
+    time(at, v[i].t_s);
+    if (i > 0) after(at, v[i].t_s, v[i - 1].t_s);
+    geodetic(at, v[i].g, false);
+    if (centre) near(at, v[i].g, *centre, centre_name);
+    if (heights == Heights::kAll || (heights == Heights::kWhereKnown && !std::isnan(v[i].g.h_m))) geodetic(at, v[i].g);
+  }
+}
+
 }  // namespace rnav::plausible

@@ -8,6 +8,7 @@
 #include "frames.hpp"
 
 #include <string>
+#include <vector>
 
 namespace rnav::plausible {
 
@@ -35,5 +36,15 @@ void angle(const std::string& where, const std::string& name, double rad);
 /// `g` within kMaxSceneDistanceM of `centre` (the site or first observer position), by the
 /// haversine distance on a sphere of the WGS84 equatorial radius (enough for a bound).
 void near(const std::string& where, const Geodetic& g, const Geodetic& centre, const std::string& centre_name);
+
+/// Which heights of a track are checked against [kMinHeightM, kMaxHeightM].
+enum class Heights { kAll, kWhereKnown /* finite ones: NaN marks an unknown height */, kNone };
+/// A sampled track of positions, sample i named `what` + " " + i (e.g. "FILE: observer sample"):
+/// its time (finite, strictly after the previous sample's), its latitude and longitude, its
+/// distance from `centre` (named centre_name; nullptr: not checked), then its height as
+/// `heights` says. The distance comes before the height: a local frame's origin or a
+/// unit mixed up also lifts a position far up, and "far away" names the cause.
+void track(const std::string& what, const std::vector<GeoSample>& v, const Geodetic* centre,
+           const std::string& centre_name, Heights heights);
 
 }  // namespace rnav::plausible

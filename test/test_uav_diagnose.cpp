@@ -153,6 +153,24 @@ TEST_CASE("azimuth CSV: bad input names file and line", "[diagnose][uav][input]"
   CHECK_THROWS_WITH(AzimuthData::read_folder(d.string()), Catch::Contains("bearings.csv:3"));
 }
 
+TEST_CASE("azimuth data: a far position and a truth sample out of time order are named", "[diagnose][uav][input]") {
+  const AzimuthData good = synthetic(0, 0, 1);
+  REQUIRE(good.truth.size() > 3);
+  REQUIRE_NOTHROW(good.validate("good"));
+  AzimuthData d = good;
+  std::swap(d.observer[5].g.lat_deg, d.observer[5].g.lon_deg);  // a swapped pair: thousands of km off
+  CHECK_THROWS_WITH(d.validate("src"), Catch::Contains("src: observer sample 5") && Catch::Contains("the observer's first position"));
+  d = good;
+  d.observer[2].g.h_m = 1e7;  // far up but in place: the height is named
+  CHECK_THROWS_WITH(d.validate("src"), Catch::Contains("src: observer sample 2: height"));
+  d = good;
+  d.truth[3].t_s = d.truth[1].t_s;
+  CHECK_THROWS_WITH(d.validate("src"), Catch::Contains("src: truth sample 3: time") && Catch::Contains("is not after"));
+  d = good;
+  d.truth[2].g.h_m = NAN;  // the truth's height is not used, so not checked
+  CHECK_NOTHROW(d.validate("src"));
+}
+
 TEST_CASE("uav diagnose without truth: the fitted track is the truth's within its covariance",
           "[diagnose][uav][notruth]") {
   // With half the frames carrying a random clutter detection, the RANSAC-initialised CV fit

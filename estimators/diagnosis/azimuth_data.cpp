@@ -46,28 +46,16 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
 
 void AzimuthData::validate(const std::string& source) const {
   namespace pl = plausible;
-  for (std::size_t i = 0; i < observer.size(); ++i) {
-    const std::string at = source + ": observer sample " + std::to_string(i);
-    pl::time(at, observer[i].t_s);
-    if (i > 0) pl::after(at, observer[i].t_s, observer[i - 1].t_s);
-    pl::geodetic(at, observer[i].g, false);
-    // A far position first (a local frame's origin or unit mixed up also lifts it far up).
-    if (i > 0) pl::near(at, observer[i].g, observer[0].g, "the observer's first position");
-    pl::geodetic(at, observer[i].g);
-  }
+  const Geodetic* first = observer.empty() ? nullptr : &observer[0].g;
+  pl::track(source + ": observer sample", observer, first, "the observer's first position", pl::Heights::kAll);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const std::string at = source + ": bearing frame " + std::to_string(i);
     pl::time(at, frames[i].t_s);
     if (i > 0) pl::after(at, frames[i].t_s, frames[i - 1].t_s);
     for (double b : frames[i].bearings_rad) pl::angle(at, "bearing", b);
   }
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    const std::string at = source + ": truth sample " + std::to_string(i);
-    pl::time(at, truth[i].t_s);
-    if (i > 0) pl::after(at, truth[i].t_s, truth[i - 1].t_s);
-    pl::geodetic(at, truth[i].g, false);
-    if (!observer.empty()) pl::near(at, truth[i].g, observer[0].g, "the observer's first position");
-  }
+  // h_m is unused in the truth (truth.csv has no height column).
+  pl::track(source + ": truth sample", truth, first, "the observer's first position", pl::Heights::kNone);
 }
 
 void AzimuthData::write_folder(const std::string& dir) const {

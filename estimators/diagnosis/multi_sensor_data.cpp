@@ -175,15 +175,8 @@ MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
 
 void MultiSensorData::validate(const std::string& source) const {
   namespace pl = plausible;
-  for (std::size_t i = 0; i < observer.size(); ++i) {
-    const std::string at = source + ": observer sample " + std::to_string(i);
-    pl::time(at, observer[i].t_s);
-    if (i > 0) pl::after(at, observer[i].t_s, observer[i - 1].t_s);
-    pl::geodetic(at, observer[i].g, false);
-    // A far position first (a local frame's origin or unit mixed up also lifts it far up).
-    if (i > 0) pl::near(at, observer[i].g, observer[0].g, "the observer's first position");
-    pl::geodetic(at, observer[i].g);
-  }
+  const Geodetic* first = observer.empty() ? nullptr : &observer[0].g;
+  pl::track(source + ": observer sample", observer, first, "the observer's first position", pl::Heights::kAll);
   for (std::size_t i = 0; i < detections.size(); ++i) {
     const Detection& x = detections[i];
     const std::string at = source + ": detection " + std::to_string(i) + " (sensor " + x.sensor + ")";
@@ -193,14 +186,8 @@ void MultiSensorData::validate(const std::string& source) const {
     if (!std::isnan(x.elevation_rad)) pl::angle(at, "elevation", x.elevation_rad);
   }
   for (const auto& [name, v] : truth)
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string at = source + ": truth of target " + name + " sample " + std::to_string(i);
-      pl::time(at, v[i].t_s);
-      if (i > 0) pl::after(at, v[i].t_s, v[i - 1].t_s);
-      pl::geodetic(at, v[i].g, false);
-      if (!observer.empty()) pl::near(at, v[i].g, observer[0].g, "the observer's first position");
-      pl::geodetic(at, v[i].g, !std::isnan(v[i].g.h_m));
-    }
+    pl::track(source + ": truth of target " + name + " sample", v, first, "the observer's first position",
+              pl::Heights::kWhereKnown);
 }
 
 void MultiSensorData::write_folder(const std::string& dir) const {
