@@ -71,9 +71,8 @@ TEST_CASE("BPSK bit error rate at Eb/N0 = 9.6 dB is 1e-5 and the message loss co
 }
 
 TEST_CASE("link budget: SNR and Eb/N0 against the budget added up in dB by hand", "[datalink][budget]") {
-  dl::LinkBudgetParams p;
+  rnav::DatalinkOptions p;
   p.peak_power_w = 2.0;
-  p.peak_factor = 1.8;
   p.frequency_hz = 1.2e9;
   p.tx_gain_dbi = 1.5;
   p.rx_gain_dbi = 4.0;
@@ -84,7 +83,7 @@ TEST_CASE("link budget: SNR and Eb/N0 against the budget added up in dB by hand"
   p.bandwidth_chips = 0.75;
   p.code_length = 511;
   p.message_bits = 200;
-  const dl::LinkBudget b(p);
+  const dl::LinkBudget b(p, 1.8);
   const double d = 25e3;
   // P_mean = 2 / 1.8^2 = 0.617284 W = -2.0952 dBW.
   const double p_mean_dbw = 10 * std::log10(2.0 / (1.8 * 1.8));
@@ -107,12 +106,10 @@ TEST_CASE("link budget: SNR and Eb/N0 against the budget added up in dB by hand"
 }
 
 TEST_CASE("link budget: the peak factor costs PF^2 of mean power and p_loss grows with range", "[datalink][budget]") {
-  dl::LinkBudgetParams p;  // the defaults
+  rnav::DatalinkOptions p;  // the defaults
   p.peak_power_w = 0.05;
-  p.peak_factor = 1.0;
-  const dl::LinkBudget flat(p);
-  p.peak_factor = 2.0;
-  const dl::LinkBudget peaky(p);
+  const dl::LinkBudget flat(p, 1.0);
+  const dl::LinkBudget peaky(p, 2.0);
   // Eb/N0 ~ P_peak / (PF^2 d^2): PF 2 at d is PF 1 at 2 d (6.02 dB).
   for (double d : {3e3, 12e3, 40e3}) {
     CHECK(peaky.ebn0(d) == Approx(flat.ebn0(2 * d)).epsilon(1e-12));
@@ -128,15 +125,16 @@ TEST_CASE("link budget: the peak factor costs PF^2 of mean power and p_loss grow
 }
 
 TEST_CASE("link budget: bad parameters throw ConfigError naming them", "[datalink][budget][input]") {
-  const auto error = [](auto set) {
-    dl::LinkBudgetParams p;
+  const auto error = [](auto set, double peak_factor = 1.8) {
+    rnav::DatalinkOptions p;
     set(p);
-    return config_error([&] { dl::LinkBudget b(p); });
+    return config_error([&] { dl::LinkBudget b(p, peak_factor); });
   };
   CHECK_THAT(error([](auto& p) { p.peak_power_w = -1; }), Contains("peak_power_w"));
   CHECK_THAT(error([](auto& p) { p.peak_power_w = 0; }), Contains("peak_power_w"));
   CHECK_THAT(error([](auto& p) { p.peak_power_w = std::nan(""); }), Contains("peak_power_w"));
-  CHECK_THAT(error([](auto& p) { p.peak_factor = 0.9; }), Contains("peak_factor"));
+  CHECK_THAT(error([](auto&) {}, 0.9), Contains("peak_factor"));
+  CHECK_THAT(error([](auto&) {}, std::nan("")), Contains("peak_factor"));
   CHECK_THAT(error([](auto& p) { p.frequency_hz = std::numeric_limits<double>::infinity(); }), Contains("frequency_hz"));
   CHECK_THAT(error([](auto& p) { p.noise_figure_db = -1; }), Contains("noise_figure_db"));
   CHECK_THAT(error([](auto& p) { p.system_loss_db = std::nan(""); }), Contains("system_loss_db"));
@@ -182,10 +180,9 @@ TEST_CASE("observed message loss at fixed ranges lies in the binomial band of th
   const double z = lo;
   CHECK(z == Approx(4.65).margin(0.01));
 
-  dl::LinkBudgetParams p;
+  rnav::DatalinkOptions p;
   p.peak_power_w = 0.02;
-  p.peak_factor = 1.8;
-  const dl::NavLink link(dl::LinkBudget(p), rnav::Geodetic{48.1, 16.57, 232});
+  const dl::NavLink link(dl::LinkBudget(p, 1.8), rnav::Geodetic{48.1, 16.57, 232});
   const double targets[kRangesTested] = {0.1, 0.5, 0.9};
   rnav::Rng rng(7, 0, rnav::Stream::kTest);
   for (double target : targets) {

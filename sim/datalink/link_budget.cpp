@@ -54,9 +54,9 @@ double message_loss(double ber, int bits) {
 double to_db(double ratio) { return 10.0 * std::log10(ratio); }
 double from_db(double db) { return std::pow(10.0, db / 10.0); }
 
-LinkBudget::LinkBudget(const LinkBudgetParams& p) : p_(p) {
+LinkBudget::LinkBudget(const DatalinkOptions& p, double peak_factor) : p_(p), pf_(peak_factor) {
   check("peak_power_w", p.peak_power_w, 0, 1e9, true, "W");
-  check("peak_factor", p.peak_factor, 1, 1e6, false, "(peak/RMS)");
+  check("peak_factor", peak_factor, 1, 1e6, false, "(peak/RMS)");
   check("frequency_hz", p.frequency_hz, 1e6, 1e12, false, "Hz");
   check("tx_gain_dbi", p.tx_gain_dbi, -50, 60, false, "dBi");
   check("rx_gain_dbi", p.rx_gain_dbi, -50, 60, false, "dBi");
@@ -65,15 +65,15 @@ LinkBudget::LinkBudget(const LinkBudgetParams& p) : p_(p) {
   check("system_loss_db", p.system_loss_db, 0, 200, false, "dB");
   check("chip_rate_hz", p.chip_rate_hz, 0, 1e11, true, "chips/s");
   check("bandwidth_chips", p.bandwidth_chips, 0, 1000, true, "chip rates");
-  check("code_length", p.code_length, 1, 1 << 24, false, "chips");
-  check("message_bits", p.message_bits, 1, 1e7, false, "bits");
+  check("code_length", static_cast<double>(p.code_length), 1, 1 << 24, false, "chips");
+  check("message_bits", static_cast<double>(p.message_bits), 1, 1e7, false, "bits");
   // Eb/N0(d) = C(d) / (k T0 F R_b),  C(d) = P_mean G_t G_r lambda^2 / ((4 pi d)^2 L):
   // Eb/N0 at d = 1 m, so that Eb/N0(d) = ebn0_at_1m_ / d^2.
   ebn0_at_1m_ = received_power_w(1.0) / (kBoltzmannJpK * p.noise_temperature_k * from_db(p.noise_figure_db) * bit_rate_bps());
 }
 
 // P_mean = P_peak / PF^2
-double LinkBudget::mean_power_w() const { return p_.peak_power_w / (p_.peak_factor * p_.peak_factor); }
+double LinkBudget::mean_power_w() const { return p_.peak_power_w / (pf_ * pf_); }
 
 // lambda = c / f
 double LinkBudget::wavelength_m() const { return kSpeedOfLightMps / p_.frequency_hz; }
@@ -82,7 +82,7 @@ double LinkBudget::wavelength_m() const { return kSpeedOfLightMps / p_.frequency
 double LinkBudget::noise_bandwidth_hz() const { return 2.0 * p_.bandwidth_chips * p_.chip_rate_hz; }
 
 // R_b = R_c / N
-double LinkBudget::bit_rate_bps() const { return p_.chip_rate_hz / p_.code_length; }
+double LinkBudget::bit_rate_bps() const { return p_.chip_rate_hz / static_cast<double>(p_.code_length); }
 
 // G_p = B_n / R_b = 2 B N
 double LinkBudget::processing_gain() const { return noise_bandwidth_hz() / bit_rate_bps(); }
@@ -110,7 +110,7 @@ double LinkBudget::ebn0(double range_m) const {
 double LinkBudget::ber(double range_m) const { return ber_bpsk(ebn0(range_m)); }
 
 // p_loss(d) = 1 - (1 - BER(d))^N_msg
-double LinkBudget::p_loss(double range_m) const { return message_loss(ber(range_m), p_.message_bits); }
+double LinkBudget::p_loss(double range_m) const { return message_loss(ber(range_m), static_cast<int>(p_.message_bits)); }
 
 double LinkBudget::range_for_p_loss(double p) const {
   if (!(p > 0 && p < 1)) throw std::invalid_argument("p: " + value_text(p) + " must lie in (0, 1)");
@@ -127,7 +127,7 @@ double LinkBudget::range_for_p_loss(double p) const {
 std::string LinkBudget::describe() const {
   std::ostringstream o;
   o.precision(4);
-  o << "P_peak " << p_.peak_power_w << " W, PF " << p_.peak_factor << " -> P_mean = P_peak/PF^2 = " << mean_power_w()
+  o << "P_peak " << p_.peak_power_w << " W, PF " << pf_ << " -> P_mean = P_peak/PF^2 = " << mean_power_w()
     << " W; f " << p_.frequency_hz << " Hz, R_c " << p_.chip_rate_hz << " chips/s, N " << p_.code_length << " (R_b "
     << bit_rate_bps() << " bit/s), B_n " << noise_bandwidth_hz() << " Hz; at 1 km: SNR " << to_db(snr(1000)) << " dB, Eb/N0 "
     << to_db(ebn0(1000)) << " dB; message (" << p_.message_bits << " bits) lost with p = 0.01 / 0.5 / 0.99 at "

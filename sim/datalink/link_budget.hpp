@@ -26,6 +26,8 @@
 // receiver noise k T0 F only (no antenna temperature).
 #pragma once
 
+#include "scenario.hpp"
+
 #include <string>
 
 namespace rnav::datalink {
@@ -34,22 +36,6 @@ namespace rnav::datalink {
 inline constexpr double kSpeedOfLightMps = 299792458.0;
 /// Boltzmann constant [J/K] (exact, SI 2019).
 inline constexpr double kBoltzmannJpK = 1.380649e-23;
-
-/// Everything the budget needs, SI units; the names follow the scenario's `datalink` keys.
-struct LinkBudgetParams {
-  double peak_power_w = 1.0;        ///< P_peak [W]: transmitter peak envelope power, finite, > 0
-  double peak_factor = 1.0;         ///< PF [1]: peak/RMS amplitude of the waveform, finite, >= 1
-  double frequency_hz = 1.0e9;      ///< f [Hz]: carrier, [1e6, 1e12]
-  double tx_gain_dbi = 0.0;         ///< G_t [dBi]: aircraft antenna towards the receiver, [-50, 60]
-  double rx_gain_dbi = 3.0;         ///< G_r [dBi]: ground antenna, [-50, 60]
-  double noise_figure_db = 5.0;     ///< F [dB]: receiver noise figure, [0, 40]
-  double noise_temperature_k = 290; ///< T0 [K]: reference noise temperature, (0, 1e5]
-  double system_loss_db = 10.0;     ///< L [dB]: cables, antenna pattern, implementation, fading margin, [0, 200]
-  double chip_rate_hz = 10.16e6;    ///< R_c [chips/s]: (0, 1e11]
-  double bandwidth_chips = 0.5;     ///< B [chip rates]: one-sided band edge, so B_n = 2 B R_c, (0, 1000]
-  int code_length = 127;            ///< N [chips per data bit]: the spreading code's period, [1, 2^24]
-  int message_bits = 256;           ///< N_msg [bits] per navigation message, [1, 1e7]
-};
 
 /// Q(x) = P(Z > x) for Z ~ N(0, 1) = erfc(x / sqrt 2) / 2.
 double q_function(double x);
@@ -71,11 +57,19 @@ double from_db(double db);
 
 class LinkBudget {
  public:
-  /// Checks every parameter against the range documented in LinkBudgetParams and throws
-  /// rnav::ConfigError naming it ("datalink budget: peak_power_w = -1 must be finite and > 0").
-  explicit LinkBudget(const LinkBudgetParams& p);
+  /// The budget of the scenario's `datalink` section (its keys' symbols: P_peak = peak_power_w,
+  /// f = frequency_hz, G_t, G_r = tx_gain_dbi, rx_gain_dbi, F = noise_figure_db,
+  /// T0 = noise_temperature_k, L = system_loss_db, R_c = chip_rate_hz, B = bandwidth_chips,
+  /// N = code_length, N_msg = message_bits; units and defaults in common/scenario.hpp) with the
+  /// waveform's peak factor PF [1] (peak/RMS amplitude, >= 1: datalink_peak_factor). The scenario
+  /// checks its keys for users; this checks again what the budget needs (finite, P_peak, f, T0,
+  /// R_c, B > 0, PF >= 1, N and N_msg >= 1, ...) and throws rnav::ConfigError naming the value
+  /// ("datalink budget: peak_power_w = -1 W must be finite and in (0, 1000000000]"). The link's
+  /// other keys (family, filter, ...) are not used here.
+  LinkBudget(const DatalinkOptions& link, double peak_factor);
 
-  const LinkBudgetParams& params() const { return p_; }
+  const DatalinkOptions& options() const { return p_; }
+  double peak_factor() const { return pf_; }
   /// P_mean = P_peak / PF^2 [W].
   double mean_power_w() const;
   /// lambda = c / f [m].
@@ -104,7 +98,8 @@ class LinkBudget {
   std::string describe() const;
 
  private:
-  LinkBudgetParams p_;
+  DatalinkOptions p_;
+  double pf_ = 1;  // PF
   double ebn0_at_1m_ = 0;  // Eb/N0 at d = 1 m; Eb/N0(d) = ebn0_at_1m_ / d^2
 };
 

@@ -14,8 +14,6 @@ namespace rnav::datalink {
 
 /// datalink.filter, bandwidth_chips, rolloff as a Filter ("rc": raised cosine, "brick": ideal).
 Filter datalink_filter(const DatalinkOptions& d);
-/// The budget's parameters from the scenario keys, with the peak factor PF given.
-LinkBudgetParams link_budget_params(const DatalinkOptions& d, double peak_factor);
 /// The family's PF for the scenario's code length and filter: family_peak_factor at
 /// datalink.pf_quantile over datalink.pf_codes codes. Throws ConfigError naming "datalink".
 double datalink_peak_factor(const DatalinkOptions& d);
