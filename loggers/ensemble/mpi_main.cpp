@@ -171,34 +171,43 @@ int agree(int code) {
   return code;
 }
 
-// Under a launcher, this process's rank before MPI_Init (Open MPI, PMIx, MPICH); 0 when run alone.
+// Under a launcher (Open MPI, PMIx, MPICH): this process's rank, read before MPI_Init; -1 when
+// the program runs alone.
 long launcher_rank() {
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
     if (const char* v = std::getenv(name)) return std::strtol(v, nullptr, 10);
-  return 0;
+  return -1;
 }
 
-// --help is answered before MPI_Init: it needs no MPI, and a singleton MPI_Init (run without
-// mpirun) costs 0.3 s and leaves allocations that LeakSanitizer reports. Under a launcher only
-// rank 0 prints it. Returns true when help was asked for and given; any error in the arguments
-// is left to the normal path, where rank 0 reports it.
-bool help_before_mpi(int argc, char** argv) {
+// What needs no MPI is answered before MPI_Init: --help, -h and --list-options always (under a
+// launcher only rank 0 prints), and, when the program runs alone (not under mpirun), an error in
+// the arguments. A singleton MPI_Init costs 0.3 s and leaves allocations that LeakSanitizer
+// reports. Returns true, with the exit code, when the answer is given; under a launcher an
+// argument error is left to the normal path (every rank agrees on it after MPI_Init).
+bool answer_before_mpi(int argc, char** argv, int& code) {
+  const long rank = launcher_rank();
   bool asked = false;
-  for (int i = 1; i < argc; ++i) asked = asked || std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0;
-  if (!asked) return false;
+  for (int i = 1; i < argc; ++i)
+    for (const char* h : {"--help", "-h", "--list-options"}) asked = asked || std::strcmp(argv[i], h) == 0;
+  if (rank >= 0 && !asked) return false;
   Options o;
   std::ostringstream quiet;
   try {
-    return !parse(argc, argv, o, launcher_rank() == 0 ? std::cout : quiet);
-  } catch (const std::exception&) {
-    return false;
+    if (parse(argc, argv, o, rank <= 0 ? std::cout : quiet)) return false;
+    code = 0;
+    return true;
+  } catch (const std::exception& e) {
+    if (rank >= 0) return false;
+    std::cerr << rnav::cli::error_line(kProg, e.what()) << "\n";
+    code = dynamic_cast<const rnav::ConfigError*>(&e) ? 2 : 1;
+    return true;
   }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (help_before_mpi(argc, argv)) return 0;
+  if (int code = 0; answer_before_mpi(argc, argv, code)) return code;
   MPI_Init(&argc, &argv);
   int rank = 0, k = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
