@@ -68,8 +68,6 @@ class LinkBudget {
   /// other keys (family, filter, ...) are not used here.
   LinkBudget(const DatalinkOptions& link, double peak_factor);
 
-  const DatalinkOptions& options() const { return p_; }
-  double peak_factor() const { return pf_; }
   /// P_mean = P_peak / PF^2 [W].
   double mean_power_w() const;
   /// lambda = c / f [m].
