@@ -639,7 +639,7 @@ TEST_CASE("run with lcm-logger: the log records the run and diagnose reads the l
   REQUIRE(r.status == 0);
   REQUIRE(fs::exists(log));
   CHECK_FALSE(fs::exists(log + ".partial"));
-  const std::string diag = kBuild + "/bin/rnav_diagnose prl " + log + " --realization 1";
+  const std::string diag = kBuild + "/bin/rnav_diagnose prl --injections 0 " + log + " --realization 1";
   const auto with_file = sh(diag + " --scenario " + kRoot + "/sim/scenarios/paper.json");
   const auto embedded = sh(diag);  // the scenario from the log's SIM_SCENARIO
   INFO(with_file.output << embedded.output);
@@ -669,7 +669,7 @@ TEST_CASE("run with lcm-logger: the log records the run and diagnose reads the l
   CHECK_FALSE(fs::exists(log2));
   CHECK(fs::exists(log2 + ".partial"));
   // ... in which the failed realization is named as incomplete.
-  const auto d2 = sh(kBuild + "/bin/rnav_diagnose prl " + log2 + ".partial --realization 1");
+  const auto d2 = sh(kBuild + "/bin/rnav_diagnose prl --injections 0 " + log2 + ".partial --realization 1");
   CHECK(d2.status == 2);
   CHECK(d2.output.find("did not complete") != std::string::npos);
   // --lcm-log needs the multi-process run.

@@ -101,8 +101,7 @@ void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseRepor
       rep.effects.push_back(e);
     }
   }
-  for (const auto& [k, m] : r.detection_limits)
-    for (const auto& [p, v] : m) rep.detection_limits[strip_common(k)][p] = v;
+  rep.limits = limits_json(pb, r, strip_common);
   rep.separation_limits = separation_json(r, strip_common);
   for (std::size_t c = 0; c < r.gain.size(); ++c) {
     const SeriesGain& s = r.gain[c];
@@ -184,7 +183,7 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms},
                     {"nominal_loglik", g.nominal_loglik}, {"extended_loglik", g.extended_loglik}};
   j["unexplained"] = unexplained;
-  j["detection_limits"] = detection_limits;
+  for (const auto& [k, v] : limits.items()) j[k] = v;
   j["separation_limits"] = separation_limits;
   j["familywise"] = familywise;
   return j;

@@ -49,9 +49,9 @@ struct DiagnoseReport {
   nlohmann::ordered_json gain_fit;        ///< their estimates and SEs on the estimation window (search_json.hpp)
   std::string gain_fit_line;              ///< the same on one line, for text()
   std::vector<std::string> unexplained;
-  /// Per non-scanned catalogue entry and parameter: the size detected with probability 0.9 at
-  /// the familywise level (Fisher information of this data under the identified noise).
-  std::map<std::string, std::map<std::string, double>> detection_limits;
+  /// limits_method, detection_limits, naming_limits, fisher_limits, injected_limits
+  /// (search_json.hpp's limits_json; keys by name, scope "common" dropped).
+  nlohmann::ordered_json limits;
   /// The same given the entry it is hardest to tell apart from (search_json.hpp's separation_json).
   nlohmann::ordered_json separation_limits;
   nlohmann::ordered_json noise;  ///< per channel: the identified noise model

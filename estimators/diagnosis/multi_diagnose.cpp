@@ -94,7 +94,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms}, {"unit", g.unit}};
   j["gain_window"] = "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s";
   j["gain_effects"] = result.holdout_effects;
-  for (const char* k : {"noise", "series_gain", "gain_fit", "detection_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
+  for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
   return j;
 }

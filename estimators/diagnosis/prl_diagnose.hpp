@@ -42,6 +42,10 @@ struct DiagnoseOptions {
   double sigma_course_deg = 0.25;  ///< [deg] idem, > 0
   double sigma_glide_deg = 0.3;    ///< [deg] idem, > 0
   double max_nav_gap_s = 2.0;      ///< [s] plots in longer nav gaps are not used, > 0
+  /// [s] the nav velocity behind the measurement rates (time_offset's columns) is the slope of a
+  /// line fitted to the nav positions within this window centred on the plot (at least three
+  /// samples; else the segment's difference), >= 0 (0: the segment's difference).
+  double rate_window_s = 2.0;
   int step_grid = 33;              ///< scan grid of bias_step (10 % to 90 % of the span), >= 2
   /// The nav solution's time-correlated position error per axis (Gauss-Markov; the simulator's
   /// default 1.9 m / 120 s). It is part of the nominal model: projected onto each channel

@@ -216,12 +216,22 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   }
 
   if (o.score_holdout) out_of_sample(d, o, res);
-  // outliers named: flags in excess of the Gaussian expectation and a positive held-out gain
+  // outliers named: flags in excess of the Gaussian expectation, a positive held-out gain of the
+  // heavy-tailed mixture over the identified (coloured) noise model, and isolated flags: gross
+  // errors strike single frames (at a rate p a flag has a flagged neighbour with probability
+  // about 2 p), while a burst of coloured noise the model underrates flags runs of frames; at
+  // most a quarter of the flagged frames may have a flagged neighbour.
   for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
     ChannelNoise& cn = res.noise[ch];
     const int flagged = static_cast<int>(d.rows[ch].size()) - cn.fit.n;
     const double lambda = o.noise.expected_false_flags;
-    cn.outliers_named = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha && cn.outlier_gain > 0;
+    const std::vector<char>& f = cn.fit.outlier;
+    int in_runs = 0;
+    for (std::size_t i = 0; i < f.size(); ++i)
+      in_runs += f[i] && ((i > 0 && f[i - 1]) || (i + 1 < f.size() && f[i + 1]));
+    cn.outliers_in_runs = in_runs;
+    cn.outliers_named = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha && cn.outlier_gain > 0 &&
+                        4 * in_runs <= flagged;
   }
 
   // ---- unexplained: whitened residual against whitened covariates ----

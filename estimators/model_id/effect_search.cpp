@@ -4,6 +4,7 @@
 
 #include "effect_report.hpp"
 #include "entry_tests.hpp"
+#include "injected_limits.hpp"
 #include "search_design.hpp"
 #include "stats.hpp"
 
@@ -165,6 +166,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
     if (settled && round > 0) break;
   }
   search_detail::report(d, o, chosen, kept_lr, fits, res);
+  if (o.injection.injections > 0) res.injected = measure_injected_limits(pb, res, o, o.injection);
   return res;
 }
 

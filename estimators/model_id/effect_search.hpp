@@ -35,6 +35,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -104,6 +105,42 @@ struct Problem {
   std::size_t size() const { return y.size(); }
 };
 
+// Limits measured by injection: injected_limits.hpp says how.
+struct InjectionOptions {
+  int injections = 0;           ///< injections in each check batch at a fitted size, >= 0 (0: Fisher limits only)
+  int ladder_injections = 10;   ///< injections per ladder size, >= 1
+  int max_ladder = 6;           ///< most ladder sizes per parameter, >= 2
+  double max_multiple = 32;     ///< [-] largest multiple of the Fisher limit tried, > 1; beyond it: not reached
+  std::uint64_t seed = 1;       ///< seed of the injections' noise streams
+  int threads = 2;              ///< concurrent searches, >= 1
+  double conf = 0.95;           ///< confidence of the Clopper-Pearson intervals, (0, 1)
+  /// Entries measured: "name" (all scopes), "name@scope" or either with ":param"; empty: all.
+  std::vector<std::string> entries;
+  /// Called with one line per parameter measured (e.g. to show progress on stderr); may be empty.
+  std::function<void(const std::string&)> progress;
+};
+
+/// One limit found by injection.
+struct InjectedSize {
+  double size = 0;     ///< [parameter unit] the fitted size hit with probability `power`; infinite: not reached
+  int n = 0, hits = 0; ///< the check batch at `size`: injections and hits
+  double lo = 0, hi = 1;  ///< its Clopper-Pearson interval for the hit rate
+};
+
+struct InjectedLimit {
+  double fisher = 0;           ///< [parameter unit] the Fisher-information limit the ladder starts from
+  double variant_value = 0;    ///< scanned entries: the grid value injected (e.g. the step time [s])
+  InjectedSize named, detected;
+  struct Rung {
+    double size = 0;
+    int n = 0, named = 0, detected = 0;
+  };
+  std::vector<Rung> ladder;    ///< every ladder size tried, in the order tried
+};
+
+/// "name@scope" -> param -> limit, for the entries InjectionOptions::entries selects.
+using InjectedLimits = std::map<std::string, std::map<std::string, InjectedLimit>>;
+
 struct SearchOptions {
   double alpha = 0.01;          ///< familywise false-alarm level, (0, 0.5)
   double power = 0.9;           ///< detection probability of the reported detection limits, (0.5, 1)
@@ -126,6 +163,9 @@ struct SearchOptions {
   /// SEs (RMS over those frames; the same as |estimate / SE| for a one-parameter effect, smaller
   /// for a multi-parameter one whose held-out part the window leaves open), >= 0.
   double holdout_min_z = 2;
+  /// Detection and naming limits measured by injection into the data's own fitted model and
+  /// noise (injected_limits.hpp); injection.injections = 0 gives the Fisher limits alone.
+  InjectionOptions injection;
 };
 
 struct FoundEffect {
@@ -161,6 +201,7 @@ struct ChannelNoise {
   double log10_p_scale = 0;     ///< adjusted p of noise_scale != 1
   bool scale_named = false, correlated_named = false, outliers_named = false;
   double outlier_gain = 0;      ///< out-of-sample log-likelihood gain of the outlier mixture
+  int outliers_in_runs = 0;     ///< flagged frames with a flagged neighbour (runs: coloured noise, not gross errors)
 };
 
 struct SeriesGain {
@@ -215,6 +256,8 @@ struct SearchResult {
   /// non-scanned entry that makes it hardest (the size that tells the two apart), and that entry
   /// ("name (scope; params)"; "" when none is harder than alone). Infinite when no size can.
   std::map<std::string, std::map<std::string, SeparationLimit>> separation_limits;
+  /// The limits measured by injection (empty when SearchOptions::injection.injections is 0).
+  InjectedLimits injected;
   std::vector<std::string> unexplained;
   std::vector<ScopeAnswer> scopes;
   double family_size = 0;                       ///< m of the Bonferroni split

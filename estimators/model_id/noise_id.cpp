@@ -247,16 +247,16 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     // innovations conditioned on the non-flagged past (a flagged frame does not update the state)
     std::vector<char> next(static_cast<std::size_t>(n), 0);
     {
-      NoiseFilter f(pr, h, 1);
+      NoiseFilter f(pr, h);
       for (Eigen::Index i = 0; i < n; ++i) {
         const auto ui = static_cast<std::size_t>(i);
         NoiseFilter trial = f;
-        const double S = trial.predict(ui, t[ui]), nu = raw(i) - trial.mean()(0);
+        const double S = trial.predict(ui, t[ui]), nu = raw(i) - trial.mean();
         if (std::abs(nu) / std::sqrt(S) > fit.z_outlier) {
           next[ui] = 1;
           continue;
         }
-        trial.update(Eigen::RowVectorXd::Constant(1, nu));
+        trial.update(nu);
         f = trial;
       }
     }

@@ -19,14 +19,13 @@ void check(const NoiseParams& p) {
 }
 }  // namespace
 
-NoiseFilter::NoiseFilter(const NoiseParams& p, const std::vector<double>& gain, Eigen::Index k)
+NoiseFilter::NoiseFilter(const NoiseParams& p, const std::vector<double>& gain)
     : q0_(p.nom_share * p.s2),
       q_((1 - p.nom_share) * p.lambda * p.s2),
       r_((1 - p.nom_share) * (1 - p.lambda) * p.s2),
       tau0_(p.nom_tau_s),
       tau_(p.tau_s),
-      gain_(&gain),
-      x_(Eigen::Matrix<double, 2, Eigen::Dynamic>::Zero(2, k)) {
+      gain_(&gain) {
   check(p);
   P_ << q0_, 0, 0, q_;  // stationary start
 }
@@ -38,8 +37,8 @@ double NoiseFilter::predict(std::size_t i, double t) {
     // x- = Phi x+, P- = Phi P+ Phi + diag(q0 (1 - phi0^2), q (1 - phi^2))
     const double dt = t - t_prev_;
     const double f0 = q0_ > 0 ? std::exp(-dt / tau0_) : 0.0, f = q_ > 0 ? std::exp(-dt / tau_) : 0.0;
-    x_.row(0) *= f0;
-    x_.row(1) *= f;
+    x_(0) *= f0;
+    x_(1) *= f;
     P_(0, 0) = f0 * f0 * P_(0, 0) + q0_ * (1 - f0 * f0);
     P_(1, 1) = f * f * P_(1, 1) + q_ * (1 - f * f);
     P_(0, 1) = P_(1, 0) = f0 * f * P_(0, 1);
@@ -49,9 +48,9 @@ double NoiseFilter::predict(std::size_t i, double t) {
   return S_;
 }
 
-Eigen::RowVectorXd NoiseFilter::mean() const { return H_ * x_; }
+double NoiseFilter::mean() const { return H_(0) * x_(0) + H_(1) * x_(1); }
 
-void NoiseFilter::update(const Eigen::RowVectorXd& nu) {
+void NoiseFilter::update(double nu) {
   // K = P- H' / S; x+ = x- + K nu; P+ = (I - K H) P-, symmetrised
   const Eigen::Vector2d K = P_ * H_.transpose() / S_;
   x_ += K * nu;
@@ -60,24 +59,78 @@ void NoiseFilter::update(const Eigen::RowVectorXd& nu) {
   started_ = true;
 }
 
+// The filter of NoiseFilter written out on scalars, the same operations in the same order, for
+// every column at once without temporaries: the gains depend on the times and h alone, and this
+// loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
 void whiten(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
             const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS) {
   const auto n = static_cast<Eigen::Index>(t.size());
   if (M.rows() != n) throw std::invalid_argument("whiten: rows != number of times");
   if (!h.empty() && h.size() != t.size()) throw std::invalid_argument("whiten: gains != number of times");
+  check(p);
   if (logS) logS->setZero(n);
-  NoiseFilter f(p, h, M.cols());
+  const double q0 = p.nom_share * p.s2, q = (1 - p.nom_share) * p.lambda * p.s2, r = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
+  // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0,
+  // K and sqrt(S).
+  struct Gain {
+    double f0 = 0, f = 0, H0 = 1, K0 = 0, K1 = 0, sq = 1;
+    bool skip = false, started = false;
+  };
+  std::vector<Gain> g(static_cast<std::size_t>(n));
+  double P00 = q0, P01 = 0, P10 = 0, P11 = q;  // stationary start
+  double t_prev = 0, dt_prev = NAN, f0_prev = 0, f_prev = 0;
+  bool started = false;
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto ui = static_cast<std::size_t>(i);
+    Gain& G = g[ui];
     if (!skip.empty() && skip[ui]) {  // no sample of the noise process: no update
-      M.row(i).setZero();
+      G.skip = true;
       continue;
     }
-    const double S = f.predict(ui, t[ui]);
-    const Eigen::RowVectorXd nu = M.row(i) - f.mean();
-    f.update(nu);
-    M.row(i) = nu / std::sqrt(S);
+    const double H0 = h.empty() ? 1.0 : h[ui], H1 = 1.0;
+    G.H0 = H0;
+    G.started = started;
+    if (started) {
+      // x- = Phi x+, P- = Phi P+ Phi + diag(q0 (1 - phi0^2), q (1 - phi^2))
+      const double dt = t[ui] - t_prev;
+      if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
+        f0_prev = q0 > 0 ? std::exp(-dt / p.nom_tau_s) : 0.0, f_prev = q > 0 ? std::exp(-dt / p.tau_s) : 0.0;
+        dt_prev = dt;
+      }
+      G.f0 = f0_prev, G.f = f_prev;
+      const double f0 = G.f0, f = G.f;
+      P00 = f0 * f0 * P00 + q0 * (1 - f0 * f0);
+      P11 = f * f * P11 + q * (1 - f * f);
+      P01 = P10 = f0 * f * P01;
+    }
+    t_prev = t[ui];
+    // S = H P- H' + r; K = P- H' / S
+    const double HP0 = H0 * P00 + H1 * P10, HP1 = H0 * P01 + H1 * P11;
+    const double S = std::max(HP0 * H0 + HP1 * H1 + r, 1e-300);
+    G.K0 = (P00 * H0 + P01 * H1) / S, G.K1 = (P10 * H0 + P11 * H1) / S;
+    G.sq = std::sqrt(S);
+    // P+ = (I - K H) P-, symmetrised
+    const double A00 = 1 - G.K0 * H0, A01 = -G.K0 * H1, A10 = -G.K1 * H0, A11 = 1 - G.K1 * H1;
+    const double N00 = A00 * P00 + A01 * P10, N01 = A00 * P01 + A01 * P11, N10 = A10 * P00 + A11 * P10, N11 = A10 * P01 + A11 * P11;
+    P00 = N00, P11 = N11, P01 = P10 = 0.5 * (N01 + N10);
+    started = true;
     if (logS) (*logS)(i) = std::log(S);
+  }
+  // Pass 2, each column through the same gains: x- = Phi x+; nu = m - H x-; x+ = x- + K nu.
+  for (Eigen::Index c = 0; c < M.cols(); ++c) {
+    double* m = M.col(c).data();
+    double x0 = 0, x1 = 0;  // state (a, g)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Gain& G = g[static_cast<std::size_t>(i)];
+      if (G.skip) {
+        m[i] = 0;
+        continue;
+      }
+      if (G.started) x0 *= G.f0, x1 *= G.f;
+      const double nu = m[i] - (G.H0 * x0 + 1.0 * x1);
+      x0 += G.K0 * nu, x1 += G.K1 * nu;
+      m[i] = nu / G.sq;
+    }
   }
 }
 
@@ -85,12 +138,12 @@ double predictive_loglik(const std::vector<double>& t, const std::vector<double>
                          const NoiseParams& p, const std::vector<char>& score) {
   if (!h.empty() && h.size() != t.size()) throw std::invalid_argument("predictive_loglik: gains != number of times");
   if (e.size() != t.size()) throw std::invalid_argument("predictive_loglik: residuals != number of times");
-  NoiseFilter f(p, h, 1);
+  NoiseFilter f(p, h);
   double ll = 0;
   for (std::size_t i = 0; i < e.size(); ++i) {
     // predicted to t_i from the last frame that updated the state (an outlier does not)
     NoiseFilter trial = f;
-    const double S = trial.predict(i, t[i]), nu = e[i] - trial.mean()(0);
+    const double S = trial.predict(i, t[i]), nu = e[i] - trial.mean();
     const double l_in = -0.5 * (nu * nu / S + std::log(2 * M_PI * S));
     bool outlier = false;
     double l = l_in;
@@ -104,11 +157,39 @@ double predictive_loglik(const std::vector<double>& t, const std::vector<double>
     }
     if (score.empty() || score[i]) ll += l;
     if (!outlier) {
-      trial.update(Eigen::RowVectorXd::Constant(1, nu));
+      trial.update(nu);
       f = trial;
     }
   }
   return ll;
 }
 
+Eigen::VectorXd sample_noise(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
+                             std::mt19937_64& rng) {
+  check(p);
+  if (!h.empty() && h.size() != t.size()) throw std::invalid_argument("sample_noise: gains != number of times");
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double q0 = p.nom_share * p.s2, q = (1 - p.nom_share) * p.lambda * p.s2, r = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
+  Eigen::VectorXd e(static_cast<Eigen::Index>(t.size()));
+  double a = 0, g = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    // five draws per frame whatever the model, so that the stream stays aligned
+    const double wa = N(rng), wg = N(rng), ww = N(rng), wo = N(rng), u = U(rng);
+    if (i == 0) {
+      a = std::sqrt(q0) * wa, g = std::sqrt(q) * wg;
+    } else {
+      const double dt = t[i] - t[i - 1];
+      const double f0 = std::exp(-dt / p.nom_tau_s), f = std::exp(-dt / p.tau_s);
+      a = f0 * a + std::sqrt(q0 * (1 - f0 * f0)) * wa;
+      g = f * g + std::sqrt(q * (1 - f * f)) * wg;
+    }
+    double x = (h.empty() ? 1.0 : h[i]) * a + g + std::sqrt(r) * ww;
+    if (p.p_out > 0 && u < p.p_out) x += std::sqrt(p.s_out2) * wo;
+    e(static_cast<Eigen::Index>(i)) = x;
+  }
+  return e;
+}
+
 }  // namespace rnav
+

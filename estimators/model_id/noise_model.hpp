@@ -26,6 +26,7 @@
 
 #include <Eigen/Dense>
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -43,23 +44,24 @@ struct NoiseParams {
   std::string kind() const;
 };
 
-/// The innovations filter of one channel (see the model above) for k columns at once.
-/// gain: h_i per frame (empty: 1); it must outlive the filter.
+/// The innovations filter of one channel (see the model above) for one series (whiten() runs
+/// the same recursion on many columns at once). gain: h_i per frame (empty: 1); it must outlive
+/// the filter. Fixed-size state: copying it (a trial step) allocates nothing.
 class NoiseFilter {
  public:
-  NoiseFilter(const NoiseParams& p, const std::vector<double>& gain, Eigen::Index k);
+  NoiseFilter(const NoiseParams& p, const std::vector<double>& gain);
   /// Predict to frame i at time t [s] (frames in time order; skipped frames simply not
   /// predicted); returns the innovation variance S_i.
   double predict(std::size_t i, double t);
-  /// The predicted mean H_i x-_i of each column (after predict()).
-  Eigen::RowVectorXd mean() const;
-  /// Update with the innovation nu (one per column) of the frame just predicted.
-  void update(const Eigen::RowVectorXd& nu);
+  /// The predicted mean H_i x-_i (after predict()).
+  double mean() const;
+  /// Update with the innovation nu of the frame just predicted.
+  void update(double nu);
 
  private:
   double q0_, q_, r_, tau0_, tau_;
   const std::vector<double>* gain_;
-  Eigen::Matrix<double, 2, Eigen::Dynamic> x_;  ///< state (a, g) per column
+  Eigen::Vector2d x_ = Eigen::Vector2d::Zero();  ///< state (a, g)
   Eigen::Matrix2d P_;
   Eigen::RowVector2d H_;
   double S_ = 1, t_prev_ = 0;
@@ -78,5 +80,13 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
 /// the later ones except those the mixture judges outliers (posterior outlier probability > 1/2).
 double predictive_loglik(const std::vector<double>& t, const std::vector<double>& h, const std::vector<double>& e,
                          const NoiseParams& p, const std::vector<char>& score = {});
+
+/// One draw of the noise model at the frame times t (gains h, empty: 1): the parametric
+/// bootstrap's noise (injected_limits.hpp). Each part sampled exactly over irregular steps:
+///   a_i = phi0 a_(i-1) + sqrt(q0 (1 - phi0^2)) w,  g_i = phi g_(i-1) + sqrt(q (1 - phi^2)) w',
+///   e_i = h_i a_i + g_i + sqrt(r) w'',  a_0 ~ N(0, q0), g_0 ~ N(0, q) (stationary start),
+/// and, with probability p_out, a further N(0, s_out^2) added (the contaminated normal).
+Eigen::VectorXd sample_noise(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
+                             std::mt19937_64& rng);
 
 }  // namespace rnav

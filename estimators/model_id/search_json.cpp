@@ -92,7 +92,8 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                              {"extended_loglik", g.extended_loglik}};
   }
   j["gain_fit"] = gain_fit_json(pb, r);
-  j["detection_limits"] = r.detection_limits;
+  const nlohmann::ordered_json limits = limits_json(pb, r);
+  for (const auto& [k, v] : limits.items()) j[k] = v;
   j["separation_limits"] = separation_json(r);
   j["scope_support"] = nlohmann::ordered_json::array();
   for (const auto& s : r.scopes) {
@@ -106,6 +107,39 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
   j["unexplained"] = r.unexplained;
   j["familywise"] = r.familywise;
   return j;
+}
+
+nlohmann::ordered_json limits_json(const Problem& pb, const SearchResult& r,
+                                   const std::function<std::string(const std::string&)>& strip) {
+  auto key = [&](const std::string& k) { return strip ? strip(k) : k; };
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  out["limits_method"] = r.injected.empty() ? "fisher" : "injection";
+  nlohmann::ordered_json det = nlohmann::ordered_json::object(), nam = nlohmann::ordered_json::object(),
+                         fis = nlohmann::ordered_json::object(), inj = nlohmann::ordered_json::object();
+  for (const auto& [k, m] : r.detection_limits)
+    for (const auto& [p, v] : m) fis[key(k)][p] = v, det[key(k)][p] = v;
+  auto sized = [](const InjectedSize& s) {
+    return nlohmann::ordered_json{{"size", finite_or_null(s.size)}, {"n", s.n}, {"hits", s.hits}, {"cp_lo", s.lo}, {"cp_hi", s.hi}};
+  };
+  for (const auto& [k, m] : r.injected)
+    for (const auto& [p, L] : m) {
+      det[key(k)][p] = finite_or_null(L.detected.size);
+      nam[key(k)][p] = finite_or_null(L.named.size);
+      nlohmann::ordered_json x;
+      x["fisher"] = L.fisher;
+      for (const Candidate& c : pb.catalogue)
+        if (c.scanned() && c.name + "@" + c.scope.label() == k) x["scan_value"] = {{c.scan_param, L.variant_value}};
+      x["named"] = sized(L.named);
+      x["detected"] = sized(L.detected);
+      x["ladder"] = nlohmann::ordered_json::array();
+      for (const auto& g : L.ladder) x["ladder"].push_back({g.size, g.n, g.named, g.detected});
+      inj[key(k)][p] = x;
+    }
+  out["detection_limits"] = det;
+  out["naming_limits"] = nam;
+  out["fisher_limits"] = fis;
+  out["injected_limits"] = inj;
+  return out;
 }
 
 nlohmann::ordered_json separation_json(const SearchResult& r, const std::function<std::string(const std::string&)>& strip) {

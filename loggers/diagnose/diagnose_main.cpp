@@ -18,8 +18,11 @@
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 namespace {
+
+constexpr int kReportInjections = 20;  // injections per check batch of a report's limits
 
 // A CSV folder, an LCM event log, or an error naming INPUT.
 bool is_log_input(const std::string& input) {
@@ -43,6 +46,13 @@ int main(int argc, char** argv) {
     rnav::MultiDiagnoseOptions mo;
     rnav::LcmLogOptions lo;
     bool log_options = false;
+    // Every prl and uav report states limits measured by injection (the library's default is the
+    // Fisher limits alone, for callers that run many searches); multi-sensor problems are larger
+    // and their catalogues long: Fisher unless asked.
+    o.search.injection.injections = uo.search.injection.injections = kReportInjections;
+    o.search.injection.progress = uo.search.injection.progress = mo.search.injection.progress = [](const std::string& line) {
+      std::cerr << "diagnose: limit by injection: " << line << std::endl;
+    };
     constexpr double kBig = std::numeric_limits<double>::max();
     auto num = [](const char* opt, double& a) {
       return [opt, &a](const std::string& v) { a = rnav::cli::number(opt, v, -kBig, kBig); };
@@ -76,12 +86,41 @@ int main(int argc, char** argv) {
                "an effect stays named only if its 2 log LR, least over each channel's noise models within Q / 2 of "
                "the best REML log-likelihood, still passes; 0: the plug-in noise estimate only",
                "4", num_all("--noise-set-q", o.search.noise_set_q, uo.search.noise_set_q, mo.search.noise_set_q))
+        .value("--injections", "N",
+               "limits measured by injection: N injections in each check batch at a fitted 90 % size (after a "
+               "ladder of 10 per size from the Fisher limit up or down); 0: Fisher limits only, >= 0",
+               "20 for prl and uav, 0 for multi", [&](const std::string& v) {
+                 const int n = static_cast<int>(rnav::parse_integer("--injections", v, 0, 100000));
+                 o.search.injection.injections = uo.search.injection.injections = mo.search.injection.injections = n;
+               })
+        .value("--limits-for", "LIST",
+               "measure the injected limits of these entries only (comma-separated: name, name@scope, or either "
+               "with :param, e.g. time_offset,bias_step:glide_rad)", "every entry", [&](const std::string& v) {
+                 std::vector<std::string> list;
+                 std::stringstream ss(v);
+                 for (std::string x; std::getline(ss, x, ',');)
+                   if (!x.empty()) list.push_back(x);
+                 if (list.empty()) throw rnav::ConfigError("--limits-for: no entry named in '" + v + "'");
+                 o.search.injection.entries = uo.search.injection.entries = mo.search.injection.entries = list;
+               })
+        .value("--threads", "N", "concurrent injected searches, >= 1", "2", [&](const std::string& v) {
+                 const int n = static_cast<int>(rnav::parse_integer("--threads", v, 1, 256));
+                 o.search.injection.threads = uo.search.injection.threads = mo.search.injection.threads = n;
+               })
+        .value("--injection-seed", "N", "seed of the injections' noise, >= 0", "1", [&](const std::string& v) {
+                 const auto n = static_cast<std::uint64_t>(rnav::parse_integer("--injection-seed", v, 0, std::numeric_limits<long long>::max()));
+                 o.search.injection.seed = uo.search.injection.seed = mo.search.injection.seed = n;
+               })
         .value("--confound-corr", "C", "canonical correlation above which two effects are reported as confounded, (0, 1)",
                "0.9", num_all("--confound-corr", o.search.confound_corr, uo.search.confound_corr, mo.search.confound_corr))
         .value("--split-time", "S", "prl: fit on t < S [s], score the gain after it", "400 s, the paper's switch",
                num("--split-time", o.split_time_s))
         .value("--nav-sigma", "M", "prl: the nav solution's time-correlated position error per axis [m], 1 sigma", "1.9 m",
                num("--nav-sigma", o.nav_sigma_m))
+        .value("--rate-window", "S",
+               "prl: the nav velocity behind time_offset's columns is the slope of a line fitted to the nav "
+               "positions within S seconds centred on each plot (0: the difference of the two around it), >= 0",
+               "2 s", num("--rate-window", o.rate_window_s))
         .value("--nav-tau", "S", "prl: its correlation time [s]", "120 s", num("--nav-tau", o.nav_tau_s))
         .value("--gate-deg", "D", "uav, multi: association gate of bearings around the reference bearing [deg]",
                "4 deg for uav, 3 deg for multi", num_two("--gate-deg", uo.gate_deg, mo.association.gate_bearing_deg))

@@ -1,0 +1,39 @@
+// Detection and naming limits measured by injection (parametric bootstrap), not promised by
+// the Fisher information.
+//
+// A limit is what the whole decision rule achieves: noise identification, the noise confidence
+// set, forward selection and the backward checks. For each catalogue entry and parameter the
+// data's own fitted model (nuisance and the named effects, without the entry itself) is kept,
+// its identified noise is drawn afresh per channel (noise_model.hpp's sample_noise), the entry's
+// own columns - exactly what the diagnosis fits - are added at size a, and search_effects runs on
+// the result. An injection is
+//   named     when the entry itself is among the named effects;
+//   detected  when it is named, or a named effect lists it under confounded_with (the report
+//             says the data cannot tell the two apart).
+// The size is found on a ladder of multiples of the Fisher limit (doubling up until the named
+// rate reaches `power`, halving down until the detected rate falls below it), the rates are fitted
+// by a probit in log a (P(hit | a) = Phi(b0 + b1 log a), maximum likelihood, b1 > 0), and the
+// fitted size is then checked by a fresh batch of injections at it: the report gives that
+// batch's count and its Clopper-Pearson interval, so the stated limit carries its own evidence.
+// Scanned entries are injected at their grid's middle point (a step at mid-span).
+// Deterministic: injection i of (entry, parameter, stage) draws from its own seeded stream,
+// whatever the number of threads.
+#pragma once
+
+#include "effect_search.hpp"
+
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+/// Measure the limits of the problem `pb` whose search gave `res` under options `o`
+/// (o.injection is ignored inside: the injected searches measure no limits themselves).
+/// Throws std::invalid_argument on bad options or an unknown entry in io.entries.
+InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& res, const SearchOptions& o,
+                                       const InjectionOptions& io);
+
+/// True when entry e, parameter j, is selected by the list (empty: all).
+bool injection_selects(const std::vector<std::string>& entries, const Candidate& c, const std::string& param);
+
+}  // namespace rnav

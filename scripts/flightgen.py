@@ -1,0 +1,646 @@
+#!/usr/bin/python3
+"""Independent flight generator: synthetic measured data in the project's CSV interchange formats
+(README, "Measured data") flown on trajectories the simulator never flies. It shares no code with
+sim/, estimators/ or common/: its own WGS84 geodesy, kinematics, error models and random streams.
+
+  scripts/flightgen.py landing OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]   site.json radar.csv nav.csv truth.csv
+  scripts/flightgen.py uav OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]       observer.csv bearings.csv truth.csv
+  scripts/flightgen.py landing|uav --list-keys                           every key: default, range, unit
+As a module: landing(outdir, seed, overrides, noise_seed) and uav(outdir, seed, overrides, noise_seed)
+(noise_seed None: seed; it seeds the noise streams alone, so one geometry takes many noise draws) write the files and
+return {"params": every key's value and the derived ones (the truth), "files", "truth", "nav" |
+"observer", "plots" | "bearings": the unrounded rows}. Prints the params as JSON on stdout.
+Same seed and keys: byte-identical files. Random streams: Python's random.Random seeded with the
+string "flightgen:MODE:SEED:STREAM" (streams geometry, nav, white, outlier, coloured.CHANNEL). The
+random defaults are drawn from `geometry` in the table's order whether overridden or not, so
+setting one key leaves every other draw as it was.
+
+Geodesy (WGS84: a = 6378137 m, f = 1/298.257223563, e2 = f (2 - f), N = a / sqrt(1 - e2 sin^2 lat)):
+  X = (N + h) cos lat cos lon,  Y = (N + h) cos lat sin lon,  Z = (N (1 - e2) + h) sin lat;
+  inverse: lon = atan2(Y, X), p = hypot(X, Y), lat <- atan2(Z + e2 N sin lat, p) 10 times from
+  atan2(Z, p (1 - e2)), h = p cos lat + Z sin lat - a sqrt(1 - e2 sin^2 lat);
+  ENU at (lat0, lon0): [e n u] = M (P - P0), rows (-sin lon0, cos lon0, 0),
+  (-sin lat0 cos lon0, -sin lat0 sin lon0, cos lat0), (cos lat0 cos lon0, cos lat0 sin lon0, sin lat0).
+A horizontal point (e, n) of a local flat-earth frame is mapped to the ellipsoid along the normal
+through (e, n, 0) (ENU -> ECEF -> geodetic) and given its ellipsoidal height explicitly.
+
+Landing kinematics: step dt = 0.1 s (truth and nav at 10 Hz), forward Euler in the tangent plane at
+the runway threshold; height h above the threshold is ellipsoidal (level flight stays level):
+  e += dt v sin psi,  n += dt v cos psi,  h += dt hdot;
+  psi_dot = clamp(10/s wrap(psi_cmd - psi), +-turn_rate_dps);   hdot += clamp(hdot_cmd - hdot, +-1 m/s^2 dt),
+  hdot_cmd = clamp(hdot_ff + 0.1/s (h_cmd - h), +-20 m/s);
+  v(t) = speed0 before t_d = decel_start_s, speed0 + (speed1 - speed0)(t - t_d)/decel_s, speed1 after
+  (intercept and turns; straight and level fly speed0).
+Runway frame: course chi = heading_deg; x = -(e sin chi + n cos chi) out along the approach,
+y = e cos chi - n sin chi right of the centreline. Glide path h_cmd = min(level_h_m, 15 m + x tan gamma),
+hdot_ff = tan(gamma) dx/dt on its sloping part. Centreline pursuit psi_cmd = chi - atan(y / 1500 m).
+An approach ends once x <= 300 m, any flight at duration_s. start_x_m = auto puts the start so that
+the planned path (speed schedule summed over duration_s) ends at x = 300 m at duration_s.
+  intercept: start at (start_x_m, y0), y0 = sgn(a) (first_leg_m sin|a| + r (1 - cos a)), r = v/omega,
+    a = intercept_deg, psi = chi - a; a turn at omega = turn_rate_dps starts once |y| <= r (1 - cos(psi - chi))
+    and ends on the course, then pursuit.
+  straight: on the centreline from start_x_m. turns: pursuit, and from 0.2 duration_s the heading
+    chi + turn_deg, chi - turn_deg, ... (n_turns legs of turn_hold_s, the inner ones twice as long, so
+    y returns to ~0), then pursuit.
+  level: a straight pass at level_h_m: closest approach |pass_dist_m| from the radar at bearing
+    azimuth_reference + pass_angle_deg, at duration_s / 2; heading that bearing + 90 deg (- if pass_dist_m < 0).
+Radar site: (e, n) = radar_along_m f + radar_lateral_m r (f along the runway, r right of it),
+h = threshold + radar_height_m; azimuth_reference_deg = heading_deg + 180 + az_ref_offset_deg.
+
+Radar plots at t = 0, 1/rate_hz, ... <= flight end, errors applied to the TRUE polar coordinates at
+t - tau (tau = time_offset_s; truth interpolated linearly in ECEF between its 0.1 s samples):
+  [e n u] = aircraft in ENU at the radar antenna, R = |[e n u]|, E = atan2(u, hypot(e, n)),
+  A = wrap(atan2(e, n) - azimuth_reference_deg) in (-180, 180]; a plot only if |A| < 60 and 0.1 <= E <= 30 deg.
+  R_m = (1 + g) R + b_R + d_R t + S_R H(t - t_s) + nu_R
+  A_m = wrap(A + c tan E + b_A + d_A t + S_A H(t - t_s) + nu_A)
+  E_m = E + k cot E + b_E + d_E t + S_E H(t - t_s) + nu_E
+  g range_gain, c coupling_rad, k refraction_rad (radians, shown in deg), b_* biases, d_* drifts;
+  S_X = step_size on step_channel only, H the unit step, t_s = step_time_frac * flight end.
+  nu_X = sigma_X (w_X + f u_X(t)), w ~ N(0, 1) white, u unit-variance coloured noise (f = coloured_sigma_frac,
+  none if coloured_tau_s = 0); an outlier plot (probability outlier_prob, all channels) has
+  nu_X = outlier_scale sigma_X w'_X.
+  gm: u_k = phi u_(k-1) + sqrt(1 - phi^2) w_k, phi = exp(-(t_k - t_(k-1)) / tau_c), u_0 ~ N(0, 1) (exact, any steps).
+  cascade: on a 0.01 s grid, a = exp(-0.01 / (tau_c / 2)): f1 <- a f1 + sqrt(1 - a^2) w, f2 <- a f2 + (1 - a) f1,
+    u = f2 (1 + a) / sqrt(1 + a^2); started in its stationary law f1 ~ N(0, 1), f2 = (f1 + a z) / (1 + a).
+Nav (10 Hz, per axis of the aircraft's local ENU): eps_k = phi eps_(k-1) + sigma sqrt(1 - phi^2) w_k,
+  phi = exp(-0.1 s / nav_tau_s), eps_0 ~ N(0, sigma^2); nav = truth + eps + nav_white_m w'.
+
+UAV: the boat at sea level (h = 0), (e, n) = boat_speed t (sin, cos)(boat_heading) in the site's ENU.
+Observer at height_m, centre c = boat(t) (centre=follow) or boat(0) (fixed), path position p(s) about c,
+arc length s = P start_frac + speed_mps t (- for ccw/reversed; speed relative to the centre):
+  orbit: R (sin th, cos th), th = s / R (clockwise for cw). racetrack along track_deg: legs leg_m long at
+  +-R from its axis joined by half-circles of radius R. figure8: circles of radius R centred at
+  +-R along track_deg from a crossing point R to the right of the boat's side of the axis.
+  Bearing beta = atan2(e, n) of the boat in the observer's ENU, both at t - tau; written wrapped to [0, 360):
+  beta_m = beta + b + d t + nu, nu = sigma_deg w + coloured_sigma_deg u(t) (outlier: outlier_scale sigma_deg w').
+  observer.csv = truth + GM error (obs_nav_sigma_m, obs_nav_tau_s) per ENU axis; truth and observer at 10 Hz.
+Default tokens: U[a,b] uniform, +-U[a,b] with a random sign, U{a,b} one of, auto derived.
+
+Keys (landing):
+    geometry          intercept     {intercept|straight|level|turns}  -    trajectory (above)
+    duration_s        U[400,600]    [30,7200]        s      flight end time (an approach may end earlier)
+    lat_deg           U[-60,60]     [-89,89]         deg    runway threshold latitude
+    lon_deg           U[-180,180]   [-180,180]       deg    runway threshold longitude
+    threshold_h_m     U[0,500]      [-400,5000]      m      threshold ellipsoidal height
+    heading_deg       U[0,360]      [0,360]          deg    runway heading = approach course
+    radar_lateral_m   +-U[100,300]  [-5000,5000]     m      radar right (+) of the centreline
+    radar_along_m     U[200,1500]   [-5000,5000]     m      radar past the threshold along the runway
+    radar_height_m    U[0,20]       [-100,500]       m      antenna above the threshold
+    az_ref_offset_deg U[0,10]       [-90,90]         deg    azimuth reference minus the reciprocal heading
+    speed0_mps        80            [20,300]         m/s    ground speed at the start
+    speed1_mps        65            [20,300]         m/s    ground speed after the deceleration
+    decel_s           60            [1,3600]         s      deceleration time
+    decel_start_s     auto          [0,7200]         s      deceleration start (auto: U in the middle third)
+    level_h_m         U[600,900]    [30,10000]       m      level flight height above the threshold
+    glide_deg         3             [1,10]           deg    glide path angle
+    start_x_m         auto          [500,200000]     m      start distance out along the approach
+    intercept_deg     +-U[20,45]    [-80,80]         deg    first-leg heading off the course (+: from the right)
+    first_leg_m       U[2000,6000]  [0,100000]       m      intercept: first leg length before the turn
+    turn_rate_dps     U[1.5,3]      [0.3,10]         deg/s  turn rate bound
+    turn_deg          +-U[20,30]    [-60,60]         deg    turns: heading offset of the first S-turn leg
+    n_turns           U{2,3}        int[1,5]         -      turns: number of S-turn legs
+    turn_hold_s       30            [5,300]          s      turns: first and last leg duration
+    pass_dist_m       +-U[8000,15000]  [-60000,60000]  m    level: signed closest approach to the radar
+    pass_angle_deg    U[-20,20]     [-60,60]         deg    level: closest-approach bearing off the reference
+    rate_hz           1             [0.1,20]         Hz     radar plot rate
+    sigma_range_m     12            [0,1000]         m      white noise
+    sigma_az_deg      0.25          [0,10]           deg    white noise
+    sigma_el_deg      0.30          [0,10]           deg    white noise
+    coloured_tau_s    0             [0,2000]         s      coloured noise time constant (0: none)
+    coloured_sigma_frac 0.5         [0,10]           -      coloured std / white sigma
+    coloured_kind     gm            {gm|cascade}     -      coloured noise kind
+    range_bias_m      0             [-1000,1000]     m      constant bias
+    az_bias_deg       0             [-10,10]         deg    constant bias
+    el_bias_deg       0             [-10,10]         deg    constant bias
+    time_offset_s     0             [-20,20]         s      tau: a plot stamped t shows the aircraft at t - tau
+    range_gain        0             [-0.1,0.1]       -      g
+    refraction_rad    0             [-0.01,0.01]     rad    k
+    coupling_rad      0             [-0.1,0.1]       rad    c
+    step_channel      elevation     {range|azimuth|elevation}  -  channel of the bias step
+    step_size         0             [-1000,1000]     m|deg  bias step
+    step_time_frac    0.5           [0,1]            -      step time / flight end
+    range_drift_mps   0             [-10,10]         m/s    drift
+    az_drift_degps    0             [-0.1,0.1]       deg/s  drift
+    el_drift_degps    0             [-0.1,0.1]       deg/s  drift
+    outlier_prob      0             [0,1]            -      probability of an outlier plot
+    outlier_scale     10            [0,1000]         -      outlier noise / white sigma
+    nav_sigma_m       1.9           [0,100]          m      nav Gauss-Markov std per axis
+    nav_tau_s         120           [0.1,100000]     s      nav Gauss-Markov time constant
+    nav_white_m       0.3           [0,100]          m      nav white noise std per axis
+
+Keys (uav):
+    geometry          orbit         {orbit|racetrack|figure8}  -  observer path (above)
+    centre            follow        {follow|fixed}   -      path centre follows the boat or stays at its start
+    direction         U{cw,ccw}     {cw|ccw}         -      sense of travel
+    duration_s        300           [10,7200]        s      flight duration
+    rate_hz           2             [0.1,50]         Hz     bearing rate
+    lat_deg           U[-60,60]     [-89,89]         deg    boat start latitude
+    lon_deg           U[-180,180]   [-180,180]       deg    boat start longitude
+    boat_speed_mps    U[2,8]        [0,50]           m/s    boat speed (constant)
+    boat_heading_deg  U[0,360]      [0,360]          deg    boat course
+    radius_m          U[600,1500]   [100,20000]      m      orbit / turn radius R
+    height_m          U[100,300]    [10,10000]       m      observer ellipsoidal height
+    speed_mps         25            [1,300]          m/s    observer speed relative to the centre
+    leg_m             U[1000,2000]  [0,50000]        m      racetrack straight leg length
+    track_deg         U[0,360]      [0,360]          deg    racetrack / figure8 axis bearing
+    start_frac        U[0,1]        [0,1]            -      start position as a fraction of the path
+    obs_nav_sigma_m   1             [0,100]          m      observer nav Gauss-Markov std per axis
+    obs_nav_tau_s     60            [0.1,100000]     s      observer nav Gauss-Markov time constant
+    sigma_deg         0.5           [0,20]           deg    white noise
+    coloured_tau_s    0             [0,2000]         s      coloured noise time constant (0: none)
+    coloured_sigma_deg 0.3          [0,20]           deg    coloured noise std
+    coloured_kind     gm            {gm|cascade}     -      coloured noise kind
+    bias_deg          0             [-20,20]         deg    constant bias
+    time_offset_s     0             [-20,20]         s      tau
+    drift_degps       0             [-0.1,0.1]       deg/s  drift
+    outlier_prob      0             [0,1]            -      probability of an outlier bearing
+    outlier_scale     10            [0,1000]         -      outlier noise / sigma_deg
+"""
+import json
+import math
+import os
+import random
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cli_args  # noqa: E402
+
+PROG = "flightgen"
+A_WGS, F_WGS = 6378137.0, 1 / 298.257223563
+E2 = F_WGS * (2 - F_WGS)
+DT = 0.1                # trajectory, truth and nav step [s]
+END_X_M = 300.0         # an approach ends this far before the threshold
+TCH_M = 15.0            # glide path height over the threshold
+LOOKAHEAD_M = 1500.0    # centreline pursuit
+CASCADE_DT = 0.01       # cascade noise grid [s]
+
+
+class BadInput(ValueError):
+    """A bad key, value or OUTDIR (the CLI's exit status 2)."""
+
+
+# ---------------------------------------------------------------- geodesy
+def to_ecef(lat, lon, h):
+    la, lo = math.radians(lat), math.radians(lon)
+    n = A_WGS / math.sqrt(1 - E2 * math.sin(la) ** 2)
+    return ((n + h) * math.cos(la) * math.cos(lo), (n + h) * math.cos(la) * math.sin(lo),
+            (n * (1 - E2) + h) * math.sin(la))
+
+
+def to_geodetic(x, y, z):
+    p = math.hypot(x, y)
+    lat = math.atan2(z, p * (1 - E2))
+    for _ in range(10):
+        s = math.sin(lat)
+        lat = math.atan2(z + E2 * A_WGS / math.sqrt(1 - E2 * s * s) * s, p)
+    s, c = math.sin(lat), math.cos(lat)
+    return math.degrees(lat), math.degrees(math.atan2(y, x)), p * c + z * s - A_WGS * math.sqrt(1 - E2 * s * s)
+
+
+class Frame:
+    """Local ENU at a geodetic point."""
+
+    def __init__(self, lat, lon, h):
+        la, lo = math.radians(lat), math.radians(lon)
+        self.o = to_ecef(lat, lon, h)
+        self.m = ((-math.sin(lo), math.cos(lo), 0.0),
+                  (-math.sin(la) * math.cos(lo), -math.sin(la) * math.sin(lo), math.cos(la)),
+                  (math.cos(la) * math.cos(lo), math.cos(la) * math.sin(lo), math.sin(la)))
+
+    def enu(self, p):
+        d = [p[i] - self.o[i] for i in range(3)]
+        return tuple(sum(r[i] * d[i] for i in range(3)) for r in self.m)
+
+    def ecef(self, v):
+        return tuple(self.o[i] + sum(v[k] * self.m[k][i] for k in range(3)) for i in range(3))
+
+    def place(self, e, n, h):
+        """(lat, lon, h, ECEF) of the horizontal point (e, n) mapped to the ellipsoid, at height h."""
+        lat, lon, _ = to_geodetic(*self.ecef((e, n, 0.0)))
+        return lat, lon, h, to_ecef(lat, lon, h)
+
+
+def wrap180(a):
+    r = math.fmod(a + 180.0, 360.0)
+    return (r + 360.0 if r <= 0 else r) - 180.0
+
+
+def polar(frame, p):
+    """(range, bearing clockwise from north, elevation) of ECEF point p from frame's origin."""
+    e, n, u = frame.enu(p)
+    return math.sqrt(e * e + n * n + u * u), math.degrees(math.atan2(e, n)), math.degrees(math.atan2(u, math.hypot(e, n)))
+
+
+def interp(samples, t):
+    """ECEF at time t from samples at k DT (linear); None outside them."""
+    f = t / DT
+    j = round(f)
+    if abs(f - j) < 1e-6:
+        return samples[j] if 0 <= j < len(samples) else None
+    i = math.floor(f)
+    if i < 0 or i + 1 >= len(samples):
+        return None
+    w = f - i
+    return tuple(a + w * (b - a) for a, b in zip(samples[i], samples[i + 1]))
+
+
+# ---------------------------------------------------------------- keys
+def _table(section):
+    keys = {}
+    for line in __doc__.split("Keys (%s):\n" % section, 1)[1].splitlines():
+        if not line.strip():
+            break
+        name, dflt, rng, unit, desc = re.match(r" {4}(\w+) +(\S+) +(\S+) +(\S+) +(.*)$", line).groups()
+        keys[name] = dict(default=dflt, range=rng, unit=unit, line=line.strip())
+    return keys
+
+
+KEYS = {"landing": _table("landing"), "uav": _table("uav")}
+
+
+def check_value(keys, name, value):
+    k = keys[name]
+    if k["range"].startswith("{"):
+        choices = k["range"][1:-1].split("|")
+        if str(value) not in choices:
+            hint = cli_args.closest(str(value), choices)
+            raise BadInput("key %s: value '%s' is not one of %s%s" % (name, value, ", ".join(choices),
+                            " (did you mean '%s'?)" % hint if hint else ""))
+        return str(value)
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise BadInput("key %s: value '%s' is not a number" % (name, value))
+    if not math.isfinite(x):
+        raise BadInput("key %s: value '%s' is not a finite number" % (name, value))
+    is_int, lo, hi = re.fullmatch(r"(int)?\[(\S+),(\S+)\]", k["range"]).groups()
+    if not float(lo) <= x <= float(hi) or (is_int and x != int(x)):
+        raise BadInput("key %s: value '%s' out of range %s %s" % (name, value, k["range"], k["unit"]))
+    return x
+
+
+def resolve(mode, seed, overrides):
+    """Every key's value: overrides (validated), else the default, random ones drawn in table order."""
+    keys = KEYS[mode]
+    given = {}
+    for name, value in overrides.items():
+        if name not in keys:
+            hint = cli_args.closest(name, list(keys))
+            raise BadInput("unknown %s key '%s'%s" % (mode, name, " (did you mean '%s'?)" % hint if hint else ""))
+        given[name] = check_value(keys, name, value)
+    rng, params, aux = stream(seed, mode, "geometry"), {}, {}
+    for name, k in keys.items():
+        d = k["default"]
+        m = re.fullmatch(r"(\+-)?U\[(\S+),(\S+)\]", d)
+        if m:
+            v = float(m.group(2)) + (float(m.group(3)) - float(m.group(2))) * rng.random()
+            if m.group(1) and rng.random() < 0.5:
+                v = -v
+        elif d.startswith("U{"):
+            opts = d[2:-1].split(",")
+            v = check_value(keys, name, opts[int(rng.random() * len(opts))])
+        elif d == "auto":
+            v, aux[name] = None, rng.random()
+        else:
+            v = check_value(keys, name, d)
+        params[name] = given.get(name, v)
+    return params, aux
+
+
+def stream(seed, mode, name):
+    return random.Random("flightgen:%s:%d:%s" % (mode, seed, name))
+
+
+# ---------------------------------------------------------------- noise
+class Coloured:
+    """Unit-variance coloured noise (gm or cascade, see the docstring) at non-decreasing times."""
+
+    def __init__(self, kind, tau, rng):
+        self.kind, self.tau, self.g, self.t = kind, tau, rng.gauss, None
+        self.a = math.exp(-CASCADE_DT / (tau / 2)) if tau > 0 else 0.0
+
+    def at(self, t):
+        a, g = self.a, self.g
+        if self.t is None:
+            self.t, self.n = t, 0
+            self.x = g(0.0, 1.0)
+            self.f2 = (self.x + a * g(0.0, 1.0)) / (1 + a)
+        elif self.kind == "gm":
+            phi = math.exp(-(t - self.t) / self.tau)
+            self.x, self.t = phi * self.x + math.sqrt(1 - phi * phi) * g(0.0, 1.0), t
+        if self.kind == "gm":
+            return self.x
+        b = math.sqrt(1 - a * a)
+        while self.n < round((t - self.t) / CASCADE_DT):
+            self.x = a * self.x + b * g(0.0, 1.0)
+            self.f2 = a * self.f2 + (1 - a) * self.x
+            self.n += 1
+        return self.f2 * (1 + a) / math.sqrt(1 + a * a)
+
+
+def add_nav_error(rows, sigma, tau, white, rng):
+    """rows (lat, lon, h, ecef) + per-axis local-ENU Gauss-Markov (sigma, tau) + white -> (lat, lon, h)."""
+    phi = math.exp(-DT / tau)
+    q = sigma * math.sqrt(1 - phi * phi)
+    eps, out = [sigma * rng.gauss(0.0, 1.0) for _ in range(3)], []
+    for k, (lat, lon, h, p) in enumerate(rows):
+        if k:
+            eps = [phi * x + q * rng.gauss(0.0, 1.0) for x in eps]
+        d = [x + white * rng.gauss(0.0, 1.0) for x in eps]
+        out.append(to_geodetic(*Frame(lat, lon, h).ecef(d)))
+    return out
+
+
+# ---------------------------------------------------------------- landing trajectory
+def speed_fn(P):
+    if P["geometry"] in ("straight", "level"):
+        return lambda t: P["speed0_mps"]
+    t0, d, v0, v1 = P["decel_start_s"], P["decel_s"], P["speed0_mps"], P["speed1_mps"]
+    return lambda t: v0 if t <= t0 else v1 if t >= t0 + d else v0 + (v1 - v0) * (t - t0) / d
+
+
+def plan(P, aux, radar_en):
+    """Fill the auto keys; return the start state (e, n, psi) and the guidance function."""
+    T, chi, g = P["duration_s"], P["heading_deg"], math.radians(P["glide_deg"])
+    if P["decel_start_s"] is None:
+        P["decel_start_s"] = T / 3 + aux["decel_start_s"] * T / 3
+    speed, geo = speed_fn(P), P["geometry"]
+    path = DT * sum(speed(k * DT) for k in range(int(round(T / DT))))
+    a, w = math.radians(abs(P["intercept_deg"])), P["turn_rate_dps"]
+    r = P["speed0_mps"] / math.radians(w)
+    beta, n, hold = P["turn_deg"], int(P["n_turns"]), P["turn_hold_s"]
+    holds = [hold * (1 if i in (0, n - 1) else 2) for i in range(n)]
+    if P["start_x_m"] is None and geo != "level":
+        extra = {"intercept": P["first_leg_m"] * (1 - math.cos(a)) + r * (a - math.sin(a)),
+                 "turns": sum(holds) * P["speed0_mps"] * (1 - math.cos(math.radians(beta)))}.get(geo, 0.0)
+        P["start_x_m"] = max(END_X_M + 100, END_X_M + path - extra)
+    f, rt = axes(chi)
+    x0, y0, psi0 = P["start_x_m"], 0.0, chi
+    if geo == "intercept":
+        y0 = math.copysign(P["first_leg_m"] * math.sin(a) + r * (1 - math.cos(a)), P["intercept_deg"])
+        psi0 = chi - P["intercept_deg"]
+    if geo == "level":
+        bc = P["azimuth_reference_deg"] + P["pass_angle_deg"]
+        psi0, d = bc + math.copysign(90.0, P["pass_dist_m"]), abs(P["pass_dist_m"])
+        e0 = radar_en[0] + d * math.sin(math.radians(bc)) - T / 2 * P["speed0_mps"] * math.sin(math.radians(psi0))
+        n0 = radar_en[1] + d * math.cos(math.radians(bc)) - T / 2 * P["speed0_mps"] * math.cos(math.radians(psi0))
+    else:
+        e0, n0 = -x0 * f[0] + y0 * rt[0], -x0 * f[1] + y0 * rt[1]
+    t_s, offs = 0.2 * T, []
+    for i, h in enumerate(holds):
+        offs.append((t_s, t_s + h, beta * (-1) ** i))
+        t_s += h
+    phase = [0]
+
+    def guide(t, s):
+        e, nn, h, psi, v = s
+        x, y = -(e * f[0] + nn * f[1]), e * rt[0] + nn * rt[1]
+        pursuit = chi - math.degrees(math.atan(y / LOOKAHEAD_M))
+        if geo == "level":
+            return psi0, P["level_h_m"], 0.0, False
+        if geo == "intercept":
+            if phase[0] == 0 and abs(y) <= v / math.radians(w) * (1 - math.cos(math.radians(psi - chi))):
+                phase[0] = 1
+            if phase[0] == 1 and abs(wrap180(psi - chi)) < 1e-9:
+                phase[0] = 2
+            cmd = (psi0, chi, pursuit)[phase[0]]
+        else:
+            cmd = next((chi + o for t0, t1, o in offs if geo == "turns" and t0 <= t < t1), pursuit)
+        glide = TCH_M + x * math.tan(g)
+        ff = -math.tan(g) * v * math.cos(math.radians(psi - chi)) if glide < P["level_h_m"] else 0.0
+        return cmd, min(P["level_h_m"], glide), ff, x <= END_X_M
+
+    return (e0, n0, psi0), guide
+
+
+def fly(start, guide, speed, P):
+    """Integrate the kinematics (docstring) at DT; [(t, e, n, h)] until guide says done or duration_s."""
+    e, n, psi = start
+    v, w = speed(0.0), P["turn_rate_dps"]
+    _, h, hdot, _ = guide(0.0, (e, n, 0.0, psi, v))
+    out, k = [], 0
+    while True:
+        t = k * DT
+        v = speed(t)
+        cmd, h_cmd, ff, done = guide(t, (e, n, h, psi, v))
+        out.append((t, e, n, h))
+        if done or t >= P["duration_s"] - 1e-9:
+            return out
+        e, n = e + DT * v * math.sin(math.radians(psi)), n + DT * v * math.cos(math.radians(psi))
+        h += DT * hdot
+        psi += DT * max(-w, min(w, 10.0 * wrap180(cmd - psi)))
+        hdot_cmd = max(-20.0, min(20.0, ff + 0.1 * (h_cmd - h)))
+        hdot += max(-DT, min(DT, hdot_cmd - hdot))
+        k += 1
+
+
+# ---------------------------------------------------------------- measurement errors
+def noise_sources(seed, mode, P, channels):
+    white, outl = stream(seed, mode, "white"), stream(seed, mode, "outlier")
+    col = {c: Coloured(P["coloured_kind"], P["coloured_tau_s"], stream(seed, mode, "coloured." + c)) for c in channels}
+
+    def nu(t, c, sigma, sigma_c):
+        """Noise of channel c at t: white + coloured; an outlier's is outlier_scale * sigma * w'."""
+        w = white.gauss(0.0, 1.0)
+        u = col[c].at(t) if P["coloured_tau_s"] > 0 else 0.0
+        return sigma * w + sigma_c * u
+
+    def outlier(sigmas):
+        hit, ws = outl.random() < P["outlier_prob"], [outl.gauss(0.0, 1.0) for _ in sigmas]
+        return [P["outlier_scale"] * s * x for s, x in zip(sigmas, ws)] if hit else None
+    return nu, outlier
+
+
+def radar_plots(P, seed, truth_ecef, radar, t_end):
+    nu, outlier = noise_sources(seed, "landing", P, ("range", "azimuth", "elevation"))
+    sig = (P["sigma_range_m"], P["sigma_az_deg"], P["sigma_el_deg"])
+    bias = (P["range_bias_m"], P["az_bias_deg"], P["el_bias_deg"])
+    drift = (P["range_drift_mps"], P["az_drift_degps"], P["el_drift_degps"])
+    step = [P["step_size"] if c == P["step_channel"] else 0.0 for c in ("range", "azimuth", "elevation")]
+    t_step = P["step_time_frac"] * t_end
+    plots, k = [], 0
+    while k / P["rate_hz"] <= t_end + 1e-9:
+        t = k / P["rate_hz"]
+        k += 1
+        q = interp(truth_ecef, t - P["time_offset_s"])
+        if q is None:
+            continue
+        rng_m, brg, el = polar(radar, q)
+        az = wrap180(brg - P["azimuth_reference_deg"])
+        if not (abs(az) < 60 and 0.1 <= el <= 30):
+            continue
+        er = math.radians(el)
+        val = [(1 + P["range_gain"]) * rng_m, az + math.degrees(P["coupling_rad"] * math.tan(er)),
+               el + math.degrees(P["refraction_rad"] / math.tan(er))]
+        n = [nu(t, c, s, P["coloured_sigma_frac"] * s) for c, s in zip(("range", "azimuth", "elevation"), sig)]
+        n = outlier(sig) or n
+        m = [val[i] + bias[i] + drift[i] * t + (step[i] if t >= t_step else 0.0) + n[i] for i in range(3)]
+        plots.append((t, m[0], wrap180(m[1]), m[2]))
+    return plots
+
+
+def save(outdir, tables, files=None):
+    """Write (name, header, rows, printf format) tables into outdir (created if missing); {name: path}."""
+    if os.path.exists(outdir) and not os.path.isdir(outdir):
+        raise BadInput("OUTDIR '%s' exists and is not a folder" % outdir)
+    os.makedirs(outdir, exist_ok=True)
+    files = files or {}
+    for name, header, rows, fmt in tables:
+        files[name] = os.path.join(outdir, name)
+        with open(files[name], "w") as f:
+            f.write(header + "\n")
+            f.writelines(fmt % tuple(r) + "\n" for r in rows)
+    return files
+
+
+def axes(chi):
+    """(along the runway, right of it) as (east, north) unit vectors for heading chi [deg]."""
+    c = math.radians(chi)
+    return (math.sin(c), math.cos(c)), (math.cos(c), -math.sin(c))
+
+
+# ---------------------------------------------------------------- the two flights
+def landing(outdir, seed=1, overrides=None, noise_seed=None):
+    P, aux = resolve("landing", seed, dict(overrides or {}))
+    save(outdir, ())
+    chi = P["heading_deg"]
+    P["azimuth_reference_deg"] = (chi + 180.0 + P["az_ref_offset_deg"]) % 360.0
+    thr = Frame(P["lat_deg"], P["lon_deg"], P["threshold_h_m"])
+    f, r = axes(chi)
+    radar_en = [P["radar_along_m"] * f[i] + P["radar_lateral_m"] * r[i] for i in range(2)]
+    rlat, rlon, rh, _ = thr.place(radar_en[0], radar_en[1], P["threshold_h_m"] + P["radar_height_m"])
+    P.update(radar_lat_deg=rlat, radar_lon_deg=rlon, radar_h_m=rh)
+    start, guide = plan(P, aux, radar_en)
+    traj = fly(start, guide, speed_fn(P), P)
+    rows = [thr.place(e, n, P["threshold_h_m"] + h) for _, e, n, h in traj]
+    times = [s[0] for s in traj]
+    truth = [(t,) + row[:3] for t, row in zip(times, rows)]
+    navr = add_nav_error(rows, P["nav_sigma_m"], P["nav_tau_s"], P["nav_white_m"], stream(seed if noise_seed is None else noise_seed, "landing", "nav"))
+    nav = [(t,) + tuple(row) for t, row in zip(times, navr)]
+    plots = radar_plots(P, seed if noise_seed is None else noise_seed, [row[3] for row in rows], Frame(rlat, rlon, rh), times[-1])
+    P.update(t_end_s=times[-1], n_plots=len(plots), step_time_s=P["step_time_frac"] * times[-1])
+    site = {"radar": {"lat_deg": rlat, "lon_deg": rlon, "h_m": rh, "azimuth_reference_deg": P["azimuth_reference_deg"]},
+            "runway": {"threshold_lat_deg": P["lat_deg"], "threshold_lon_deg": P["lon_deg"],
+                       "threshold_h_m": P["threshold_h_m"], "heading_deg": chi}}
+    files = save(outdir, (("radar.csv", "t_s,range_m,azimuth_deg,elevation_deg", plots, "%.6f,%.4f,%.8f,%.8f"),
+                          ("nav.csv", "t_s,lat_deg,lon_deg,h_m", nav, "%.6f,%.9f,%.9f,%.4f"),
+                          ("truth.csv", "t_s,lat_deg,lon_deg,h_m", truth, "%.6f,%.9f,%.9f,%.4f")))
+    files["site.json"] = os.path.join(outdir, "site.json")
+    with open(files["site.json"], "w") as fh:
+        fh.write(json.dumps(site, indent=2) + "\n")
+    return {"mode": "landing", "seed": seed, "params": P, "files": files, "truth": truth, "nav": nav, "plots": plots}
+
+
+def observer_path(P):
+    """Horizontal offset (e, n) of the observer from the path centre at time t."""
+    R, L, geo = P["radius_m"], P["leg_m"], P["geometry"]
+    per = {"orbit": 2 * math.pi * R, "racetrack": 2 * L + 2 * math.pi * R, "figure8": 4 * math.pi * R}[geo]
+    sense = 1.0 if P["direction"] == "cw" else -1.0
+    ax = math.radians(P["track_deg"])
+
+    def at(t):
+        s = (P["start_frac"] * per + sense * P["speed_mps"] * t) % per
+        if geo == "orbit":
+            return R * math.sin(s / R), R * math.cos(s / R)
+        if geo == "racetrack":
+            seg = [L, math.pi * R, L, math.pi * R]
+            if s < seg[0]:
+                a, b = -L / 2 + s, -R
+            elif s < sum(seg[:2]):
+                ph = (s - L) / R
+                a, b = L / 2 + R * math.sin(ph), -R * math.cos(ph)
+            elif s < sum(seg[:3]):
+                a, b = L / 2 - (s - L - math.pi * R), R
+            else:
+                ph = (s - 2 * L - math.pi * R) / R
+                a, b = -L / 2 - R * math.sin(ph), R * math.cos(ph)
+        else:
+            ph = s / R
+            a, b = (R - R * math.cos(ph), R * math.sin(ph)) if ph < 2 * math.pi else (-R + R * math.cos(ph), R * math.sin(ph))
+            b += R
+        # a along the axis (bearing track_deg), b to its right
+        return a * math.sin(ax) + b * math.cos(ax), a * math.cos(ax) - b * math.sin(ax)
+    return at
+
+
+def uav(outdir, seed=1, overrides=None, noise_seed=None):
+    P, _ = resolve("uav", seed, dict(overrides or {}))
+    save(outdir, ())
+    site = Frame(P["lat_deg"], P["lon_deg"], 0.0)
+    vb = (P["boat_speed_mps"] * math.sin(math.radians(P["boat_heading_deg"])),
+          P["boat_speed_mps"] * math.cos(math.radians(P["boat_heading_deg"])))
+    path, nk = observer_path(P), int(round(P["duration_s"] / DT)) + 1
+    boat, obs = [], []
+    for k in range(nk):
+        t = k * DT
+        c = (vb[0] * t, vb[1] * t) if P["centre"] == "follow" else (0.0, 0.0)
+        o = path(t)
+        boat.append(site.place(vb[0] * t, vb[1] * t, 0.0))
+        obs.append(site.place(c[0] + o[0], c[1] + o[1], P["height_m"]))
+    navr = add_nav_error(obs, P["obs_nav_sigma_m"], P["obs_nav_tau_s"], 0.0, stream(seed if noise_seed is None else noise_seed, "uav", "nav"))
+    nu, outlier = noise_sources(seed if noise_seed is None else noise_seed, "uav", P, ("bearing",))
+    b_ecef, o_ecef, t_end = [b[3] for b in boat], [o[3] for o in obs], (nk - 1) * DT
+    bearings, k = [], 0
+    while k / P["rate_hz"] <= t_end + 1e-9:
+        t = k / P["rate_hz"]
+        k += 1
+        ob, bo = interp(o_ecef, t - P["time_offset_s"]), interp(b_ecef, t - P["time_offset_s"])
+        if ob is None:
+            continue
+        _, brg, _ = polar(Frame(*to_geodetic(*ob)), bo)
+        n = nu(t, "bearing", P["sigma_deg"], P["coloured_sigma_deg"])
+        n = (outlier([P["sigma_deg"]]) or [n])[0]
+        bearings.append((t, (brg + P["bias_deg"] + P["drift_degps"] * t + n) % 360.0))
+    P.update(t_end_s=t_end, n_bearings=len(bearings))
+    observer, truth = [(k * DT,) + tuple(r) for k, r in enumerate(navr)], [(k * DT, b[0], b[1]) for k, b in enumerate(boat)]
+    files = save(outdir, (("observer.csv", "t_s,lat_deg,lon_deg,h_m", observer, "%.6f,%.9f,%.9f,%.4f"),
+                          ("bearings.csv", "t_s,bearing_deg", bearings, "%.6f,%.8f"),
+                          ("truth.csv", "t_s,lat_deg,lon_deg", truth, "%.6f,%.9f,%.9f")))
+    return {"mode": "uav", "seed": seed, "params": P, "files": files, "truth": truth, "observer": observer,
+            "observer_truth": [(k * DT,) + o[:3] for k, o in enumerate(obs)], "bearings": bearings}
+
+
+# ---------------------------------------------------------------- command line
+def main(argv):
+    ap = cli_args.ArgumentParser(PROG, __doc__)
+    ap.add_argument("mode", metavar="MODE", help="landing or uav")
+    ap.add_argument("outdir", metavar="OUTDIR", nargs="?", help="output folder (created if missing; its files replaced)")
+    ap.add_argument("--seed", metavar="N", default="1", help="random seed, an integer >= 0")
+    ap.add_argument("--noise-seed", metavar="N", default=None,
+                    help="seed of the noise streams (nav, white, outlier, coloured) alone, an integer >= 0; "
+                         "default: --seed (the geometry then stays that of --seed)")
+    ap.add_argument("--set", metavar="KEY=VALUE", action="append", help="set a key (see --list-keys); repeatable")
+    ap.add_argument("--list-keys", action="store_true", help="print every key of MODE with default, range, unit; exit")
+    args = ap.parse_args(argv)
+    if args.mode not in KEYS:
+        hint = cli_args.closest(args.mode, list(KEYS))
+        ap.error("unknown mode '%s'%s: give landing or uav" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))
+    if args.list_keys:
+        print("\n".join(k["line"] for k in KEYS[args.mode].values()))
+        return 0
+    if not args.outdir:
+        ap.error("OUTDIR is required (see %s --help)" % PROG)
+    if not re.fullmatch(r"\d+", args.seed):
+        ap.error("--seed must be an integer >= 0, got '%s'" % args.seed)
+    if args.noise_seed is not None and not re.fullmatch(r"\d+", args.noise_seed):
+        ap.error("--noise-seed must be an integer >= 0, got '%s'" % args.noise_seed)
+    noise_seed = None if args.noise_seed is None else int(args.noise_seed)
+    overrides = {}
+    for item in args.set or []:
+        if "=" not in item:
+            ap.error("--set '%s': expected KEY=VALUE" % item)
+        key, value = item.split("=", 1)
+        if key in overrides:
+            ap.error("--set: key %s given twice" % key)
+        overrides[key] = value
+    try:
+        res = (landing if args.mode == "landing" else uav)(args.outdir, int(args.seed), overrides, noise_seed)
+    except BadInput as e:
+        ap.error(str(e))
+    print(json.dumps(res["params"], indent=1, sort_keys=True))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
