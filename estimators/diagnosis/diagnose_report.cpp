@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 
 #include "config.hpp"
+#include "injected_limits.hpp"
 #include "search_json.hpp"
 #include "shown_unit.hpp"
 #include "stats.hpp"
@@ -114,6 +115,12 @@ void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseRepor
   rep.unexplained.insert(rep.unexplained.end(), r.unexplained.begin(), r.unexplained.end());
   rep.noise = search_json(pb, r)["noise"];
   rep.familywise = r.familywise;
+}
+
+void check_limit_entries(const Problem& pb, const InjectionOptions& io, const std::string& who) {
+  const std::string bad = unknown_injection_entry(pb, io);
+  if (!bad.empty())
+    throw ConfigError(who + ": --limits-for: no catalogue entry '" + bad + "' (give name, name@scope, or either with :param)");
 }
 
 std::vector<char> outlier_flags(const Problem& pb, const SearchResult& r) {

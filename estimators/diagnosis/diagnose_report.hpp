@@ -80,6 +80,10 @@ struct DiagnoseReport {
 /// and the familywise rule.
 void add_search_findings(const Problem& pb, const SearchResult& r, DiagnoseReport& rep);
 
+/// Refuse (ConfigError naming `who` and the name) an entry in io.entries (--limits-for) that
+/// selects no catalogue entry of pb: checked before the search, not after minutes of it.
+void check_limit_entries(const Problem& pb, const InjectionOptions& io, const std::string& who);
+
 /// Per observation of pb: is it flagged as an outlier by its channel's noise identification?
 std::vector<char> outlier_flags(const Problem& pb, const SearchResult& r);
 

@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 
 #include "config.hpp"
+#include "diagnose_report.hpp"
 #include "multi_problem.hpp"
 #include "search_json.hpp"
 #include "stats.hpp"
@@ -22,6 +23,7 @@ MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptio
   MultiProblem mp = build_multi_problem(a, o.sigma_bearing_deg * kDegToRad, o.sigma_range_m, o.split_fraction, o.step_grid);
   rep.split_time_s = mp.split_time_s;
   rep.dropped_channels = mp.dropped_channels;
+  check_limit_entries(mp.problem, o.search.injection, "diagnose multi");
   rep.result = search_effects(mp.problem, o.search);
   const SearchResult& r = rep.result;
 

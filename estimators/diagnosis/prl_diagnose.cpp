@@ -245,6 +245,7 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
   rep.plots_used = static_cast<int>(plots->size());
   if (plots->size() < 30) throw ConfigError("diagnose prl: fewer than 30 plots with a nav solution around them");
   const Problem pb = prl_problem(plots, data, o);
+  check_limit_entries(pb, o.search.injection, "diagnose prl");
   const SearchResult r = search_effects(pb, o.search);
 
   for (int c = 0; c < kChannels; ++c) {

@@ -241,6 +241,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   for (const auto& x : ob) range.push_back(x.range), rate.push_back(x.rate), time.push_back(x.t - t0);
   pb.covariates = {{"range", range}, {"bearing rate", rate}, {"time", time}};
 
+  check_limit_entries(pb, o.search.injection, "diagnose uav");
   const SearchResult r = search_effects(pb, o.search);
   add_search_findings(pb, r, rep);
   if (with_truth && o.test_target_model) add_target_model(data, F, o, rep);

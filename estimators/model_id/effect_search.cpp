@@ -36,6 +36,8 @@ void check_options(const SearchOptions& o) {
   if (o.max_effects < 1 || o.max_rounds < 1) throw std::invalid_argument("effect search: max_effects, max_rounds >= 1");
   if (!(o.noise_set_q >= 0) || !std::isfinite(o.noise_set_q))
     throw std::invalid_argument("effect search: noise_set_q must be finite and >= 0");
+  if (!(o.null_set_q >= 0) || !std::isfinite(o.null_set_q))
+    throw std::invalid_argument("effect search: null_set_q must be finite and >= 0");
 }
 
 // The chosen effects and, per effect, the 2 log LR it was kept with (given all the others
@@ -60,7 +62,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
   };
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);
-    EntryTests tests(d, chosen, fits, o.noise);
+    EntryTests tests(d, chosen, fits, o.noise, o.null_set_q);
     double best = 0;
     std::pair<std::size_t, std::size_t> arg{0, 0};
     bool any = false;
@@ -90,7 +92,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
   auto tests_given_rest = [&](std::size_t i) {
     Chosen rest = chosen;
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    return EntryTests(d, rest, fits, o.noise);
+    return EntryTests(d, rest, fits, o.noise, o.null_set_q);
   };
   auto plug_in = [&](std::size_t i) {
     const auto [e, v] = chosen[i];

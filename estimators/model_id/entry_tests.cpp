@@ -42,6 +42,29 @@ Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
   return e;
 }
 
+// The ML log-likelihood of residuals e with fixed effects exactly X (GLS) under the noise
+// structure of p, its scale s^2 profiled (noise_id.hpp's loglik_ml at fixed parameters):
+//   l = -1/2 [n log(RSS / n) + sum log S_i + n (1 + log 2 pi)], S_i the innovation variances at s^2 = 1.
+double ml_loglik(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                 NoiseParams p, const std::vector<char>& skip) {
+  p.s2 = 1, p.p_out = 0, p.s_out2 = 0;
+  Eigen::MatrixXd W(e.size(), X.cols() + 1);
+  W << X, e;
+  Eigen::VectorXd logS;
+  whiten(t, h, p, skip, W, &logS);
+  double n = 0;
+  for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
+  Eigen::VectorXd r = W.col(X.cols());
+  if (X.cols() > 0) {
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(X.cols()));
+    qr.setThreshold(1e-10);
+    r -= W.leftCols(X.cols()) * qr.solve(r);
+  }
+  const double rss = r.squaredNorm();
+  if (!(rss > 0)) return -INFINITY;
+  return -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
+}
+
 NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no) {
   NoiseIdOptions nc = no;
   const Channel& ch = p.channels[c];
@@ -114,8 +137,10 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
 // likelihood ratio used here instead gave 7 (2.3 %: its single further Gauss-Markov part goes
 // to the short correlation and leaves slow misfit to the site offset).
 
-EntryTests::EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no)
-    : d_(d), fits_(fits), no_(no), raw_(raw_model_matrix(d, chosen)), base_(d.rows.size(), std::nan("")) {
+EntryTests::EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no,
+                       double null_set_q)
+    : d_(d), fits_(fits), no_(no), raw_(raw_model_matrix(d, chosen)), base_(d.rows.size(), std::nan("")), null_set_q_(null_set_q) {
+  if (!(null_set_q >= 0)) throw std::invalid_argument("effect search: null_set_q must be >= 0");
   for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, raw_, c));
 }
 
@@ -131,8 +156,20 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel
-    if (std::isnan(base_[c])) base_[c] = profile(c, X0c_[c]);
-    lr += 2 * (profile(c, with(c, Cc)) - base_[c]);
+    const Eigen::MatrixXd X1 = with(c, Cc);
+    double l0 = 0;
+    if (null_set_q_ > 0) {
+      // the null's noise among the models the data allow with the entry in: a slow correlation
+      // that exists only to absorb the step is not among them
+      l0 = -INFINITY;
+      for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
+                                                       channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
+        l0 = std::max(l0, ml_loglik(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
+    } else {
+      if (std::isnan(base_[c])) base_[c] = profile(c, X0c_[c]);
+      l0 = base_[c];
+    }
+    lr += 2 * (profile(c, X1) - l0);
   }
   return lr;
 }

@@ -18,8 +18,13 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
 /// The tests of one entry against the model `chosen` (fits: the channels' noise under it).
 class EntryTests {
  public:
-  EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no);
-  /// 2 log LR of scanned entry e at grid point v: the profile likelihood ratio over the noise family.
+  /// null_set_q: the noise models the null may use in a scanned entry's test (scanned()); 0: any.
+  EntryTests(const Design& d, const Chosen& chosen, const std::vector<NoiseFit>& fits, const NoiseIdOptions& no,
+             double null_set_q = 0);
+  /// 2 log LR of scanned entry e at grid point v: the likelihood ratio with the noise maximised
+  /// under both hypotheses, the null's over the noise models the data allow once the entry is in
+  /// the model (each touched channel's REML confidence set at null_set_q, fixed effects with the
+  /// entry's columns); with null_set_q = 0 over the whole noise family (the profile LR).
   double scanned(std::size_t e, std::size_t v);
   /// 2 log LR of non-scanned entry e: Wald-type GLS under the noise re-identified with its columns.
   double fixed(std::size_t e) const;
@@ -37,6 +42,7 @@ class EntryTests {
   Eigen::MatrixXd raw_;               ///< nuisance and chosen columns, raw
   std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns
   std::vector<double> base_;          ///< per channel: profile l without the entry (when first needed)
+  double null_set_q_ = 0;
 };
 
 }  // namespace rnav::search_detail

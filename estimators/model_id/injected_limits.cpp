@@ -261,6 +261,16 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
 
 }  // namespace
 
+std::string unknown_injection_entry(const Problem& pb, const InjectionOptions& io) {
+  for (const std::string& s : io.entries) {
+    bool known = false;
+    for (const Candidate& c : pb.catalogue)
+      for (const std::string& p : c.params) known = known || injection_selects({s}, c, p);
+    if (!known) return s;
+  }
+  return "";
+}
+
 bool injection_selects(const std::vector<std::string>& entries, const Candidate& c, const std::string& param) {
   if (entries.empty()) return true;
   const std::string key = c.name + "@" + c.scope.label();
@@ -273,12 +283,8 @@ bool injection_selects(const std::vector<std::string>& entries, const Candidate&
 InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& res, const SearchOptions& o,
                                        const InjectionOptions& io) {
   check(io);
-  for (const std::string& s : io.entries) {
-    bool known = false;
-    for (const Candidate& c : pb.catalogue)
-      for (const std::string& p : c.params) known = known || injection_selects({s}, c, p);
-    if (!known) throw std::invalid_argument("injected limits: no catalogue entry '" + s + "' (name, name@scope, or either with :param)");
-  }
+  const std::string bad = unknown_injection_entry(pb, io);
+  if (!bad.empty()) throw std::invalid_argument("injected limits: no catalogue entry '" + bad + "' (name, name@scope, or either with :param)");
   InjectedLimits out;
   if (io.injections == 0) return out;  // Fisher limits only
   Design d(pb);

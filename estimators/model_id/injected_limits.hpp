@@ -33,6 +33,10 @@ namespace rnav {
 InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& res, const SearchOptions& o,
                                        const InjectionOptions& io);
 
+/// The first name in io.entries that selects no catalogue entry of pb ("" when all do): adapters
+/// check it before the search, to refuse a misspelt entry at once as bad input.
+std::string unknown_injection_entry(const Problem& pb, const InjectionOptions& io);
+
 /// True when entry e, parameter j, is selected by the list (empty: all).
 bool injection_selects(const std::vector<std::string>& entries, const Candidate& c, const std::string& param);
 

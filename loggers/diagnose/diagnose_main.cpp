@@ -111,6 +111,10 @@ int main(int argc, char** argv) {
                  const auto n = static_cast<std::uint64_t>(rnav::parse_integer("--injection-seed", v, 0, std::numeric_limits<long long>::max()));
                  o.search.injection.seed = uo.search.injection.seed = mo.search.injection.seed = n;
                })
+        .value("--null-set-q", "Q",
+               "a scanned effect's (step, period) test: the null's noise ranges over the models within Q / 2 of "
+               "the best REML log-likelihood with the effect in the model; 0: over every noise model (the profile "
+               "likelihood ratio)", "9", num_all("--null-set-q", o.search.null_set_q, uo.search.null_set_q, mo.search.null_set_q))
         .value("--confound-corr", "C", "canonical correlation above which two effects are reported as confounded, (0, 1)",
                "0.9", num_all("--confound-corr", o.search.confound_corr, uo.search.confound_corr, mo.search.confound_corr))
         .value("--split-time", "S", "prl: fit on t < S [s], score the gain after it", "400 s, the paper's switch",
