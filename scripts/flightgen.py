@@ -166,7 +166,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cli_args  # noqa: E402
 
-PROG = "flightgen"
+PROG = "flightgen.py"
 A_WGS, F_WGS = 6378137.0, 1 / 298.257223563
 E2 = F_WGS * (2 - F_WGS)
 DT = 0.1                # trajectory, truth and nav step [s]
@@ -604,7 +604,7 @@ def uav(outdir, seed=1, overrides=None, noise_seed=None):
 # ---------------------------------------------------------------- command line
 def main(argv):
     ap = cli_args.ArgumentParser(PROG, __doc__)
-    ap.add_argument("mode", metavar="MODE", help="landing or uav")
+    ap.add_argument("mode", metavar="MODE", nargs="?", default=None, help="landing or uav")
     ap.add_argument("outdir", metavar="OUTDIR", nargs="?", help="output folder (created if missing; its files replaced)")
     ap.add_argument("--seed", metavar="N", default="1", help="random seed, an integer >= 0")
     ap.add_argument("--noise-seed", metavar="N", default=None,
@@ -613,6 +613,8 @@ def main(argv):
     ap.add_argument("--set", metavar="KEY=VALUE", action="append", help="set a key (see --list-keys); repeatable")
     ap.add_argument("--list-keys", action="store_true", help="print every key of MODE with default, range, unit; exit")
     args = ap.parse_args(argv)
+    if args.mode is None:
+        ap.error("MODE is required: landing or uav (see %s --help)" % PROG)
     if args.mode not in KEYS:
         hint = cli_args.closest(args.mode, list(KEYS))
         ap.error("unknown mode '%s'%s: give landing or uav" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))

@@ -15,7 +15,7 @@ Usage: check_flightgen.py SOURCE_DIR
    equals the truth at t - tau (linearly interpolated here) within 0.5 m. The same for the UAV's
    bearings (observer nav error zero).
 4. Bad input: an unknown key (the nearest one named), NaN, inf, out of range, a non-integer count,
-   an unknown choice or mode: exit status 2, one line "flightgen: error: ..." naming key and value,
+   an unknown choice or mode: exit status 2, one line "flightgen.py: error: ..." naming key and value,
    no output folder created.
 5. The default intercept flight (seeds 1-5): horizontal speed 80 m/s at the start and 65 m/s at the
    end within 1 m/s, a track change over 15 deg, 350-650 plots.
@@ -245,7 +245,7 @@ def check_bad_input(tmp):
     for args, words in cases:
         r = run(*args)
         err = r.stderr.strip()
-        ok = (r.returncode == 2 and err.startswith("flightgen: error:") and "\n" not in err
+        ok = (r.returncode == 2 and err.startswith("flightgen.py: error:") and "\n" not in err
               and all(w in err for w in words) and not os.path.exists(d))
         check(ok, "bad input %s: exit %d, %r" % (" ".join(args[2:]) or args[0], r.returncode, err))
     for mode in ("landing", "uav"):

@@ -81,6 +81,8 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        {"tau_s", n.fit.correlated ? nlohmann::ordered_json(n.fit.params.tau_s) : nlohmann::ordered_json(nullptr)},
                                        {"correlated_share", n.fit.params.lambda},
                                        {"outlier_fraction", n.fit.params.p_out},
+                                       {"outlier_frames", static_cast<int>(n.fit.outlier.size()) - n.fit.n},
+                                       {"outlier_frames_in_runs", n.outliers_in_runs},
                                        {"noise_scale", n.noise_scale},
                                        {"frames", n.fit.n}};
   }
