@@ -11,10 +11,13 @@
 //   detected  when it is named, or a named effect lists it under confounded_with (the report
 //             says the data cannot tell the two apart).
 // The size is found on a ladder of multiples of the Fisher limit (doubling up until the named
-// rate reaches `power`, halving down until the detected rate falls below it), the rates are fitted
-// by a probit in log a (P(hit | a) = Phi(b0 + b1 log a), maximum likelihood, b1 > 0), and the
-// fitted size is then checked by a fresh batch of injections at it: the report gives that
-// batch's count and its Clopper-Pearson interval, so the stated limit carries its own evidence.
+// rate reaches `power`, halving down until the detected rate falls below it, then one rung where
+// the fitted curve crosses it), the rates are fitted by a probit in log a (P(hit | a) =
+// Phi(b0 + b1 log a), penalised maximum likelihood, b1 >= 0.5), and the fitted size is then
+// checked by a fresh batch of injections at it; a batch whose Clopper-Pearson interval excludes
+// `power` joins the ladder and the size is refitted and checked again (at most three batches).
+// The report gives the last batch's count and interval, so the stated limit carries its own
+// evidence.
 // Scanned entries are injected at their grid's middle point (a step at mid-span).
 // Deterministic: injection i of (entry, parameter, stage) draws from its own seeded stream,
 // whatever the number of threads.
