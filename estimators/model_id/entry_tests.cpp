@@ -42,29 +42,6 @@ Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
   return e;
 }
 
-// The ML log-likelihood of residuals e with fixed effects exactly X (GLS) under the noise
-// structure of p, its scale s^2 profiled (noise_id.hpp's loglik_ml at fixed parameters):
-//   l = -1/2 [n log(RSS / n) + sum log S_i + n (1 + log 2 pi)], S_i the innovation variances at s^2 = 1.
-double ml_loglik(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
-                 NoiseParams p, const std::vector<char>& skip) {
-  p.s2 = 1, p.p_out = 0, p.s_out2 = 0;
-  Eigen::MatrixXd W(e.size(), X.cols() + 1);
-  W << X, e;
-  Eigen::VectorXd logS;
-  whiten(t, h, p, skip, W, &logS);
-  double n = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
-  Eigen::VectorXd r = W.col(X.cols());
-  if (X.cols() > 0) {
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(X.cols()));
-    qr.setThreshold(1e-10);
-    r -= W.leftCols(X.cols()) * qr.solve(r);
-  }
-  const double rss = r.squaredNorm();
-  if (!(rss > 0)) return -INFINITY;
-  return -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
-}
-
 NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no) {
   NoiseIdOptions nc = no;
   const Channel& ch = p.channels[c];
@@ -164,7 +141,7 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
       l0 = -INFINITY;
       for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
                                                        channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
-        l0 = std::max(l0, ml_loglik(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
+        l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
     } else {
       if (std::isnan(base_[c])) base_[c] = profile(c, X0c_[c]);
       l0 = base_[c];

@@ -313,4 +313,13 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
   return out;
 }
 
+double loglik_ml_at(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                    const Eigen::MatrixXd& X, const NoiseParams& p, const std::vector<char>& skip) {
+  NoiseIdOptions ro;
+  ro.profile_ml = true;  // fixed effects exactly X
+  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, ro);
+  const Series sr{t, h, Xe, p.nom_share > 0 ? p.nom_tau_s : 1.0};
+  return reml(sr, p.nom_share, p.lambda, p.tau_s, skip).ml;
+}
+
 }  // namespace rnav

@@ -79,4 +79,10 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
                                               const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                               const std::vector<char>& skip, double q);
 
+/// The ML log-likelihood, scale profiled, of residuals e with fixed effects exactly X (no trend)
+/// under the noise structure of p (its s^2 and outlier part unused), frames skip kept out:
+/// identify_noise's loglik_ml at fixed noise parameters (profile_ml mode).
+double loglik_ml_at(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                    const Eigen::MatrixXd& X, const NoiseParams& p, const std::vector<char>& skip);
+
 }  // namespace rnav
