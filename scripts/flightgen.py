@@ -5,14 +5,16 @@ sim/, estimators/ or common/: its own WGS84 geodesy, kinematics, error models an
 
   scripts/flightgen.py landing OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]   site.json radar.csv nav.csv truth.csv
   scripts/flightgen.py uav OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]       observer.csv bearings.csv truth.csv
-  scripts/flightgen.py landing|uav --list-keys                           every key: default, range, unit
-As a module: landing(outdir, seed, overrides, noise_seed) and uav(outdir, seed, overrides, noise_seed)
+  scripts/flightgen.py shipradar OUTDIR [--seed N] [--noise-seed N] [--set key=value ...] observer.csv detections.csv truth.csv
+  scripts/flightgen.py landing|uav|shipradar --list-keys                 every key: default, range, unit
+As a module: landing(outdir, seed, overrides, noise_seed), uav(...) and shipradar(...)
 (noise_seed None: seed; it seeds the noise streams alone, so one geometry takes many noise draws) write the files and
 return {"params": every key's value and the derived ones (the truth), "files", "truth", "nav" |
-"observer", "plots" | "bearings": the unrounded rows}. Prints the params as JSON on stdout.
+"observer", "plots" | "bearings" | "detections": the unrounded rows} (shipradar also "targets": each
+target's drawn motion, and "illuminations": every illumination with its target). Prints the params as JSON on stdout.
 Same seed and keys: byte-identical files. Random streams: Python's random.Random seeded with the
-string "flightgen:MODE:SEED:STREAM" (streams geometry, nav, white, outlier, coloured.CHANNEL). The
-random defaults are drawn from `geometry` in the table's order whether overridden or not, so
+string "flightgen:MODE:SEED:STREAM" (streams geometry, nav, white, outlier, coloured.CHANNEL; shipradar's
+below). The random defaults are drawn from `geometry` in the table's order whether overridden or not, so
 setting one key leaves every other draw as it was.
 
 Geodesy (WGS84: a = 6378137 m, f = 1/298.257223563, e2 = f (2 - f), N = a / sqrt(1 - e2 sin^2 lat)):
@@ -74,6 +76,48 @@ arc length s = P start_frac + speed_mps t (- for ccw/reversed; speed relative to
   Bearing beta = atan2(e, n) of the boat in the observer's ENU, both at t - tau; written wrapped to [0, 360):
   beta_m = beta + b + d t + nu, nu = sigma_deg w + coloured_sigma_deg u(t) (outlier: outlier_scale sigma_deg w').
   observer.csv = truth + GM error (obs_nav_sigma_m, obs_nav_tau_s) per ENU axis; truth and observer at 10 Hz.
+Ship radar (shipradar): a north-stabilised rotating marine radar (sensor name radar) on a slowly
+moving own ship, surface target ships and an AIS-like reference, in the multi-sensor folder format
+(observer.csv t_s,lat_deg,lon_deg,h_m,heading_deg; detections.csv t_s,sensor,range_m,bearing_deg;
+truth.csv t_s,target,lat_deg,lon_deg, no height: surface targets). Every track lies in one flat
+east-north plane about (lat_deg, lon_deg), mapped to the ellipsoid as above: targets at h = 0, the
+antenna at h = antenna_h_m.
+  Tracks (own ship and targets): constant speed v, legs of constant course c joined by turns at a
+  constant rate w, exact at any t (tau = t - segment start): a leg e = e0 + v tau sin c,
+  n = n0 + v tau cos c; a turn c = c0 + w tau, e = e0 + v/w (cos c0 - cos c), n = n0 + v/w (sin c - sin c0).
+  Before t = 0 the first leg extends backwards.
+  Own ship: from (0, 0) on obs_course_deg at obs_speed_mps; turn k = 1..obs_turns starts at
+  k duration_s / (obs_turns + 1) (or when turn k - 1 ends) and changes the course by
+  obs_turn_deg (-1)^(k-1) at obs_turn_rate_dps. observer.csv at t = 0, 1, ... <= duration_s s: the
+  antenna's position (no nav error) and heading_deg = its course (no crab).
+  Target i = 1..n_targets, from its own stream target.i (all drawn, in this order, whatever the keys,
+  so another n_targets keeps the first targets): distance U[target_min_range_m, target_max_range_m]
+  and bearing U[0, 360) from the own ship at t_p = place_time_frac duration_s; speed
+  U[target_min_speed_mps, target_max_speed_mps]; course U[0, 360); one turn with probability
+  turn_fraction: start U[0.1, 0.8] duration_s, course change +-U[20, 90] deg at U[0.1, 0.5] deg/s.
+  Radar: scan k = 0 .. K-1 covers [k P, (k+1) P), P = scan_period_s, K = floor(duration_s / P); the
+  beam's true bearing is theta(t) = beta0 + omega (t - k P), omega = 360/P deg/s, beta0 =
+  scan_start_bearing_deg (clockwise sweep, north-stabilised). [e n u] = target in the antenna's ENU
+  at t, r = |[e n u]| (slant), beta = atan2(e, n). A target is illuminated at every t with
+  theta(t) = beta(t) (mod 360), i.e. t = k P + ((beta(t) - beta0) mod 360)/omega, solved by
+  t <- t + wrap180(beta(t) - theta(t))/omega until the step is below 1e-7 s (the first from scan 0's
+  t = ((beta(0) - beta0) mod 360)/omega, the next from the last one plus its spacing, clamped to
+  [P/2, 3P/2]); a target crossing beta0 may be lit twice or not at all within one scan's window.
+  n_unresolved (params) counts iterations that failed (only a target passing within a few metres).
+  Each illumination draws u_d, w_r, w_b (streams detect.i, white.i; in or out of range) and is a
+  detection if min_range_m <= r <= max_range_m and u_d < p_detect:
+    range_m = (1 + range_gain) r + range_bias_m + range_sigma_m w_r     (not written if <= 0)
+    bearing_deg = (beta + bearing_bias_deg + bearing_sigma_deg w_b) mod 360, in [0, 360)
+    t_s = t + time_offset_s (stamp = illumination), or (k+1) P + time_offset_s (stamp = scan: every
+    detection of scan k stamped at its sweep's end, latency ((beta0 - beta) mod 360)/omega in (0, P]).
+  Clutter (stream clutter): per scan Poisson(clutter_per_scan) false detections, range
+  U[max(min_range_m, 1), max_range_m], bearing U[0, 360), stamped as a target at that bearing
+  (illumination t = k P + ((bearing - beta0) mod 360)/omega). Rows sorted by t_s, ties by bearing;
+  no target ids.
+  truth.csv (AIS): target i reports at t_1 = u D_1, t_(j+1) = t_j + D_(j+1), D ~ U[ais_min_s, ais_max_s],
+  u ~ U[0, 1) (stream ais_times.i), while t <= duration_s; the report stamped t gives the position at
+  t - ais_time_offset_s plus ais_sigma_m (w_e, w_n) in the plane (stream ais_noise.i). Rows sorted
+  by t_s, then target id. Noise streams (--noise-seed): detect.i, white.i, clutter, ais_noise.i.
 Default tokens: U[a,b] uniform, +-U[a,b] with a random sign, U{a,b} one of, auto derived.
 
 Keys (landing):
@@ -155,7 +199,43 @@ Keys (uav):
     drift_degps       0             [-0.1,0.1]       deg/s  drift
     outlier_prob      0             [0,1]            -      probability of an outlier bearing
     outlier_scale     10            [0,1000]         -      outlier noise / sigma_deg
+
+Keys (shipradar):
+    duration_s        3600          [60,86400]       s      run length (scans lie within it)
+    lat_deg           63.46         [-89,89]         deg    own ship start latitude (default: Trondheimsfjord)
+    lon_deg           10.40         [-180,180]       deg    own ship start longitude
+    antenna_h_m       15            [0,100]          m      radar antenna ellipsoidal height (observer.csv h_m)
+    obs_speed_mps     U[2,6]        [0,15]           m/s    own ship speed (constant)
+    obs_course_deg    U[0,360]      [0,360]          deg    own ship initial course
+    obs_turns         U{1,2}        int[0,10]        -      own ship course changes
+    obs_turn_deg      +-U[30,90]    [-180,180]       deg    first course change (+: clockwise); the next alternate in sign
+    obs_turn_rate_dps 0.5           [0.05,5]         deg/s  own ship turn rate
+    n_targets         40            int[1,200]       -      target ships (ids 1..n_targets)
+    target_min_range_m 2000         [0,50000]        m      nearest distance drawn for a target at place_time_frac
+    target_max_range_m 12000        [0,50000]        m      farthest distance drawn for a target at place_time_frac
+    place_time_frac   0.5           [0,1]            -      time (/ duration_s) at which the target distances hold
+    target_min_speed_mps 0          [0,30]           m/s    slowest target
+    target_max_speed_mps 10         [0,30]           m/s    fastest target
+    turn_fraction     0.3           [0,1]            -      probability that a target makes one gentle turn
+    scan_period_s     2.5           [0.5,20]         s      antenna rotation period P
+    scan_start_bearing_deg 0        [0,360]          deg    beta0: true bearing of the beam at each scan start
+    max_range_m       12000         [100,100000]     m      no detection beyond (slant range)
+    min_range_m       50            [0,5000]         m      no detection nearer (blind zone)
+    p_detect          0.9           [0,1]            -      detection probability of an illuminated target in range
+    range_sigma_m     15            [0,1000]         m      white noise
+    bearing_sigma_deg 0.5           [0,20]           deg    white noise
+    clutter_per_scan  0             [0,100]          1/scan mean number (Poisson) of false detections per scan
+    stamp             illumination  {illumination|scan}  -  detection time stamp: illumination or sweep end
+    time_offset_s     0             [-20,20]         s      stamp minus the true (illumination or sweep-end) time
+    range_bias_m      0             [-1000,1000]     m      constant bias
+    range_gain        0             [-0.1,0.1]       -      g: range_m = (1 + g) r + bias
+    bearing_bias_deg  0             [-20,20]         deg    constant bias
+    ais_min_s         2             [0.05,600]       s      shortest AIS report interval
+    ais_max_s         10            [0.05,600]       s      longest AIS report interval
+    ais_sigma_m       0             [0,1000]         m      AIS position white noise per axis (east, north)
+    ais_time_offset_s 0             [-60,60]         s      an AIS report stamped t gives the position at t - offset
 """
+import bisect
 import json
 import math
 import os
@@ -256,7 +336,7 @@ def _table(section):
     return keys
 
 
-KEYS = {"landing": _table("landing"), "uav": _table("uav")}
+KEYS = {"landing": _table("landing"), "uav": _table("uav"), "shipradar": _table("shipradar")}
 
 
 def check_value(keys, name, value):
@@ -601,10 +681,204 @@ def uav(outdir, seed=1, overrides=None, noise_seed=None):
             "observer_truth": [(k * DT,) + o[:3] for k, o in enumerate(obs)], "bearings": bearings}
 
 
+# ---------------------------------------------------------------- ship radar
+class Track:
+    """Constant speed, legs of constant course joined by constant-rate turns, in a flat (e, n) plane;
+    exact at any t (docstring). turns: [(start time, course change deg, rate deg/s > 0)] in time order;
+    a turn starting before the previous one ends waits for it."""
+
+    def __init__(self, e, n, course, speed, turns=()):
+        self.v, self.segs, t = speed, [], 0.0
+        for t_turn, change, rate in turns:
+            t_turn = max(t_turn, t)
+            self.segs.append((t, e, n, course, 0.0))
+            e, n, course = self._advance(self.segs[-1], t_turn)
+            w = math.copysign(rate, change)
+            self.segs.append((t_turn, e, n, course, w))
+            t = t_turn + abs(change) / rate
+            e, n, course = self._advance(self.segs[-1], t)
+        self.segs.append((t, e, n, course, 0.0))
+        self.starts = [sg[0] for sg in self.segs]
+
+    def _advance(self, seg, t):
+        t0, e, n, c, w = seg
+        tau = t - t0
+        if w == 0.0:
+            cr = math.radians(c)
+            return e + self.v * tau * math.sin(cr), n + self.v * tau * math.cos(cr), c
+        c1 = c + w * tau
+        k = self.v / math.radians(w)
+        a0, a1 = math.radians(c), math.radians(c1)
+        return e + k * (math.cos(a0) - math.cos(a1)), n + k * (math.sin(a1) - math.sin(a0)), c1
+
+    def at(self, t):
+        """(e, n, course deg) at t (before the first segment: its leg extended backwards)."""
+        i = max(0, bisect.bisect_right(self.starts, t) - 1)
+        return self._advance(self.segs[i], t)
+
+
+def wrap360(a, digits):
+    """a in [0, 360), also after rounding to digits decimals (no '360.000')."""
+    a %= 360.0
+    return 0.0 if round(a, digits) >= 360.0 else a
+
+
+def poisson(rng, lam):
+    """Poisson(lam) draw (Knuth; lam <= 100)."""
+    if lam <= 0:
+        return 0
+    lim, k, p = math.exp(-lam), 0, rng.random()
+    while p > lim:
+        k += 1
+        p *= rng.random()
+    return k
+
+
+def ship_targets(P, seed, obs):
+    """[(Track, (de, dn) offset, drawn values)] for targets 1..n_targets (streams target.i)."""
+    T, tp = P["duration_s"], P["place_time_frac"] * P["duration_s"]
+    oe, on, _ = obs.at(tp)
+    out = []
+    for i in range(1, int(P["n_targets"]) + 1):
+        g = stream(seed, "shipradar", "target.%d" % i)
+        u = [g.random() for _ in range(9)]
+        dist = P["target_min_range_m"] + (P["target_max_range_m"] - P["target_min_range_m"]) * u[0]
+        brg, course = 360.0 * u[1], 360.0 * u[3]
+        speed = P["target_min_speed_mps"] + (P["target_max_speed_mps"] - P["target_min_speed_mps"]) * u[2]
+        turn = None
+        if u[4] < P["turn_fraction"]:
+            turn = ((0.1 + 0.7 * u[5]) * T, math.copysign(20.0 + 70.0 * u[6], u[7] - 0.5), 0.1 + 0.4 * u[8])
+        tr = Track(0.0, 0.0, course, speed, [turn] if turn else [])
+        e, n, _ = tr.at(tp)
+        off = (oe + dist * math.sin(math.radians(brg)) - e, on + dist * math.cos(math.radians(brg)) - n)
+        info = {"id": i, "speed_mps": speed, "course_deg": course, "place_range_m": dist, "place_bearing_deg": brg,
+                "turn_start_s": turn[0] if turn else None, "turn_deg": turn[1] if turn else None,
+                "turn_rate_dps": turn[2] if turn else None}
+        out.append((tr, off, info))
+    return out
+
+
+def illuminations(look, P, t_end):
+    """Every t in [0, t_end) with theta(t) = beta(t) (mod 360) for one target (docstring), as
+    [(t, r, beta)]; look(t) = (r, beta). Returns (rows, unresolved count)."""
+    per, b0 = P["scan_period_s"], P["scan_start_bearing_deg"]
+    om = 360.0 / per
+    theta = lambda t: b0 + (t % per) * om
+    out, bad = [], 0
+    t = ((look(0.0)[1] - b0) % 360.0) / om
+    last, step = None, per
+    while t < t_end + per:
+        guess = t
+        for _ in range(60):
+            r, b = look(t)
+            d = wrap180(b - theta(t)) / om
+            if abs(d) < 1e-7:
+                break
+            t += d
+        else:
+            d = None
+        if d is None or (last is not None and t <= last + 0.25 * per):
+            bad += d is None
+            t = guess + per
+            continue
+        if t >= t_end:
+            break
+        if t >= 0.0:
+            out.append((t, r, b))
+        if last is not None:
+            step = min(1.5 * per, max(0.5 * per, t - last))
+        last, t = t, t + step
+    return out, bad
+
+
+def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
+    P, _ = resolve("shipradar", seed, dict(overrides or {}))
+    for lo, hi in (("target_min_range_m", "target_max_range_m"), ("target_min_speed_mps", "target_max_speed_mps"),
+                   ("ais_min_s", "ais_max_s"), ("min_range_m", "max_range_m")):
+        if P[lo] > P[hi]:
+            raise BadInput("key %s (%g) must not exceed %s (%g)" % (lo, P[lo], hi, P[hi]))
+    save(outdir, ())
+    ns = seed if noise_seed is None else noise_seed
+    T, per, hant = P["duration_s"], P["scan_period_s"], P["antenna_h_m"]
+    om, b0 = 360.0 / per, P["scan_start_bearing_deg"]
+    site = Frame(P["lat_deg"], P["lon_deg"], 0.0)
+    nt = int(P["obs_turns"])
+    obs = Track(0.0, 0.0, P["obs_course_deg"], P["obs_speed_mps"],
+                [((k + 1) * T / (nt + 1), P["obs_turn_deg"] * (-1) ** k, P["obs_turn_rate_dps"]) for k in range(nt)])
+    targets = ship_targets(P, seed, obs)
+    observer = []
+    for k in range(int(math.floor(T + 1e-9)) + 1):
+        e, n, c = obs.at(float(k))
+        lat, lon, h, _ = site.place(e, n, hant)
+        observer.append((float(k), lat, lon, h, wrap360(c, 4)))
+
+    def antenna(t):
+        e, n, _ = obs.at(t)
+        lat, lon, h, p = site.place(e, n, hant)
+        return Frame(lat, lon, h), p
+
+    n_scans = int(math.floor(T / per + 1e-9))
+    t_end = n_scans * per
+    dets, lit, n_bad = [], [], 0
+    for tr, off, info in targets:
+        i = info["id"]
+
+        def look(t, tr=tr, off=off):
+            fr, _ = antenna(t)
+            e, n, _ = tr.at(t)
+            r, b, _ = polar(fr, site.place(e + off[0], n + off[1], 0.0)[3])
+            return r, b
+        rows, bad = illuminations(look, P, t_end)
+        n_bad += bad
+        det, white = stream(ns, "shipradar", "detect.%d" % i), stream(ns, "shipradar", "white.%d" % i)
+        for t, r, b in rows:
+            ud, wr, wb = det.random(), white.gauss(0.0, 1.0), white.gauss(0.0, 1.0)
+            k = min(n_scans - 1, int(math.floor(t / per)))
+            seen = P["min_range_m"] <= r <= P["max_range_m"] and ud < P["p_detect"]
+            rm = (1 + P["range_gain"]) * r + P["range_bias_m"] + P["range_sigma_m"] * wr
+            bm = wrap360(b + P["bearing_bias_deg"] + P["bearing_sigma_deg"] * wb, 8)
+            ts = (t if P["stamp"] == "illumination" else (k + 1) * per) + P["time_offset_s"]
+            lit.append((t, i, k, r, b % 360.0, seen and rm > 0))
+            if seen and rm > 0:
+                dets.append((ts, "radar", rm, bm))
+    n_target_dets = len(dets)
+    clut = stream(ns, "shipradar", "clutter")
+    rmin = max(P["min_range_m"], 1.0)
+    for k in range(n_scans):
+        for _ in range(poisson(clut, P["clutter_per_scan"])):
+            rm = rmin + (P["max_range_m"] - rmin) * clut.random()
+            bm = wrap360(360.0 * clut.random(), 8)
+            t = k * per + ((bm - b0) % 360.0) / om
+            dets.append(((t if P["stamp"] == "illumination" else (k + 1) * per) + P["time_offset_s"], "radar", rm, bm))
+    dets.sort(key=lambda d: (d[0], d[3], d[2]))
+    lit.sort()
+    truth = []
+    for tr, off, info in targets:
+        i = info["id"]
+        ts_rng, nz = stream(seed, "shipradar", "ais_times.%d" % i), stream(ns, "shipradar", "ais_noise.%d" % i)
+        span = P["ais_max_s"] - P["ais_min_s"]
+        t = ts_rng.random() * (P["ais_min_s"] + span * ts_rng.random())
+        while t <= T + 1e-9:
+            e, n, _ = tr.at(t - P["ais_time_offset_s"])
+            we, wn = nz.gauss(0.0, 1.0), nz.gauss(0.0, 1.0)
+            lat, lon, _, _ = site.place(e + off[0] + P["ais_sigma_m"] * we, n + off[1] + P["ais_sigma_m"] * wn, 0.0)
+            truth.append((t, i, lat, lon))
+            t += P["ais_min_s"] + span * ts_rng.random()
+    truth.sort(key=lambda r: (r[0], r[1]))
+    P.update(omega_dps=om, n_scans=n_scans, n_illuminations=len(lit), n_detections=len(dets),
+             n_target_detections=n_target_dets, n_clutter=len(dets) - n_target_dets, n_truth_rows=len(truth),
+             n_unresolved=n_bad)
+    files = save(outdir, (("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg", observer, "%.6f,%.9f,%.9f,%.4f,%.4f"),
+                          ("detections.csv", "t_s,sensor,range_m,bearing_deg", dets, "%.6f,%s,%.4f,%.8f"),
+                          ("truth.csv", "t_s,target,lat_deg,lon_deg", truth, "%.6f,%d,%.9f,%.9f")))
+    return {"mode": "shipradar", "seed": seed, "params": P, "files": files, "truth": truth, "observer": observer,
+            "detections": dets, "illuminations": lit, "targets": [t[2] for t in targets]}
+
+
 # ---------------------------------------------------------------- command line
 def main(argv):
     ap = cli_args.ArgumentParser(PROG, __doc__)
-    ap.add_argument("mode", metavar="MODE", nargs="?", default=None, help="landing or uav")
+    ap.add_argument("mode", metavar="MODE", nargs="?", default=None, help="landing, uav or shipradar")
     ap.add_argument("outdir", metavar="OUTDIR", nargs="?", help="output folder (created if missing; its files replaced)")
     ap.add_argument("--seed", metavar="N", default="1", help="random seed, an integer >= 0")
     ap.add_argument("--noise-seed", metavar="N", default=None,
@@ -614,10 +888,10 @@ def main(argv):
     ap.add_argument("--list-keys", action="store_true", help="print every key of MODE with default, range, unit; exit")
     args = ap.parse_args(argv)
     if args.mode is None:
-        ap.error("MODE is required: landing or uav (see %s --help)" % PROG)
+        ap.error("MODE is required: landing, uav or shipradar (see %s --help)" % PROG)
     if args.mode not in KEYS:
         hint = cli_args.closest(args.mode, list(KEYS))
-        ap.error("unknown mode '%s'%s: give landing or uav" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))
+        ap.error("unknown mode '%s'%s: give landing, uav or shipradar" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))
     if args.list_keys:
         print("\n".join(k["line"] for k in KEYS[args.mode].values()))
         return 0
@@ -637,7 +911,7 @@ def main(argv):
             ap.error("--set: key %s given twice" % key)
         overrides[key] = value
     try:
-        res = (landing if args.mode == "landing" else uav)(args.outdir, int(args.seed), overrides, noise_seed)
+        res = {"landing": landing, "uav": uav, "shipradar": shipradar}[args.mode](args.outdir, int(args.seed), overrides, noise_seed)
     except BadInput as e:
         ap.error(str(e))
     print(json.dumps(res["params"], indent=1, sort_keys=True))
