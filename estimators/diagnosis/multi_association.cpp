@@ -12,11 +12,14 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
                                            std::map<std::string, SensorAssociation>& stats) {
   if (!(o.gate_bearing_deg > 0 && o.gate_bearing_deg <= 45)) throw ConfigError("association: gate_bearing_deg must be in (0, 45]");
   if (!(o.gate_position_m > 0)) throw ConfigError("association: gate_position_m must be > 0");
+  if (!(o.reference_max_gap_s > 0) || !std::isfinite(o.reference_max_gap_s))
+    throw ConfigError("association: reference_max_gap_s must be finite and > 0");
   if (data.truth.empty()) throw ConfigError("multi-sensor diagnosis: needs truth.csv (the targets' reference tracks)");
   const LocalLevelFrame F(data.observer.front().g, 0.0);
   const PlaneSeries observer(data.observer, F);
   std::map<std::string, PlaneSeries> truth;
-  for (const auto& [name, v] : data.truth) truth.emplace(name, PlaneSeries(v, F));
+  const auto level = data.truth_on_level();
+  for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
   const double gate_b = o.gate_bearing_deg * kDegToRad, h = o.velocity_half_span_s;
 
   std::vector<AssociatedDetection> out;

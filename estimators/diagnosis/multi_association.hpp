@@ -2,7 +2,8 @@
 // geometry every diagnosis column needs.
 //
 // Frame: local level at the first observer sample, 2-D (north, east) [m]. Per scan (one sensor,
-// one t_s) and target with a reference position p_T(t) (linear interpolation, no gap > 2 s):
+// one t_s) and target with a reference position p_T(t) (linear interpolation, no gap longer than
+// AssociationOptions::reference_max_gap_s; a reference without heights taken at the frame's level):
 // predicted relative position d = p_T - p_O; the detection nearest to it is the target's if
 // within the gate (range sensors: distance between the detection's position and p_T; bearing-only
 // sensors: bearing difference). A scan where two targets' predictions are within one gate of
@@ -25,6 +26,10 @@ struct AssociationOptions {
   double gate_position_m = 20;    ///< [m] gate of range sensors, > 0
   double velocity_half_span_s = 1;///< [s] half-span of the central differences for velocities, > 0
   double min_speed_mps = 0.5;     ///< [m/s] a target's course (for hull offsets) is defined above this speed
+  /// [s] a reference track is interpolated (linearly) only between samples at most this far
+  /// apart; a detection inside a longer gap is not associated, > 0. 2 s suits a GNSS reference
+  /// at 1 Hz or faster; an AIS reference (a report every 2-10 s, 3 min at anchor) needs 10 s or more.
+  double reference_max_gap_s = 2;
 };
 
 /// One detection associated to a target, with its reference geometry.

@@ -61,7 +61,8 @@ MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptio
   if (o.test_target_model) {
     TargetModelOptions to;
     to.search = o.search;
-    const TargetModelResult tm = test_target_model(data.truth, LocalLevelFrame(data.observer.front().g, 0.0), to);
+    to.threads = o.search.injection.threads;
+    const TargetModelResult tm = test_target_model(data.truth_on_level(), LocalLevelFrame(data.observer.front().g, 0.0), to);
     rep.target_effects = tm.maneuvers;
     rep.target_notes = tm.notes;
   }

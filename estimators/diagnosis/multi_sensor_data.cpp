@@ -164,6 +164,15 @@ std::vector<std::string> MultiSensorData::sensors() const {
   return {s.begin(), s.end()};
 }
 
+std::map<std::string, std::vector<GeoSample>> MultiSensorData::truth_on_level() const {
+  auto out = truth;
+  if (observer.empty()) return out;
+  for (auto& [name, v] : out)
+    for (auto& s : v)
+      if (std::isnan(s.g.h_m)) s.g.h_m = observer.front().g.h_m;
+  return out;
+}
+
 MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
   MultiSensorData d;
   read_observer(dir + "/observer.csv", d);

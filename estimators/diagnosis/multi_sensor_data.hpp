@@ -44,6 +44,11 @@ struct MultiSensorData {
 
   /// The sensor names of `detections`, sorted and distinct.
   std::vector<std::string> sensors() const;
+  /// truth with every unknown height (a truth.csv without h_m: surface targets, e.g. AIS) set to
+  /// the observer's first height, the level of the diagnosis's local frame. The multi-sensor
+  /// diagnosis is 2-D (north, east); the height enters only through the frame's curvature: 40 m
+  /// of height moves a target 10 km away by 6 cm horizontally.
+  std::map<std::string, std::vector<GeoSample>> truth_on_level() const;
   /// Read and validate a folder (see the file comment); ConfigError naming file:line:column for
   /// a cell the format forbids, then validate(dir).
   static MultiSensorData read_folder(const std::string& dir);

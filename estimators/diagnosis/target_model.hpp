@@ -26,6 +26,7 @@ struct TargetModelOptions {
   /// ~1e-9 m in memory, ~1e-6 m through a CSV) and is not searched: the noise model's scale is
   /// profiled, so round-off structure would otherwise pass for a manoeuvre of 1e-10 m/s; > 0
   double resolution_m = 1e-3;
+  int threads = 1;                ///< targets searched at once (each alone; same result whatever), >= 1
 };
 
 struct TargetModelResult {

@@ -161,8 +161,15 @@ struct SearchOptions {
   /// slow correlation that exists only to absorb the step makes the null fit nearly as well: a
   /// glide step of 0.8 sigma at mid-flight was named in 9 of 30 independent flights; with 9
   /// (the 99 % set for two parameters) in 18 of 30, and 3 of 200 paper flights under tau = 30 s
-  /// cascade noise named a mean effect either way (4: 23 of 30, but 7 of 200). >= 0.
+  /// cascade noise named a mean effect either way (4: 23 of 30, but 7 of 200). With the
+  /// candidates ranked on one footing (forward selection, effect_search.cpp): 38 of 50 with 9,
+  /// 40 of 50 with 4. >= 0.
   double null_set_q = 9;
+  /// The Bonferroni family's size when this problem is one part of a larger family searched in
+  /// parts (e.g. one target's track of many, target_model.cpp): alpha is split over this many
+  /// tests instead of this problem's own (its catalogue entries and three noise tests per
+  /// channel); 0: this problem's own. When set, at least this problem's own count.
+  double family_size = 0;
   /// Score the held-out frames: the named effects refitted on the estimation frames alone
   /// (those the window does not determine left out, holdout_min_z) predict the rest.
   bool score_holdout = true;

@@ -121,32 +121,40 @@ EntryTests::EntryTests(const Design& d, const Chosen& chosen, const std::vector<
   for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, raw_, c));
 }
 
-double EntryTests::scanned(std::size_t e, std::size_t v) {
+double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
   NoiseIdOptions pm = no_;
   pm.profile_ml = true;
-  auto profile = [&](std::size_t c, const Eigen::MatrixXd& X) {
-    return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
-        .loglik_ml;
-  };
+  return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
+      .loglik_ml;
+}
+
+double EntryTests::profile_lr(std::size_t e, std::size_t v) {
+  const Eigen::MatrixXd C = d_.raw_columns(e, v);
+  double lr = 0;
+  for (std::size_t c = 0; c < d_.rows.size(); ++c) {
+    const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
+    if (Cc.cols() == 0) continue;  // the entry does not touch this channel
+    if (std::isnan(base_[c])) base_[c] = profile_ml(c, X0c_[c]);
+    lr += 2 * (profile_ml(c, with(c, Cc)) - base_[c]);
+  }
+  return lr;
+}
+
+double EntryTests::scanned(std::size_t e, std::size_t v) {
+  if (!(null_set_q_ > 0)) return profile_lr(e, v);
   const Eigen::MatrixXd C = d_.raw_columns(e, v);
   double lr = 0;
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel
     const Eigen::MatrixXd X1 = with(c, Cc);
-    double l0 = 0;
-    if (null_set_q_ > 0) {
-      // the null's noise among the models the data allow with the entry in: a slow correlation
-      // that exists only to absorb the step is not among them
-      l0 = -INFINITY;
-      for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
-                                                       channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
-        l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
-    } else {
-      if (std::isnan(base_[c])) base_[c] = profile(c, X0c_[c]);
-      l0 = base_[c];
-    }
-    lr += 2 * (profile(c, X1) - l0);
+    // the null's noise among the models the data allow with the entry in: a slow correlation
+    // that exists only to absorb the step is not among them
+    double l0 = -INFINITY;
+    for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
+                                                     channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
+      l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
+    lr += 2 * (profile_ml(c, X1) - l0);
   }
   return lr;
 }

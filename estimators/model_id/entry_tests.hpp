@@ -26,6 +26,10 @@ class EntryTests {
   /// the model (each touched channel's REML confidence set at null_set_q, fixed effects with the
   /// entry's columns); with null_set_q = 0 over the whole noise family (the profile LR).
   double scanned(std::size_t e, std::size_t v);
+  /// The profile 2 log LR of entry e at grid point v: the ML likelihood maximised over the
+  /// whole noise family (NoiseIdOptions::profile_ml) with and without its columns, summed over
+  /// the channels it touches (scanned()'s statistic when null_set_q = 0).
+  double profile_lr(std::size_t e, std::size_t v);
   /// 2 log LR of non-scanned entry e: Wald-type GLS under the noise re-identified with its columns.
   double fixed(std::size_t e) const;
   /// The least GLS 2 log LR of entry e at grid point v over the noise models the data allow:
@@ -36,6 +40,7 @@ class EntryTests {
 
  private:
   Eigen::MatrixXd with(std::size_t c, const Eigen::MatrixXd& Cc) const;  ///< channel c's fixed effects and Cc
+  double profile_ml(std::size_t c, const Eigen::MatrixXd& X) const;      ///< channel c's ML l over the noise family
   const Design& d_;
   const std::vector<NoiseFit>& fits_;
   NoiseIdOptions no_;

@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
                "4 deg for uav, 3 deg for multi", num_two("--gate-deg", uo.gate_deg, mo.association.gate_bearing_deg))
         .value("--gate-m", "M", "multi: association gate of range sensors around the reference position [m]", "20 m",
                num("--gate-m", mo.association.gate_position_m))
+        .value("--reference-max-gap", "S",
+               "multi: interpolate a target's reference track only between samples at most S apart [s] (AIS: 10 or "
+               "more), > 0", "2 s", num("--reference-max-gap", mo.association.reference_max_gap_s))
         .value("--sigma-deg", "D", "uav, multi: nominal bearing noise, 1 sigma [deg]", "0.5 deg",
                num_two("--sigma-deg", uo.sigma_deg, mo.sigma_bearing_deg))
         .value("--sigma-range-m", "M", "multi: nominal range noise of range sensors, 1 sigma [m]", "1 m",
