@@ -7,6 +7,8 @@
 #include "search_json.hpp"
 #include "target_model.hpp"
 
+#include <GeographicLib/Geodesic.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -326,4 +328,43 @@ TEST_CASE("target model: each reference track is judged on its own evidence") {
                                                  // slow reference noise takes part of the ramp)
   }
   CHECK(seen[1] == seen[2]);
+}
+
+TEST_CASE("multi diagnosis: bearings from the observer's own north, wherever it has moved") {
+  // An own ship steaming 25 km east at 63.4 deg N over 2 h, a target 5 km north of it, radar
+  // bearings and ranges from the ellipsoid itself (GeographicLib's geodesic azimuth at the
+  // observer and distance; no effect, 0.05 deg and 2 m white noise). Local north turns by
+  // dlon sin(lat), 0.45 deg over the run, against the diagnosis's frame fixed at the first
+  // sample: measured in that frame, the bearings carried a drift of that size, named as mean
+  // effects (the radar's bearing bias and time offset, 2 log LR 607); measured from the
+  // observer's north, nothing is named.
+  const GeographicLib::Geodesic& G = GeographicLib::Geodesic::WGS84();
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> N(0, 1);
+  MultiSensorData d;
+  const double lat0 = 63.4, lon0 = 10.0, v = 3.5;  // [deg], [deg], [m/s] east
+  for (double t = 0; t <= 7200; t += 1) {
+    double lat, lon;
+    G.Direct(lat0, lon0, 90.0, v * t, lat, lon);
+    d.observer.push_back({t, {lat, lon, 15.0}});
+    double tlat, tlon;
+    G.Direct(lat, lon, 0.0, 5000.0, tlat, tlon);  // the target keeps 5 km north of the ship
+    if (std::fmod(t, 5.0) == 0) d.truth["1"].push_back({t, {tlat, tlon, NAN}});
+  }
+  d.observer_heading_deg.assign(d.observer.size(), NAN);
+  for (double t = 2.5; t < 7200; t += 5) {  // between reference samples: interpolated
+    double lat, lon, tlat, tlon, s12, azi1, azi2;
+    G.Direct(lat0, lon0, 90.0, v * t, lat, lon);
+    G.Direct(lat, lon, 0.0, 5000.0, tlat, tlon);
+    G.Inverse(lat, lon, tlat, tlon, s12, azi1, azi2);
+    d.detections.push_back({t, "radar", s12 + 2.0 * N(rng), wrap_pi((azi1 + 0.05 * N(rng)) * kDegToRad), NAN});
+  }
+  MultiDiagnoseOptions o = options();
+  o.sigma_bearing_deg = 0.05;
+  o.test_target_model = false;
+  o.association.reference_max_gap_s = 6;
+  const MultiReport r = diagnose_multi(d, o);
+  INFO(r.text());
+  REQUIRE(r.association.at("radar").associated.at("1") > 1400);
+  CHECK(mean_effects(r) == 0);
 }

@@ -1,7 +1,10 @@
 // Association of multi-sensor detections to the targets' reference tracks (truth), and the
 // geometry every diagnosis column needs.
 //
-// Frame: local level at the first observer sample, 2-D (north, east) [m]. Per scan (one sensor,
+// Frame: local level at the first observer sample, 2-D (north, east) [m]; each associated
+// detection's vectors (d, v_rel, v_target, u_course) are turned into the observer's own local
+// orientation at its time (bearings are measured from the local north, which turns by
+// dlon sin(lat) as the observer moves: 0.2 deg after 20 km east at 63 deg N). Per scan (one sensor,
 // one t_s) and target with a reference position p_T(t) (linear interpolation, no gap longer than
 // AssociationOptions::reference_max_gap_s; a reference without heights taken at the frame's level):
 // predicted relative position d = p_T - p_O; the detection nearest to it is the target's if
@@ -39,7 +42,7 @@ struct AssociatedDetection {
   bool has_range = false;
   double bearing_rad = 0;          ///< measured bearing, clockwise from north
   double range_m = 0;              ///< measured range (has_range)
-  Eigen::Vector2d d;               ///< [m] reference target position minus observer (north, east)
+  Eigen::Vector2d d;               ///< [m] reference target position minus observer (local north, east at the observer)
   Eigen::Vector2d v_rel;           ///< [m/s] its rate (target velocity minus observer velocity)
   Eigen::Vector2d v_target;        ///< [m/s] target velocity from its reference track
   Eigen::Vector2d u_course;        ///< unit vector along the target's course; zero below min_speed
