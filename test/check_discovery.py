@@ -16,33 +16,21 @@
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from generated_checks import Checks, run  # noqa: E402
+import generated_checks  # noqa: E402
+
 SRC, BUILD = sys.argv[1], sys.argv[2]
-GEN = os.path.join(SRC, "scripts", "flightgen.py")
 DIAG = os.path.join(BUILD, "bin", "rnav_diagnose")
-failures = []
-
-
-def check(ok, what):
-    print("%s  %s" % ("ok  " if ok else "FAIL", what))
-    if not ok:
-        failures.append(what)
-
-
-def run(*argv):
-    return subprocess.run(list(argv), capture_output=True, text=True)
+checks = Checks("check_discovery")
+check = checks.check
 
 
 def gen(mode, out, seed, *keys):
-    args = [GEN, mode, out, "--seed", str(seed)]
-    for k in keys:
-        args += ["--set", k]
-    r = run(*args)
-    if r.returncode != 0:
-        raise SystemExit("check_discovery: flightgen failed: " + r.stderr)
+    generated_checks.gen(SRC, "check_discovery", mode, out, seed, keys)
 
 
 def diagnose(kind, data, out, *extra):
@@ -93,11 +81,7 @@ def main():
     found = [x["name"] for x in rep["effects"] if not x.get("nominal")]
     check("correlated_noise" in found and not set(found) - {"correlated_noise", "noise_scale"},
           "Gauss-Markov bearing noise: correlated noise named and nothing else (%s)" % found)
-    if failures:
-        print("check_discovery: %d check(s) failed" % len(failures))
-        return 1
-    print("all checks passed")
-    return 0
+    return checks.finish()
 
 
 if __name__ == "__main__":

@@ -16,35 +16,23 @@ detections) so the test stays short; the full hour is scripts/flightgen.py's def
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from generated_checks import Checks, run  # noqa: E402
+import generated_checks  # noqa: E402
+
 SRC, BUILD = sys.argv[1], sys.argv[2]
-GEN = os.path.join(SRC, "scripts", "flightgen.py")
 DIAG = os.path.join(BUILD, "bin", "rnav_diagnose")
 KEYS = ["duration_s=600", "place_time_frac=0"]
 OPTS = ["--gate-m", "300", "--sigma-range-m", "15", "--sigma-deg", "0.5", "--threads", "2"]
-failures = []
-
-
-def check(ok, what):
-    print("%s  %s" % ("ok  " if ok else "FAIL", what))
-    if not ok:
-        failures.append(what)
-
-
-def run(*argv):
-    return subprocess.run(list(argv), capture_output=True, text=True)
+checks = Checks("check_shipradar")
+check = checks.check
 
 
 def gen(out, seed, *keys):
-    args = [GEN, "shipradar", out, "--seed", str(seed)]
-    for k in KEYS + list(keys):
-        args += ["--set", k]
-    p = run(*args)
-    if p.returncode != 0:
-        sys.exit("check_shipradar: flightgen failed: " + p.stderr)
+    generated_checks.gen(SRC, "check_shipradar", "shipradar", out, seed, KEYS + list(keys))
 
 
 def diagnose(folder, out, *extra):
@@ -86,6 +74,4 @@ with tempfile.TemporaryDirectory(prefix="check_shipradar.") as tmp:
         check(ok, "a 0.3 deg radar bearing bias named within 3 SE: %s" %
               ["%s %.5f +- %.5f" % (e["scope"], e["estimate"], e["stderr"]) for e in found])
 
-if failures:
-    sys.exit("check_shipradar: %d check(s) failed" % len(failures))
-print("check_shipradar: all checks passed")
+sys.exit(checks.finish())

@@ -48,18 +48,15 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     // about dlon sin(lat): 0.2 deg after 20 km east at 63 deg N). Bearings are measured from the
     // local north, so every vector below is turned into the observer's local orientation.
     double gamma = 0;
-    if (observer.at(t, po)) {
-      Geodetic g = F.to_geodetic(Eigen::Vector3d(po.x(), 0.0, po.y()));
-      g.lat_deg += 1e-4;  // about 11 m north
-      const Eigen::Vector3d q = F.from_geodetic(g);
-      gamma = std::atan2(q.z() - po.y(), q.x() - po.x());
-    }
-    const Eigen::Rotation2Dd to_local(-gamma);
-    if (observer.at(t, po) && observer.velocity(t, h, vo))
+    if (observer.at(t, po) && observer.velocity(t, h, vo)) {
+      const Eigen::Vector3d north_F = F.from_ned(F.to_geodetic(Eigen::Vector3d(po.x(), 0.0, po.y())), Eigen::Vector3d::UnitX());
+      gamma = std::atan2(north_F.z(), north_F.x());
       for (const auto& [name, series] : truth) {
         Pred pr{name, {}, {}};
         if (series.at(t, pr.p) && series.velocity(t, h, pr.v)) preds.push_back(pr);
       }
+    }
+    const Eigen::Rotation2Dd to_local(-gamma);
     // distance of detection k from prediction p (metres or radians; its bearing turned into the frame)
     auto dist = [&](std::size_t k, const Eigen::Vector2d& p) {
       const Eigen::Vector2d d = p - po;
