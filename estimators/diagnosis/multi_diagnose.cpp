@@ -9,41 +9,32 @@
 #include "stats.hpp"
 #include "target_model.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <stdexcept>
+#include <thread>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 namespace rnav {
 
-MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o) {
-  if (!(o.sigma_bearing_deg > 0) || !(o.sigma_range_m > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
-  MultiReport rep;
-  const std::vector<AssociatedDetection> a = associate(data, o.association, rep.association);
-  MultiProblem mp = build_multi_problem(a, o.sigma_bearing_deg * kDegToRad, o.sigma_range_m, o.split_fraction, o.step_grid);
-  rep.split_time_s = mp.split_time_s;
-  rep.dropped_channels = mp.dropped_channels;
-  check_limit_entries(mp.problem, o.search.injection, "diagnose multi");
-  rep.result = search_effects(mp.problem, o.search);
-  const SearchResult& r = rep.result;
+namespace {
 
-  // gain per sensor:target: compensated measurement against the held-out reference
+// Per sensor:target pair: the error of a detection with the nominal model (e0) and with a
+// prediction removed (e1): position error [m] (radial and cross-range) for range sensors,
+// bearing error [deg] for bearing-only ones.
+struct PairErrors {
+  std::map<std::string, MultiGain> gain;
   std::map<std::string, std::pair<double, double>> sums;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].t_s < mp.split_time_s) continue;
-    const long ib = mp.bearing_obs[i], ir = mp.range_obs[i];
-    if (ib < 0) continue;
-    const std::string key = a[i].sensor + ":" + a[i].target;
-    MultiGain& g = rep.gain[key];
-    const auto yb = mp.problem.y[static_cast<std::size_t>(ib)];
-    const double eb0 = yb - r.nominal_oos(ib), eb1 = yb - r.extended_oos(ib);
+  void add(const std::string& key, const AssociatedDetection& x, double eb0, double eb1, bool range, double er0, double er1) {
+    MultiGain& g = gain[key];
     double e0, e1;
-    if (a[i].has_range && ir >= 0) {
-      const auto yr = mp.problem.y[static_cast<std::size_t>(ir)];
-      const double er0 = yr - r.nominal_oos(ir), er1 = yr - r.extended_oos(ir), R = a[i].range_m;
-      // position error: radial and cross-range components
-      e0 = std::hypot(er0, R * eb0);
-      e1 = std::hypot(er1, R * eb1);
+    if (range) {
+      e0 = std::hypot(er0, x.range_m * eb0);
+      e1 = std::hypot(er1, x.range_m * eb1);
       g.unit = "m";
     } else {
       e0 = eb0 / kDegToRad;
@@ -54,20 +45,199 @@ MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptio
     sums[key].second += e1 * e1;
     ++g.n;
   }
-  for (auto& [k, g] : rep.gain) {
-    g.nominal_rms = std::sqrt(sums[k].first / std::max(1, g.n));
-    g.extended_rms = std::sqrt(sums[k].second / std::max(1, g.n));
+  std::map<std::string, MultiGain> done() {
+    for (auto& [k, g] : gain) {
+      g.nominal_rms = std::sqrt(sums[k].first / std::max(1, g.n));
+      g.extended_rms = std::sqrt(sums[k].second / std::max(1, g.n));
+    }
+    return gain;
   }
+};
+
+MultiProblemOptions problem_options(const MultiDiagnoseOptions& o) {
+  MultiProblemOptions po;
+  po.sigma_bearing_rad = o.sigma_bearing_deg * kDegToRad;
+  po.sigma_range_m = o.sigma_range_m;
+  po.split_fraction = o.split_fraction;
+  po.step_grid = o.step_grid;
+  return po;
+}
+
+// The hardware effects of `fit` (entries without a recording) predicted on recording `rec`
+// alone, with the scan periods of the recordings they were fitted on; returns the rows
+// per pair and the effects carried.
+std::vector<LeaveOneOutRow> score_left_out(const RecordingDetections& rec, const MultiProblem& fitted, const SearchResult& fit,
+                                           const MultiDiagnoseOptions& o, std::vector<std::string>& carried) {
+  MultiProblemOptions po = problem_options(o);
+  po.scan_period_s = fitted.scan_period_s;
+  RecordingDetections one = rec;
+  one.name.clear();
+  const MultiProblem mp = build_multi_problem({one}, po);
+  const Problem& p = mp.problem;
+  Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
+  for (const FoundEffect& e : fit.effects) {
+    if (!e.scope.recording.empty()) continue;  // one recording's own: not carried over
+    const Candidate& c = fitted.problem.catalogue[e.entry];
+    const auto it = std::find_if(p.catalogue.begin(), p.catalogue.end(), [&](const Candidate& x) {
+      return !x.scope_only && x.name == c.name && x.scope.label() == c.scope.label() && x.scan == c.scan;
+    });
+    if (it == p.catalogue.end()) continue;  // the recording has none of its observations
+    const Eigen::MatrixXd C = it->columns(e.variant);
+    pred += C * Eigen::Map<const Eigen::VectorXd>(e.estimate.data(), static_cast<Eigen::Index>(e.estimate.size()));
+    std::string what = e.name + "@" + c.scope.label() + " (";
+    for (std::size_t j = 0; j < e.params.size(); ++j) what += (j ? " " : "") + e.params[j] + "=" + short_num(e.estimate[j]);
+    if (!e.scan_param.empty()) what += " " + e.scan_param + "=" + short_num(e.scan_value);
+    carried.push_back(what + ")");
+  }
+  PairErrors pe;
+  for (std::size_t i = 0; i < rec.a.size(); ++i) {
+    const long ib = mp.bearing_obs[0][i], ir = mp.range_obs[0][i];
+    if (ib < 0) continue;
+    const auto& x = rec.a[i];
+    const double yb = p.y[static_cast<std::size_t>(ib)];
+    const bool range = x.has_range && ir >= 0;
+    const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
+    pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
+  }
+  std::vector<LeaveOneOutRow> rows;
+  for (const auto& [k, g] : pe.done()) rows.push_back({rec.name, k, g.n, g.nominal_rms, g.extended_rms, g.unit});
+  return rows;
+}
+
+// Per sensor: the median interval between its successive scans (distinct stamps, empty scans
+// included) over every recording [s] (the problem uses it for range sensors).
+std::map<std::string, double> scan_periods(const std::vector<std::pair<std::string, MultiSensorData>>& recordings) {
+  std::map<std::string, std::vector<double>> gaps;
+  for (const auto& rec : recordings) {
+    std::map<std::string, double> last;
+    for (const Detection& x : rec.second.detections) {
+      const auto it = last.try_emplace(x.sensor, NAN).first;
+      if (std::isfinite(it->second) && x.t_s > it->second) gaps[x.sensor].push_back(x.t_s - it->second);
+      it->second = x.t_s;
+    }
+  }
+  std::map<std::string, double> out;
+  for (auto& [s, g] : gaps) {
+    if (g.empty()) continue;
+    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
+    out[s] = g[g.size() / 2];
+  }
+  return out;
+}
+
+}  // namespace
+
+MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o) {
+  return diagnose_multi_pooled({{"", data}}, o);
+}
+
+MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                  const MultiDiagnoseOptions& o) {
+  if (!(o.sigma_bearing_deg > 0) || !(o.sigma_range_m > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
+  if (recordings.empty()) throw ConfigError("multi diagnosis: no recording");
+  const bool pooled = recordings.size() > 1;
+  MultiReport rep;
+  std::vector<RecordingDetections> recs;
+  for (const auto& [name, data] : recordings) {
+    if (pooled && (name.empty() || name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") !=
+                                       std::string::npos))
+      throw ConfigError("multi diagnosis: recording name '" + name + "' must be [A-Za-z0-9_.-]+");
+    std::map<std::string, SensorAssociation> st;
+    recs.push_back({pooled ? name : "", associate(data, o.association, st)});
+    for (auto& [s, x] : st) rep.association[pooled ? name + "/" + s : s] = x;
+    if (pooled) rep.recordings.push_back(name);
+  }
+  MultiProblemOptions po = problem_options(o);
+  po.scan_period_s = scan_periods(recordings);
+  MultiProblem mp = build_multi_problem(recs, po);
+  rep.split_time_s = mp.split_time_s.front();
+  rep.dropped_channels = mp.dropped_channels;
+  rep.scan_period_s = mp.scan_period_s;
+  check_limit_entries(mp.problem, o.search.injection, "diagnose multi");
+  rep.result = search_effects(mp.problem, o.search);
+  const SearchResult& r = rep.result;
+
+  // gain per sensor:target (per recording): compensated measurement against the held-out reference
+  PairErrors pe;
+  for (std::size_t k = 0; k < recs.size(); ++k) {
+    const auto& a = recs[k].a;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (a[i].t_s < mp.split_time_s[k]) continue;
+      const long ib = mp.bearing_obs[k][i], ir = mp.range_obs[k][i];
+      if (ib < 0) continue;
+      const auto yb = mp.problem.y[static_cast<std::size_t>(ib)];
+      const bool range = a[i].has_range && ir >= 0;
+      const double yr = range ? mp.problem.y[static_cast<std::size_t>(ir)] : 0.0;
+      pe.add((pooled ? recs[k].name + "/" : "") + a[i].sensor + ":" + a[i].target, a[i], yb - r.nominal_oos(ib),
+             yb - r.extended_oos(ib), range, range ? yr - r.nominal_oos(ir) : 0.0, range ? yr - r.extended_oos(ir) : 0.0);
+    }
+  }
+  rep.gain = pe.done();
+
   if (o.test_target_model) {
     TargetModelOptions to;
     to.search = o.search;
     to.threads = o.search.injection.threads;
-    const TargetModelResult tm = test_target_model(data.truth_on_level(), LocalLevelFrame(data.observer.front().g, 0.0), to);
-    rep.target_effects = tm.maneuvers;
-    rep.target_notes = tm.notes;
+    for (const auto& [name, data] : recordings) {
+      const TargetModelResult tm = test_target_model(data.truth_on_level(), LocalLevelFrame(data.observer.front().g, 0.0), to);
+      for (FoundEffect e : tm.maneuvers) {
+        e.scope.recording = pooled ? name : "";
+        rep.target_effects.push_back(e);
+      }
+      for (const auto& n : tm.notes) rep.target_notes.push_back(pooled ? name + ": " + n : n);
+    }
+  }
+
+  // leave one recording out: fit on the others (no injected limits), score the one left out
+  if (pooled && o.leave_one_out) {
+    SearchOptions so = o.search;
+    so.injection.injections = 0;
+    const std::size_t R = recs.size();
+    std::vector<std::vector<LeaveOneOutRow>> rows(R);
+    std::vector<std::vector<std::string>> carried(R);
+    std::vector<std::exception_ptr> errors(R);
+    std::atomic<std::size_t> next{0};
+    auto work = [&] {
+      for (std::size_t k; (k = next++) < R;) try {
+          std::vector<RecordingDetections> rest;
+          for (std::size_t j = 0; j < R; ++j)
+            if (j != k) rest.push_back(recs[j]);
+          const MultiProblem fp = build_multi_problem(rest, po);
+          const SearchResult fr = search_effects(fp.problem, so);
+          rows[k] = score_left_out(recs[k], fp, fr, o, carried[k]);
+        } catch (const std::exception& e) {
+          errors[k] = std::make_exception_ptr(std::runtime_error("leaving out recording " + recs[k].name + ": " + e.what()));
+        } catch (...) {
+          errors[k] = std::current_exception();
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < std::max(1, o.search.injection.threads); ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    for (std::size_t k = 0; k < R; ++k) {
+      if (errors[k]) std::rethrow_exception(errors[k]);
+      rep.leave_one_out.insert(rep.leave_one_out.end(), rows[k].begin(), rows[k].end());
+      rep.carried[recs[k].name] = carried[k];
+    }
   }
   rep.problem = std::move(mp.problem);
   return rep;
+}
+
+LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n) {
+  LeaveOneOutSummary s;
+  s.min_n = min_n;
+  double sum_log = 0;
+  for (const auto& x : rows) {
+    if (x.n < min_n || !(x.nominal_rms > 0)) continue;
+    const double ratio = x.extended_rms / x.nominal_rms;
+    sum_log += std::log(ratio);
+    ++s.pairs;
+    if (ratio > s.worst) s.worst = ratio, s.worst_key = x.recording + " " + x.pair;
+  }
+  s.geomean = s.pairs > 0 ? std::exp(sum_log / s.pairs) : NAN;
+  return s;
 }
 
 nlohmann::ordered_json MultiReport::to_json() const {
@@ -99,6 +269,18 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["gain_effects"] = result.holdout_effects;
   for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
+  j["scan_period_s"] = scan_period_s;
+  if (!recordings.empty()) {
+    j["recordings"] = recordings;
+    j["leave_one_out"] = nlohmann::ordered_json::array();
+    for (const auto& x : leave_one_out)
+      j["leave_one_out"].push_back({{"recording", x.recording}, {"pair", x.pair}, {"n", x.n}, {"nominal_rms", x.nominal_rms},
+                                    {"extended_rms", x.extended_rms}, {"unit", x.unit}});
+    j["leave_one_out_carried"] = carried;
+    const LeaveOneOutSummary s = summarize(leave_one_out);
+    j["leave_one_out_summary"] = {{"min_n", s.min_n}, {"pairs", s.pairs}, {"geomean_ratio", s.geomean},
+                                  {"worst_ratio", s.worst}, {"worst", s.worst_key}};
+  }
   return j;
 }
 
@@ -123,6 +305,20 @@ std::string MultiReport::text() const {
   o << gain_fit_text(problem, result);
   if (result.holdout_effects.empty()) o << " no effect (none named, or none determined by the window)";
   o << "\n";
+  if (!recordings.empty()) {
+    for (const auto& [rec, list] : carried) {
+      o << "  leave out " << rec << ": carried";
+      for (const auto& c : list) o << " " << c;
+      if (list.empty()) o << " nothing (no hardware effect named on the others that applies to it)";
+      o << "\n";
+    }
+    for (const auto& x : leave_one_out)
+      o << "  left out " << x.recording << " " << x.pair << ": RMS " << short_num(x.nominal_rms) << " -> "
+        << short_num(x.extended_rms) << " " << x.unit << " (n " << x.n << ")\n";
+    const LeaveOneOutSummary s = summarize(leave_one_out);
+    o << "  leave one recording out: " << s.pairs << " pairs with >= " << s.min_n << " detections, extended / nominal RMS geometric mean "
+      << short_num(s.geomean) << ", worst " << short_num(s.worst) << " (" << s.worst_key << ")\n";
+  }
   return o.str();
 }
 

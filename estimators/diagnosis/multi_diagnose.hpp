@@ -11,7 +11,11 @@
 //   sensor scope:  time_offset [s] (sensor stamp - true time): -dh/dd v_rel;
 //                  bearing_bias [rad]: 1 on its bearings; range_bias [m]: 1 on its ranges;
 //                  range_gain [1]: the predicted range; bias_step [rad] on its bearings at a
-//                  scanned time;
+//                  scanned time (one recording's); scan_time_offset [c_s, sweep_frac] of a
+//                  range sensor whose scans are at least 0.5 s apart (a rotating radar that
+//                  stamps a whole scan with one time): dt = c + f ((b_end - b) mod 2 pi) / omega,
+//                  omega = 2 pi / scan period (the median interval between its scans), the
+//                  sweep's end bearing b_end scanned; f = 1: stamped at the sweep's end;
 //   target scope:  truth_time_offset [s] (reference stamp - true time): +dh/dd v_T;
 //                  antenna_offset [m] (the sensed centre ahead of / to starboard of the
 //                  reference antenna): dh/dd u, dh/dd u_perp;
@@ -20,6 +24,14 @@
 // Scope questions: sensor clocks vs target reference clocks vs both vs one common clock;
 // per-sensor bearing biases vs one heading bias; hull offsets per target vs per sensor and target.
 // The target model is tested on each reference track alone (target_model.hpp).
+// Several recordings diagnosed together (diagnose_multi_pooled): channels per recording (each
+// its own noise); hardware entries (a sensor's clock, bias, range gain and bias, scan stamp; a
+// boat's antenna offset; where a sensor sees a hull; the observer's clock and heading) take one
+// value in every recording, per-recording entries (a reference clock, a bias step) one per
+// recording; each hardware kind is asked whether one value or one per recording fits (BIC), and
+// a boat's along-track offset whether it is the same in metres, in seconds, or per recording.
+// Leave one recording out: the model fitted on the others, its hardware entries carried over
+// (per-recording entries not), scored on the one left out.
 // Gain, keyed "<sensor>:<target>": fit on the first split_fraction of the span, score the rest;
 // range sensors: position error of the detection against the reference [m]; bearing-only
 // sensors: bearing error [deg].
@@ -44,6 +56,17 @@ struct MultiDiagnoseOptions {
   double sigma_range_m = 1.0;       ///< [m] nominal range noise of range sensors, > 0
   int step_grid = 24;               ///< scan grid of bias_step (10 % to 90 % of the span), >= 2
   bool test_target_model = true;    ///< check each reference track against the target model
+  bool leave_one_out = true;        ///< pooled: score each recording with the model fitted on the others
+};
+
+/// One recording left out: a sensor:target pair's error with the nominal model and with the
+/// hardware effects fitted on the other recordings (position error [m] for range sensors,
+/// bearing error [deg] for bearing-only ones), over all its associated detections.
+struct LeaveOneOutRow {
+  std::string recording, pair;
+  int n = 0;
+  double nominal_rms = 0, extended_rms = 0;
+  std::string unit;
 };
 
 struct MultiGain {
@@ -52,14 +75,27 @@ struct MultiGain {
   std::string unit;  ///< "m" (position error) or "deg" (bearing error)
 };
 
+/// Leave-one-recording-out rows summarised over the pairs with at least min_n detections.
+struct LeaveOneOutSummary {
+  int min_n = 5, pairs = 0;
+  double geomean = 0;           ///< geometric mean of extended / nominal RMS
+  double worst = 0;             ///< the largest ratio
+  std::string worst_key;        ///< "recording sensor:target"
+};
+LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n = 5);
+
 struct MultiReport {
   Problem problem;                  ///< as posed to the engine (without the column functions' data)
   SearchResult result;
   std::vector<FoundEffect> target_effects;  ///< target_maneuver findings on the reference tracks
   std::vector<std::string> target_notes;
-  std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>"
-  std::map<std::string, SensorAssociation> association;
-  double split_time_s = 0;
+  std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>" ("<recording>/<sensor>:<target>" pooled)
+  std::map<std::string, SensorAssociation> association;  ///< per sensor ("<recording>/<sensor>" pooled)
+  double split_time_s = 0;          ///< one recording: the gain's split time
+  std::vector<std::string> recordings;  ///< pooled: the recordings' names, in input order
+  std::map<std::string, double> scan_period_s;  ///< per range sensor: median interval between scans
+  std::vector<LeaveOneOutRow> leave_one_out;    ///< pooled, per recording and pair
+  std::map<std::string, std::vector<std::string>> carried;  ///< pooled, per recording left out: the hardware effects carried over
   std::vector<std::string> dropped_channels;  ///< sensor:target:quantity with too few detections to diagnose
   nlohmann::ordered_json to_json() const;
   std::string text() const;
@@ -68,5 +104,10 @@ struct MultiReport {
 };
 
 MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o);
+
+/// Several recordings (name, data) diagnosed together; names distinct, [A-Za-z0-9_.-]+. One
+/// recording: as diagnose_multi.
+MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                  const MultiDiagnoseOptions& o);
 
 }  // namespace rnav

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <set>
@@ -15,10 +16,11 @@ namespace {
 // Per observation: the geometry the columns need.
 struct ObsGeom {
   bool is_range = false;
+  int rec = 0;                    ///< recording index
   std::string sensor, target;
   Eigen::RowVector2d dh;          ///< d h / d d
   Eigen::Vector2d v_rel, v_target, u, u_perp;
-  double range_pred = 0, t = 0;
+  double range_pred = 0, bearing_pred = 0, t = 0;
 };
 using Geoms = std::shared_ptr<const std::vector<ObsGeom>>;
 
@@ -33,65 +35,126 @@ std::function<Eigen::MatrixXd(std::size_t)> cols(const Geoms& g, int k, In in, V
   };
 }
 
+// True if some observation satisfies `in`.
+template <class In>
+bool any(const Geoms& g, In in) {
+  return std::any_of(g->begin(), g->end(), in);
+}
+
 Eigen::RowVectorXd one(double x) { return Eigen::RowVectorXd::Constant(1, x); }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+std::string period_text(double T) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", T);
+  return b;
+}
 
 }  // namespace
 
-MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, double sb, double sr, double split_fraction,
-                                 int step_grid) {
+double sweep_delay_s(double beta, double beta_end, double period_s) {
+  // ((beta_end - beta) mod 2 pi) / omega, omega = 2 pi / T
+  double a = std::fmod(beta_end - beta, 2 * M_PI);
+  if (a < 0) a += 2 * M_PI;
+  return period_s * a / (2 * M_PI);
+}
+
+MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
+  const double sb = o.sigma_bearing_rad, sr = o.sigma_range_m;
   if (!(sb > 0 && sr > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
-  if (!(split_fraction > 0.2 && split_fraction < 0.9)) throw ConfigError("multi diagnosis: split fraction must be in (0.2, 0.9)");
-  if (step_grid < 2) throw ConfigError("multi diagnosis: step grid must be >= 2");
+  if (!(o.split_fraction > 0.2 && o.split_fraction < 0.9)) throw ConfigError("multi diagnosis: split fraction must be in (0.2, 0.9)");
+  if (o.step_grid < 2 || o.sweep_grid < 2) throw ConfigError("multi diagnosis: step and sweep grids must be >= 2");
+  if (!(o.min_sweep_period_s > 0)) throw ConfigError("multi diagnosis: min_sweep_period_s must be > 0");
+  if (recs.empty()) throw ConfigError("multi diagnosis: no recording");
+  const bool pooled = recs.size() > 1;
+  {
+    std::set<std::string> names;
+    for (const auto& r : recs)
+      if (pooled && (r.name.empty() || !names.insert(r.name).second))
+        throw ConfigError("multi diagnosis: recordings need distinct, non-empty names ('" + r.name + "' repeats or is empty)");
+  }
+  const int R = static_cast<int>(recs.size());
   MultiProblem mp;
   Problem& p = mp.problem;
-  if (a.empty()) throw ConfigError("multi diagnosis: no detection associated to any target");
-  double t0 = a.front().t_s, t1 = t0;
-  for (const auto& x : a) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
-  mp.split_time_s = t0 + split_fraction * (t1 - t0);
-
-  // channels in a fixed order: sensor, target, quantity
-  std::map<std::string, std::vector<std::pair<std::size_t, bool>>> by_channel;  // name -> (assoc index, is_range)
-  std::map<std::string, Channel> channel_of;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const auto& x = a[i];
-    const std::string base = x.sensor + ":" + x.target;
-    by_channel[base + ":bearing"].push_back({i, false});
-    channel_of[base + ":bearing"] = {base + ":bearing", x.sensor, x.target, "rad", sb};
-    if (x.has_range) {
-      by_channel[base + ":range"].push_back({i, true});
-      channel_of[base + ":range"] = {base + ":range", x.sensor, x.target, "m", sr};
-    }
+  std::vector<double> t0(R), t1(R);
+  for (int r = 0; r < R; ++r) {
+    const auto& a = recs[static_cast<std::size_t>(r)].a;
+    if (a.empty()) throw ConfigError("multi diagnosis: no detection associated to any target" + (pooled ? " in recording " + recs[static_cast<std::size_t>(r)].name : std::string()));
+    t0[r] = t1[r] = a.front().t_s;
+    for (const auto& x : a) t0[r] = std::min(t0[r], x.t_s), t1[r] = std::max(t1[r], x.t_s);
+    mp.split_time_s.push_back(t0[r] + o.split_fraction * (t1[r] - t0[r]));
   }
-  mp.bearing_obs.assign(a.size(), -1);
-  mp.range_obs.assign(a.size(), -1);
+  // a range sensor's scan period: the median interval between its successive scans (distinct
+  // stamps) over every recording
+  std::map<std::string, std::vector<double>> gaps;
+  for (const auto& rd : recs) {
+    std::map<std::string, std::set<double>> stamps;
+    for (const auto& x : rd.a)
+      if (x.has_range) stamps[x.sensor].insert(x.t_s);
+    for (const auto& [s, ts] : stamps)
+      for (auto it = std::next(ts.begin()); ts.size() > 1 && it != ts.end(); ++it) gaps[s].push_back(*it - *std::prev(it));
+  }
+  for (auto& [s, g] : gaps) mp.scan_period_s[s] = median(g);
+  for (const auto& [s, T] : o.scan_period_s) {
+    if (!(T > 0) || !std::isfinite(T)) throw ConfigError("multi diagnosis: scan period of " + s + " must be finite and > 0");
+    mp.scan_period_s[s] = T;
+  }
+
+  // channels in a fixed order: recording, sensor, target, quantity
   auto geoms = std::make_shared<std::vector<ObsGeom>>();
-  for (auto& [name, list] : by_channel) {
-    if (list.size() < 10) {  // too few to identify a noise model: reported, not used
-      mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
-      continue;
-    }
-    std::stable_sort(list.begin(), list.end(), [&](const auto& u, const auto& w) { return a[u.first].t_s < a[w.first].t_s; });
-    const int ch = static_cast<int>(p.channels.size());
-    p.channels.push_back(channel_of[name]);
-    for (const auto& [i, is_range] : list) {
+  for (int r = 0; r < R; ++r) {
+    const auto& rd = recs[static_cast<std::size_t>(r)];
+    const auto& a = rd.a;
+    const std::string prefix = pooled ? rd.name + "/" : "";
+    std::map<std::string, std::vector<std::pair<std::size_t, bool>>> by_channel;  // name -> (assoc index, is_range)
+    std::map<std::string, Channel> channel_of;
+    for (std::size_t i = 0; i < a.size(); ++i) {
       const auto& x = a[i];
-      ObsGeom g;
-      g.is_range = is_range;
-      g.sensor = x.sensor;
-      g.target = x.target;
-      g.dh = is_range ? x.drange() : x.dbearing();
-      g.v_rel = x.v_rel;
-      g.v_target = x.v_target;
-      g.u = x.u_course;
-      g.u_perp = Eigen::Vector2d(-x.u_course.y(), x.u_course.x());
-      g.range_pred = x.range_pred();
-      g.t = x.t_s;
-      (is_range ? mp.range_obs : mp.bearing_obs)[i] = static_cast<long>(p.y.size());
-      p.channel.push_back(ch);
-      p.t_s.push_back(x.t_s);
-      p.y.push_back(is_range ? x.range_m - x.range_pred() : wrap_pi(x.bearing_rad - x.bearing_pred()));
-      p.estimation.push_back(x.t_s < mp.split_time_s);
-      geoms->push_back(g);
+      const std::string base = prefix + x.sensor + ":" + x.target;
+      by_channel[base + ":bearing"].push_back({i, false});
+      channel_of[base + ":bearing"] = {base + ":bearing", x.sensor, x.target, "rad", sb};
+      if (x.has_range) {
+        by_channel[base + ":range"].push_back({i, true});
+        channel_of[base + ":range"] = {base + ":range", x.sensor, x.target, "m", sr};
+      }
+    }
+    mp.bearing_obs.emplace_back(a.size(), -1);
+    mp.range_obs.emplace_back(a.size(), -1);
+    for (auto& [name, list] : by_channel) {
+      if (list.size() < 10) {  // too few to identify a noise model: reported, not used
+        mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
+        continue;
+      }
+      std::stable_sort(list.begin(), list.end(), [&](const auto& u, const auto& w) { return a[u.first].t_s < a[w.first].t_s; });
+      const int ch = static_cast<int>(p.channels.size());
+      p.channels.push_back(channel_of[name]);
+      for (const auto& [i, is_range] : list) {
+        const auto& x = a[i];
+        ObsGeom g;
+        g.is_range = is_range;
+        g.rec = r;
+        g.sensor = x.sensor;
+        g.target = x.target;
+        g.dh = is_range ? x.drange() : x.dbearing();
+        g.v_rel = x.v_rel;
+        g.v_target = x.v_target;
+        g.u = x.u_course;
+        g.u_perp = Eigen::Vector2d(-x.u_course.y(), x.u_course.x());
+        g.range_pred = x.range_pred();
+        g.bearing_pred = x.bearing_pred();
+        g.t = x.t_s;
+        (is_range ? mp.range_obs : mp.bearing_obs).back()[i] = static_cast<long>(p.y.size());
+        p.channel.push_back(ch);
+        p.t_s.push_back(x.t_s);
+        p.y.push_back(is_range ? x.range_m - x.range_pred() : wrap_pi(x.bearing_rad - x.bearing_pred()));
+        p.estimation.push_back(x.t_s < mp.split_time_s[static_cast<std::size_t>(r)]);
+        geoms->push_back(g);
+      }
     }
   }
   if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with 10 or more associated detections");
@@ -109,59 +172,113 @@ MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, doub
     p.catalogue.push_back(std::move(c));
     return p.catalogue.size() - 1;
   };
-  std::vector<std::size_t> sensor_clock, target_clock, sensor_bias, pair_offset, target_offset;
+  // A hardware entry (one value in every recording) and, pooled, its per-recording copies
+  // (scope_only: the alternative of its scope question). `in` selects the entry's observations.
+  using In = std::function<bool(const ObsGeom&)>;
+  using Val = std::function<Eigen::RowVectorXd(const ObsGeom&, std::size_t)>;
+  struct Kind {
+    std::vector<std::size_t> hardware, per_recording;
+  };
+  std::map<std::string, Kind> kinds;  // scope-question key -> entries
+  auto hardware = [&](const std::string& kind, Candidate c, int k, const In& in, const Val& val) {
+    c.columns = cols(G, k, in, val);
+    kinds[kind].hardware.push_back(add(c));
+    if (!pooled) return kinds[kind].hardware.back();
+    const std::size_t hw = kinds[kind].hardware.back();
+    for (int r = 0; r < R; ++r) {
+      if (!any(G, [in, r](const ObsGeom& g) { return g.rec == r && in(g); })) continue;  // none of its observations
+      Candidate cr = c;
+      cr.scope.recording = recs[static_cast<std::size_t>(r)].name;
+      cr.scope_only = true;
+      cr.columns = cols(G, k, [in, r](const ObsGeom& g) { return g.rec == r && in(g); }, val);
+      kinds[kind].per_recording.push_back(add(cr));
+    }
+    return hw;
+  };
+  auto rec_name = [&](int r) { return recs[static_cast<std::size_t>(r)].name; };
+
+  std::vector<std::size_t> sensor_clock, target_clock, sensor_bias, pair_offset, target_offset, target_clock_hw;
   std::size_t common_clock = 0, common_bias = 0;
   const std::string rate_sig = "the rate of the sensor's measurement (target and observer motion)";
+  auto rate = [](const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); };
+  auto unit = [](const ObsGeom&, std::size_t) { return one(1.0); };
   for (const auto& s : sensors) {
     auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
-    sensor_clock.push_back(add({"time_offset", {s, ""}, {"s"}, rate_sig, "", {},
-                                cols(G, 1, is_s, [](const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); })}));
-    sensor_bias.push_back(add({"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {},
-                               cols(G, 1, [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; },
-                                    [](const ObsGeom&, std::size_t) { return one(1.0); })}));
-    std::vector<double> grid;
-    for (int k = 0; k < step_grid; ++k) grid.push_back(t0 + (t1 - t0) * (0.1 + 0.8 * k / (step_grid - 1)));
-    add({"bias_step", {s, ""}, {"rad"}, "a jump in this sensor's bearings at one time", "t_s", grid,
-         cols(G, 1, [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; },
-              [grid](const ObsGeom& g, std::size_t v) { return one(g.t >= grid[v] ? 1.0 : 0.0); })});
+    auto is_sb = [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; };
+    sensor_clock.push_back(hardware("sensor clocks (time_offset)", {"time_offset", {s, ""}, {"s"}, rate_sig, "", {}, {}}, 1, is_s, rate));
+    sensor_bias.push_back(hardware("sensor bearing biases (bearing_bias)",
+                                   {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb, unit));
+    for (int r = 0; r < R; ++r) {  // a step belongs to one recording
+      if (!any(G, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; })) continue;
+      std::vector<double> grid;
+      for (int k = 0; k < o.step_grid; ++k) grid.push_back(t0[r] + (t1[r] - t0[r]) * (0.1 + 0.8 * k / (o.step_grid - 1)));
+      add({"bias_step", {s, "", pooled ? rec_name(r) : ""}, {"rad"}, "a jump in this sensor's bearings at one time", "t_s", grid,
+           cols(G, 1, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; },
+                [grid](const ObsGeom& g, std::size_t v) { return one(g.t >= grid[v] ? 1.0 : 0.0); })});
+    }
   }
   for (const auto& s : range_sensors) {
     auto is_sr = [s](const ObsGeom& g) { return g.sensor == s && g.is_range; };
-    add({"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {},
-         cols(G, 1, is_sr, [](const ObsGeom&, std::size_t) { return one(1.0); })});
-    add({"range_gain", {s, ""}, {"1"}, "the range", "", {},
-         cols(G, 1, is_sr, [](const ObsGeom& g, std::size_t) { return one(g.range_pred); })});
+    hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr, unit);
+    hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr,
+             [](const ObsGeom& g, std::size_t) { return one(g.range_pred); });
+    const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
+    if (std::isfinite(T) && T >= o.min_sweep_period_s) {
+      // scan_time_offset: dt = c + f ((beta_end - beta) mod 2 pi) / omega (sweep_delay_s), beta_end scanned
+      std::vector<double> grid;
+      for (int k = 0; k < o.sweep_grid; ++k) grid.push_back(360.0 * k / o.sweep_grid);
+      auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
+      hardware("scan stamps (scan_time_offset)",
+               {"scan_time_offset", {s, ""}, {"c_s", "sweep_frac"},
+                "the rate of the sensor's measurement, and its bearing within the sweep (period " + period_text(T) + " s)",
+                "sweep_end_deg", grid, {}},
+               2, is_s, [grid, T](const ObsGeom& g, std::size_t v) {
+                 const double r = -g.dh * g.v_rel;
+                 Eigen::RowVectorXd row(2);
+                 row << r, r * sweep_delay_s(g.bearing_pred, grid[v] * M_PI / 180, T);
+                 return row;
+               });
+    }
   }
   auto offset_cols = [](const ObsGeom& g, std::size_t) {
     Eigen::RowVectorXd r(2);
     r << g.dh * g.u, g.dh * g.u_perp;
     return r;
   };
+  auto truth_rate = [](const ObsGeom& g, std::size_t) { return one(g.dh * g.v_target); };
   const std::string off_sig = "the line-of-sight component of the target's heading (aspect)";
+  const std::string truth_sig = "the rate due to the target's own motion (the same for every sensor)";
   for (const auto& t : targets) {
     auto is_t = [t](const ObsGeom& g) { return g.target == t; };
-    target_clock.push_back(add({"truth_time_offset", {"", t}, {"s"},
-                                "the rate due to the target's own motion (the same for every sensor)", "", {},
-                                cols(G, 1, is_t, [](const ObsGeom& g, std::size_t) { return one(g.dh * g.v_target); })}));
-    target_offset.push_back(add({"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {},
-                                 cols(G, 2, is_t, offset_cols)}));
+    for (int r = 0; r < R; ++r)  // a reference clock belongs to one recording
+      if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }))
+        target_clock.push_back(add({"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
+                                  cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)}));
+    if (pooled) {  // "the same in seconds in every recording": only a scope-question alternative
+      Candidate c{"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, cols(G, 1, is_t, truth_rate)};
+      c.scope_only = true;
+      target_clock_hw.push_back(add(c));
+    }
+    target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)",
+                                     {"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}}, 2, is_t, offset_cols));
     for (const auto& s : range_sensors)
-      pair_offset.push_back(add({"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {},
-                                 cols(G, 2, [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t; }, offset_cols)}));
+      pair_offset.push_back(hardware("hull offsets per sensor and target (antenna_offset)",
+                                     {"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {}, {}}, 2,
+                                     [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t; }, offset_cols));
   }
   if (sensors.size() > 1) {
-    common_clock = add({"time_offset", {"", ""}, {"s"}, "the rate of every sensor's measurement (one clock)", "", {},
-                        cols(G, 1, [](const ObsGeom&) { return true; },
-                             [](const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); })});
-    common_bias = add({"bearing_bias", {"", ""}, {"rad"}, "a constant on every sensor's bearings (the observer's heading)", "", {},
-                       cols(G, 1, [](const ObsGeom& g) { return !g.is_range; },
-                            [](const ObsGeom&, std::size_t) { return one(1.0); })});
+    common_clock = hardware("the observer's clock (common time_offset)",
+                            {"time_offset", {"", ""}, {"s"}, "the rate of every sensor's measurement (one clock)", "", {}, {}}, 1,
+                            [](const ObsGeom&) { return true; }, rate);
+    common_bias = hardware("the observer's heading (common bearing_bias)",
+                           {"bearing_bias", {"", ""}, {"rad"}, "a constant on every sensor's bearings (the observer's heading)", "", {}, {}},
+                           1, [](const ObsGeom& g) { return !g.is_range; }, unit);
   }
 
   // scope questions
   ScopeQuestion clock{"which clock is off: the sensors', the targets' references', both, or one common clock?", {}};
   clock.alternatives.push_back({"per sensor", sensor_clock});
-  clock.alternatives.push_back({"per target reference", target_clock});
+  clock.alternatives.push_back({pooled ? "per target reference and recording" : "per target reference", target_clock});
   std::vector<std::size_t> both = sensor_clock;
   both.insert(both.end(), target_clock.begin(), target_clock.end());
   clock.alternatives.push_back({"per sensor and per target", both});
@@ -173,6 +290,16 @@ MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, doub
   if (!pair_offset.empty())
     p.scope_questions.push_back({"hull offset: per target (antenna) or per sensor and target (where each sensor sees the hull)?",
                                  {{"per target", target_offset}, {"per sensor and target", pair_offset}}});
+  if (pooled) {
+    for (const auto& [kind, k] : kinds)
+      p.scope_questions.push_back({kind + ": one value in every recording (hardware), or one per recording?",
+                                   {{"one value in every recording", k.hardware}, {"one per recording", k.per_recording}}});
+    p.scope_questions.push_back({"a boat's offset along its track: the same in metres (antenna offset), the same in seconds "
+                                 "(reference clock), or per recording?",
+                                 {{"the same in metres (antenna_offset per boat)", target_offset},
+                                  {"the same in seconds (truth_time_offset per boat)", target_clock_hw},
+                                  {"per recording (truth_time_offset per boat and recording)", target_clock}}});
+  }
 
   // covariates for what stays unexplained
   std::vector<double> range(static_cast<std::size_t>(n)), aspect(static_cast<std::size_t>(n)), speed(static_cast<std::size_t>(n)),
@@ -181,7 +308,7 @@ MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, doub
     const auto& g = (*G)[i];
     range[i] = g.range_pred;
     speed[i] = g.v_target.norm();
-    time[i] = g.t - t0;
+    time[i] = g.t - t0[static_cast<std::size_t>(g.rec)];
     aspect[i] = g.dh * g.u_perp;  // the line-of-sight cross-component of the hull axis
   }
   p.covariates = {{"range", range}, {"target speed", speed}, {"time", time}, {"aspect (hull across the line of sight)", aspect}};

@@ -1,25 +1,59 @@
 // The multi-sensor diagnosis posed to the effect-search engine: channels, residuals, the
-// catalogue with its scopes, covariates and scope questions (multi_diagnose.hpp lists them).
+// catalogue with its scopes, covariates and scope questions (multi_diagnose.hpp lists them),
+// for one recording or several diagnosed together.
 #pragma once
 
 #include "effect_search.hpp"
 #include "multi_association.hpp"
 
+#include <map>
+#include <string>
 #include <vector>
 
 namespace rnav {
 
+/// One recording's associated detections.
+struct RecordingDetections {
+  std::string name;  ///< recording name (e.g. its folder's name); empty when there is one recording
+  std::vector<AssociatedDetection> a;
+};
+
+struct MultiProblemOptions {
+  double sigma_bearing_rad = 0.5 * M_PI / 180;  ///< [rad] nominal bearing noise, > 0
+  double sigma_range_m = 1;                     ///< [m] nominal range noise of range sensors, > 0
+  double split_fraction = 0.6;                  ///< estimation window = first fraction of each recording's span, (0.2, 0.9)
+  int step_grid = 24;                           ///< grid of bias_step (10 % to 90 % of a recording's span), >= 2
+  int sweep_grid = 24;                          ///< grid of scan_time_offset's sweep-end bearing over [0, 360) deg, >= 2
+  /// [s] a range sensor whose median interval between scans is at least this gets a
+  /// scan_time_offset entry (a rotating radar whose scan carries one stamp), > 0. (At 0.5 s the
+  /// Autoferry lidar, 0.504 s between scans, drew a sweep share of -5 in scenario 4 where a
+  /// stamp can give at most 1: a slow drift, not its sweep.)
+  double min_sweep_period_s = 1.0;
+  /// [s] per range sensor: its scan period, in place of the median from the data (e.g. a
+  /// recording scored with the period of the recordings a model was fitted on); each > 0
+  std::map<std::string, double> scan_period_s;
+};
+
 struct MultiProblem {
   Problem problem;
-  std::vector<long> bearing_obs, range_obs;  ///< per associated detection: its observation index (-1: none)
-  double split_time_s = 0;
+  /// per recording, per associated detection: its observation index (-1: none)
+  std::vector<std::vector<long>> bearing_obs, range_obs;
+  std::vector<double> split_time_s;           ///< per recording
+  std::map<std::string, double> scan_period_s;  ///< per range sensor: median interval between its scans [s]
   std::vector<std::string> dropped_channels;  ///< "name (n detections)": fewer than 10, not used
 };
 
-/// @param nominal_sigma_bearing_rad, nominal_sigma_range_m  nominal white noise (> 0)
-/// @param split_fraction  estimation window = first fraction of the data's span
-/// @param step_grid  grid size of the scanned bias_step
-MultiProblem build_multi_problem(const std::vector<AssociatedDetection>& a, double nominal_sigma_bearing_rad,
-                                 double nominal_sigma_range_m, double split_fraction, int step_grid);
+/// Channels per recording (a channel's noise is that recording's); hardware entries (one value
+/// in every recording) and per-recording entries as multi_diagnose.hpp lists; with more than
+/// one recording, each hardware kind also gets a scope question against its per-recording
+/// values (scope_only entries). Recording names must be distinct.
+MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o);
+
+/// Shift of a measurement h of a scanning sensor whose scan is stamped at the end of its sweep:
+/// the stamp is late by ((beta_end - beta) mod 2 pi) / omega, omega = 2 pi / period, so
+///   dh = -(dh/dd v_rel) [c + f T ((beta_end - beta) mod 2 pi) / (2 pi)],
+/// c [s] a constant delay, f [1] the sweep's share (1: one stamp per scan at its end, clockwise;
+/// -1: counter-clockwise, with c absorbing T). Returns the sweep delay for f = 1 [s], in [0, T).
+double sweep_delay_s(double beta_rad, double beta_end_rad, double period_s);
 
 }  // namespace rnav

@@ -51,7 +51,9 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
   const auto [e, v] = chosen[s];
   const double lr_self = P.lr(d.Cw[e][v]);
   for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
-    if (f == e || std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; })) continue;
+    if (f == e || p.catalogue[f].scope_only ||
+        std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; }))
+      continue;
     const auto [lr_f, vf] = best_variant(d, P, f);
     const double corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][vf]);
     const double k = static_cast<double>(p.catalogue[f].params.size());
@@ -165,7 +167,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
     };
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
       const Candidate& c = p.catalogue[e];
-      if (c.scanned()) continue;
+      if (c.scanned() || c.scope_only) continue;
       const std::string key = c.name + "@" + c.scope.label();
       for (std::size_t j = 0; j < c.params.size(); ++j) {
         const double se = se_of({{e, 0}}, j);
@@ -174,7 +176,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
         const double inf = std::numeric_limits<double>::infinity();
         SeparationLimit worst{z * se, "", 0.0, 2 * z_power * se};
         for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
-          if (f == e || p.catalogue[f].scanned()) continue;
+          if (f == e || p.catalogue[f].scanned() || p.catalogue[f].scope_only) continue;
           const double se_f = se_of({{e, 0}, {f, 0}}, j);
           const Candidate& other = p.catalogue[f];
           std::string label = other.name + " (" + other.scope.label();

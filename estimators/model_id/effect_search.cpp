@@ -20,10 +20,11 @@ using search_detail::EntryTests;
 using search_detail::identify_all;
 
 std::string Scope::label() const {
-  if (sensor.empty() && target.empty()) return "common";
-  if (target.empty()) return "sensor " + sensor;
-  if (sensor.empty()) return "target " + target;
-  return sensor + ":" + target;
+  const std::string in = recording.empty() ? "" : " in " + recording;
+  if (sensor.empty() && target.empty()) return (recording.empty() ? "common" : "recording " + recording);
+  if (target.empty()) return "sensor " + sensor + in;
+  if (sensor.empty()) return "target " + target + in;
+  return sensor + ":" + target + in;
 }
 
 namespace {
@@ -83,7 +84,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     };
     std::vector<Candidate> ranked;
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
-      if (taken[e]) continue;
+      if (taken[e] || p.catalogue[e].scope_only) continue;
       double lr_v = 0;
       std::size_t v_best = 0;
       for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
@@ -160,7 +161,9 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
   SearchResult res;
   const double n_ch = static_cast<double>(pb.channels.size());
   // The family: every catalogue entry, and three noise tests (scale, correlation, outliers) per channel.
-  res.family_size = static_cast<double>(pb.catalogue.size()) + 3 * n_ch;
+  const auto selectable = static_cast<std::size_t>(
+      std::count_if(pb.catalogue.begin(), pb.catalogue.end(), [](const Candidate& c) { return !c.scope_only; }));
+  res.family_size = static_cast<double>(selectable) + 3 * n_ch;
   if (o.family_size != 0) {
     if (!(o.family_size >= res.family_size) || !std::isfinite(o.family_size))
       throw std::invalid_argument("effect search: family_size " + short_num(o.family_size) +
@@ -168,7 +171,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
     res.family_size = o.family_size;
   }
   res.familywise = "alpha = " + short_num(o.alpha) + " familywise: Bonferroni over " + short_num(res.family_size) +
-                   " tests (" + std::to_string(pb.catalogue.size()) + " catalogue entries, each scanned entry split over "
+                   " tests (" + std::to_string(selectable) + " catalogue entries, each scanned entry split over "
                    "its grid; 3 noise tests per channel x " + std::to_string(pb.channels.size()) + " channels)" +
                    (o.noise_set_q > 0 ? "; an effect is kept only if it passes under every noise model within 2 log LR " +
                                             short_num(o.noise_set_q) + " of the best (noise_set_q)"

@@ -46,7 +46,10 @@ namespace rnav {
 /// Where an effect acts: a sensor, a target's reference, both, or everything (empty = null).
 struct Scope {
   std::string sensor, target;
-  std::string label() const;  ///< "sensor radar", "target 1", "radar:1", "common"
+  /// The one recording the entry belongs to, when several are diagnosed together; empty: every
+  /// recording (hardware: one value wherever the sensor or target appears).
+  std::string recording;
+  std::string label() const;  ///< "sensor radar", "target 1", "radar:1", "common"; " in REC" for one recording
 };
 
 struct Channel {
@@ -76,6 +79,9 @@ struct Candidate {
   std::vector<double> scan;         ///< the scan grid (empty: not scanned)
   /// Columns of grid point v (0 when not scanned): n_obs x params.size(), zero outside its scope.
   std::function<Eigen::MatrixXd(std::size_t v)> columns;
+  /// Only an alternative of a scope question (e.g. a hardware effect's per-recording values):
+  /// never selected, tested or given a limit on its own, and not in the familywise count.
+  bool scope_only = false;
   bool scanned() const { return !scan.empty(); }
   std::size_t variants() const { return scan.empty() ? 1 : scan.size(); }
 };

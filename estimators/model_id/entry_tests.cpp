@@ -91,8 +91,12 @@ double gram_lr(const Eigen::MatrixXd& G, Eigen::Index k, Eigen::Index kc, double
 std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no) {
   const Eigen::MatrixXd X = raw_model_matrix(d, chosen);
   std::vector<NoiseFit> out;
-  for (std::size_t c = 0; c < d.rows.size(); ++c)
-    out.push_back(identify_noise(d.times[c], d.gains[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
+  for (std::size_t c = 0; c < d.rows.size(); ++c) try {
+      out.push_back(identify_noise(d.times[c], d.gains[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("channel " + d.pb->channels[c].name + " (" + std::to_string(d.rows[c].size()) + " frames, " +
+                                  std::to_string(channel_columns(d, X, c).cols()) + " fixed-effect columns): " + e.what());
+    }
   return out;
 }
 
@@ -124,8 +128,12 @@ EntryTests::EntryTests(const Design& d, const Chosen& chosen, const std::vector<
 double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
   NoiseIdOptions pm = no_;
   pm.profile_ml = true;
-  return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
-      .loglik_ml;
+  try {
+    return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
+        .loglik_ml;
+  } catch (const DegenerateSeries&) {
+    return std::nan("");  // the columns span the channel
+  }
 }
 
 double EntryTests::profile_lr(std::size_t e, std::size_t v) {
@@ -134,8 +142,10 @@ double EntryTests::profile_lr(std::size_t e, std::size_t v) {
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel
+    const double l1 = profile_ml(c, with(c, Cc));
+    if (std::isnan(l1)) continue;  // the entry's and the chosen columns span the channel: no evidence here
     if (std::isnan(base_[c])) base_[c] = profile_ml(c, X0c_[c]);
-    lr += 2 * (profile_ml(c, with(c, Cc)) - base_[c]);
+    lr += 2 * (l1 - base_[c]);
   }
   return lr;
 }
@@ -148,13 +158,15 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel
     const Eigen::MatrixXd X1 = with(c, Cc);
+    const double l1 = profile_ml(c, X1);
+    if (std::isnan(l1)) continue;  // the entry's and the chosen columns span the channel: no evidence here
     // the null's noise among the models the data allow with the entry in: a slow correlation
     // that exists only to absorb the step is not among them
     double l0 = -INFINITY;
     for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
                                                      channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
       l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
-    lr += 2 * (profile_ml(c, X1) - l0);
+    lr += 2 * (l1 - l0);
   }
   return lr;
 }
@@ -165,11 +177,17 @@ double EntryTests::fixed(std::size_t e) const {
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
-    NoiseParams q = identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
-                                   &fits_[c].outlier)
-                        .params;
-    q.p_out = 0, q.s_out2 = 0;
-    np[c] = q;
+    try {
+      NoiseParams q = identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
+                                     &fits_[c].outlier)
+                          .params;
+      q.p_out = 0, q.s_out2 = 0;
+      np[c] = q;
+    } catch (const DegenerateSeries&) {
+      // the entry's and the chosen columns span this (short) channel: it says nothing of the
+      // entry, and its null noise stays (e.g. a 10-frame channel with a hull offset, a clock
+      // and its outlier flags)
+    }
   }
   const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(d_.pb->y.data(), static_cast<Eigen::Index>(d_.pb->size()));
   return Projector(d_.whiten_with(raw_, np), d_.whiten_with(y, np), d_.n_used).lr(d_.whiten_with(C, np));
@@ -200,8 +218,12 @@ double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) cons
     cols[c] = touching(d_, A, c);
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
-    sets[c] = noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
-                                   fits_[c].outlier, q);
+    try {
+      sets[c] = noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
+                                     fits_[c].outlier, q);
+    } catch (const DegenerateSeries&) {
+      // spanned by the columns: its null noise stays (empty set)
+    }
   }
   // channel c's share of the Gram matrix of the whitened [X | C | y] under noise p
   auto gram = [&](std::size_t c, const NoiseParams& p) {

@@ -309,6 +309,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   }
   for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
     const Candidate& c = pb.catalogue[e];
+    if (c.scope_only) continue;
     for (std::size_t j = 0; j < c.params.size(); ++j) {
       if (!injection_selects(io.entries, c, c.params[j])) continue;
       const double fisher = fisher_limit(d, o, res.family_size, e, c.variants() / 2, j);

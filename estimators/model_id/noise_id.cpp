@@ -160,7 +160,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
   };
   for (int round = 0; round < 5; ++round) {
     const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
-    if (!std::isfinite(white.ll)) throw std::invalid_argument("identify_noise: degenerate residuals (no spread)");
+    if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
     // grid
     double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
     for (int i = 0; i < n_tau; ++i) {
@@ -303,7 +303,7 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
   add(0.0, 1.0);
   for (int i = 0; i < n_tau; ++i)
     for (double lam : grid_lambdas) add(lam, std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1)));
-  if (all.empty()) throw std::invalid_argument("noise_confidence_set: degenerate residuals (no spread)");
+  if (all.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
   double best = -INFINITY;
   for (const auto& a : all) best = std::max(best, a.first);
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first > b.first; });

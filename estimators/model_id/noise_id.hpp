@@ -14,6 +14,8 @@
 // refitted without them (they do not update the state), until the flags settle.
 #pragma once
 
+#include <stdexcept>
+
 #include "noise_model.hpp"
 
 #include <Eigen/Dense>
@@ -62,9 +64,16 @@ struct NoiseFit {
   double loglik_ml = 0;           ///< ML log-likelihood (scale profiled) under the chosen model, frames used
 };
 
+/// The fixed effects leave no spread in the residuals (as many independent columns as frames
+/// kept): no noise can be identified on this series with these columns.
+struct DegenerateSeries : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
 /// t: frame times [s] (non-decreasing); h: the nominal component's gain per frame (empty: 1);
 /// e: residuals; X: fixed-effect columns (n x k, may be empty: a quadratic trend is always
-/// added). fixed_skip: frames kept out, given (no flagging).
+/// added). fixed_skip: frames kept out, given (no flagging). Throws DegenerateSeries when the
+/// columns leave no spread.
 NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                         const Eigen::MatrixXd& X,
                         const NoiseIdOptions& o, const std::vector<char>* fixed_skip = nullptr);

@@ -12,6 +12,7 @@ nlohmann::ordered_json scope_json(const Scope& s) {
   nlohmann::ordered_json j;
   j["sensor"] = s.sensor.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.sensor);
   j["target"] = s.target.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.target);
+  if (!s.recording.empty()) j["recording"] = s.recording;
   return j;
 }
 

@@ -64,19 +64,17 @@ int main(int argc, char** argv) {
       return [opt, &a, &b](const std::string& v) { a = b = rnav::cli::number(opt, v, -kBig, kBig); };
     };
     rnav::cli::Parser p(
-        "rnav_diagnose", "prl|uav|multi INPUT [options]",
+        "rnav_diagnose", "prl|uav|multi INPUT [INPUT...] [options]",
         "Shows what the nominal (paper's) model gets wrong in measured data: fits it to the residuals, names "
         "the effects of the catalogue the data support (estimate +- standard error, evidence), says which "
         "ones the geometry cannot tell apart, and measures the extended model's gain out of sample. Prints "
         "the report; --json writes it as JSON. scripts/diagnose adds plots.");
-    p.positionals("KIND INPUT",
+    p.positionals("KIND INPUT [INPUT...]",
                   "KIND: prl (landing radar), uav (azimuth-only) or multi (multi-sensor, multi-target). INPUT: a CSV "
                   "folder (README, 'Measured data'), or for prl and uav an LCM event log of a simulation run "
-                  "(scripts/run --lcm-log FILE)",
-                  [&](const std::string& v) {
-                    if (pos.size() == 2) throw rnav::ConfigError("unexpected argument '" + v + "' (KIND and INPUT already given)");
-                    pos.push_back(v);
-                  });
+                  "(scripts/run --lcm-log FILE); multi takes several folders, diagnosed together (each named by "
+                  "its folder's name: hardware effects one value in all, validated by leaving each out)",
+                  [&](const std::string& v) { pos.push_back(v); });
     p.value("--json", "FILE", "write the report as JSON to FILE", "none", json)
         .value("--residuals", "FILE", "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE",
                "none", residuals)
@@ -139,6 +137,8 @@ int main(int argc, char** argv) {
                num("--sigma-range-m", mo.sigma_range_m))
         .value("--split-fraction", "F", "uav, multi: fit on the first fraction F of the span, score the rest, (0.2, 0.9)",
                "0.6", num_two("--split-fraction", uo.split_fraction, mo.split_fraction))
+        .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
+              [&] { mo.leave_one_out = false; })
         .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",
               uo.ignore_truth)
         .value("--seed", "N", "uav: seed of that track fit's initialisation, >= 0", "1",
@@ -168,14 +168,26 @@ int main(int argc, char** argv) {
     if (kind != "prl" && kind != "uav" && kind != "multi")
       throw rnav::ConfigError("KIND must be prl, uav or multi, got '" + kind + "'" +
                               rnav::did_you_mean(kind, {"prl", "uav", "multi"}));
+    if (pos.size() > 2 && kind != "multi")
+      throw rnav::ConfigError("unexpected argument '" + pos[2] + "' (KIND " + kind + " takes one INPUT; only multi takes several)");
     auto write_json = [&](const nlohmann::ordered_json& j) {
       if (json.empty()) return;
       rnav::write_file_atomic(json, j.dump(2) + "\n");
     };
     if (kind == "multi") {
-      if (log_options || !std::filesystem::is_directory(input))
-        throw rnav::ConfigError("KIND multi: INPUT must be a multi-sensor CSV folder ('" + input + "' is not a folder, or LCM-log options were given)");
-      const auto rep = rnav::diagnose_multi(rnav::MultiSensorData::read_folder(input), mo);
+      std::vector<std::pair<std::string, rnav::MultiSensorData>> recs;
+      for (std::size_t k = 1; k < pos.size(); ++k) {
+        const std::string& in = pos[k];
+        if (log_options || !std::filesystem::is_directory(in))
+          throw rnav::ConfigError("KIND multi: INPUT must be a multi-sensor CSV folder ('" + in + "' is not a folder, or LCM-log options were given)");
+        std::filesystem::path dir = std::filesystem::absolute(in).lexically_normal();
+        if (dir.filename().empty()) dir = dir.parent_path();  // "out/af4/"
+        const std::string name = dir.filename().string();
+        for (const auto& r : recs)
+          if (r.first == name) throw rnav::ConfigError("KIND multi: two INPUT folders are both named '" + name + "' (recordings are named by their folder)");
+        recs.push_back({name, rnav::MultiSensorData::read_folder(in)});
+      }
+      const auto rep = rnav::diagnose_multi_pooled(recs, mo);
       std::cout << rep.text();
       if (!residuals.empty()) rep.write_residuals_csv(residuals);
       write_json(rep.to_json());

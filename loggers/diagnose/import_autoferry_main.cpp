@@ -46,7 +46,7 @@ void report(const rnav::MultiSensorData& d) {
 
 int main(int argc, char** argv) {
   return rnav::cli::guarded_main("rnav_import_autoferry", [&]() -> int {
-    std::string dir, sensor, out, target;
+    std::string dir, sensor, out, target, boat_names;
     bool force = false;
     rnav::cli::Parser p("rnav_import_autoferry",
                         "SCENARIO_DIR --out DIR [--force]\n"
@@ -66,7 +66,11 @@ int main(int argc, char** argv) {
             "required", out)
         .flag("--force", "write into --out DIR whatever it holds", force)
         .value("--sensor", "eo|ir", "azimuth-only format: the camera whose bearings are written", "eo (with --target)", sensor)
-        .value("--target", "1|2", "azimuth-only format: the boat whose truth is written", "1 (with --sensor)", target);
+        .value("--target", "1|2", "azimuth-only format: the boat whose truth is written", "1 (with --sensor)", target)
+        .value("--boat-names", "NAME1,NAME2",
+               "multi-sensor format: the names of targets 1 and 2 (e.g. havfruen,gunnerus), so that recordings "
+               "diagnosed together share a boat by name; [A-Za-z0-9_]+, distinct",
+               "1,2", boat_names);
     if (!p.parse(argc, argv, std::cout)) return 0;
     if (dir.empty()) throw rnav::ConfigError("SCENARIO_DIR is required (see rnav_import_autoferry --help)");
     if (out.empty()) throw rnav::ConfigError("--out DIR is required");
@@ -75,8 +79,19 @@ int main(int argc, char** argv) {
     const int tgt = target.empty() ? 1 : static_cast<int>(rnav::parse_integer("--target", target, 1, 2));
     rnav::prepare_output_dir(out, force);
     const rnav::AutoferryRecords records = rnav::load_autoferry(dir);
+    if (!boat_names.empty() && !(sensor.empty() && target.empty()))
+      throw rnav::ConfigError("--boat-names applies to the multi-sensor format (without --sensor and --target)");
     if (sensor.empty() && target.empty()) {
-      const rnav::MultiSensorData d = rnav::autoferry_to_multi(records);
+      rnav::MultiSensorData d = rnav::autoferry_to_multi(records);
+      if (!boat_names.empty()) {
+        const auto comma = boat_names.find(',');
+        const std::string n1 = boat_names.substr(0, comma), n2 = comma == std::string::npos ? "" : boat_names.substr(comma + 1);
+        if (!rnav::valid_target_name(n1) || !rnav::valid_target_name(n2) || n1 == n2)
+          throw rnav::ConfigError("--boat-names must be two distinct names [A-Za-z0-9_]+ separated by a comma, got '" + boat_names + "'");
+        std::map<std::string, std::vector<rnav::GeoSample>> named;
+        for (auto& [id, track] : d.truth) named[id == "1" ? n1 : id == "2" ? n2 : id] = std::move(track);
+        d.truth = std::move(named);
+      }
       d.write_folder(out);
       rnav::MultiSensorData::read_folder(out);  // what was written must read back
       report(d);
