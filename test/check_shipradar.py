@@ -9,7 +9,12 @@ detections) so the test stays short; the full hour is scripts/flightgen.py's def
    ship's first AIS report; before, the heights became NaN and nothing was associated), an AIS reference is refused by the default 2 s gap and
    taken with --reference-max-gap 12, and no mean effect is named;
 2. a radar bearing bias of 0.3 deg (5 km: 26 m, inside the 300 m gate) is named, on the radar,
-   within 3 standard errors.
+   within 3 standard errors;
+3. a radar that stamps every detection of a scan with the sweep's end (stamp=scan, the
+   generator's own code: latency ((beta0 - beta) mod 360) / omega, beta0 = 0) is named
+   scan_time_offset on the radar, its sweep share within 3 SE of 1 and its constant within 3 SE
+   of 0, the sweep's end within 15 deg (one grid step) plus 3 SE of beta0; no constant radar
+   clock in its place.
 
   python3 test/check_shipradar.py SOURCE_DIR BUILD_DIR
 """
@@ -73,5 +78,23 @@ with tempfile.TemporaryDirectory(prefix="check_shipradar.") as tmp:
                  abs(e["estimate"] - math.radians(0.3)) < 3 * e["stderr"] for e in found)
         check(ok, "a 0.3 deg radar bearing bias named within 3 SE: %s" %
               ["%s %.5f +- %.5f" % (e["scope"], e["estimate"], e["stderr"]) for e in found])
+
+    stamped = os.path.join(tmp, "stamped")
+    gen(stamped, 11, "stamp=scan")
+    p = diagnose(stamped, os.path.join(tmp, "stamped.json"), "--reference-max-gap", "12")
+    check(p.returncode == 0, "scan-stamped diagnosis runs: %s" % p.stderr.strip()[-200:])
+    if p.returncode == 0:
+        rep = json.load(open(os.path.join(tmp, "stamped.json")))
+        found = [e for e in mean_effects(rep) if e["name"] == "scan_time_offset" and e["scope"]["sensor"] == "radar"]
+        check(len(found) == 1, "scan_time_offset named on the radar: %s" % [e["name"] for e in mean_effects(rep)])
+        if found:
+            e = found[0]
+            (c, f), (se_c, se_f) = e["estimate"], e["stderr"]
+            end = e["scanned"]["value"]
+            off = abs((end + 180) % 360 - 180)
+            check(abs(f - 1) < 3 * se_f and abs(c) < 3 * se_c and off < 15 + 3 * e["scanned"]["stderr"],
+                  "sweep share %.3f +- %.3f (1), constant %.3f +- %.3f s (0), sweep end %.0f deg (0)" % (f, se_f, c, se_c, end))
+        clocks = [e for e in mean_effects(rep) if e["name"] == "time_offset" and e["scope"]["sensor"] == "radar"]
+        check(not clocks, "no constant radar clock in its place")
 
 sys.exit(checks.finish())
