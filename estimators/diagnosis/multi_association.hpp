@@ -12,6 +12,24 @@
 // sensors: bearing difference). A scan where two targets' predictions are within one gate of
 // each other is ambiguous for both and left out; a detection claimed by two targets goes to the
 // nearer. Clutter (detections of nothing) and missed detections are normal.
+//
+// Gates recentred on each sensor's common bias (AssociationOptions::recentre_gates): a sensor
+// whose bearings (or ranges) are off by more than its gate (a 5 deg bearing bias is 26 m at
+// 300 m, beyond the 20 m position gate) would associate nearly nothing, and the diagnosis could
+// not see the bias. So a first pass with wide gates takes only unambiguous pairs (exactly one
+// detection inside a target's wide gate, that detection inside no other target's wide gate, and
+// no other target's prediction within the wide gate), and per sensor
+//   bearing shift  db = median(wrap(b_meas - b_pred))   [rad]
+//   range shift    dr = median(r_meas - |d|)            [m] (range sensors)
+// with their robust standard errors se = sqrt(pi/2) 1.4826 MAD / sqrt(n) (the median's SE for
+// Gaussian residuals). A shift is applied only with n >= recentre_min_pairs, |shift| > 3 se and
+// |shift| beyond the final gate itself (a range sensor's bearing shift as metres at the pairs'
+// median range): only a bias the gate would lose. The final pass is the one above,
+// each prediction's bearing and range moved by its sensor's shifts for gating only: the
+// associated measurements and geometry stay the raw ones, so the diagnosis estimates the bias
+// itself from the raw residuals. Without an applied shift the final pass is exactly the one-pass
+// association. A sensor's clock offset moves each target along its own velocity: a common shift
+// takes up only its mean over the pairs.
 #pragma once
 
 #include "multi_sensor_data.hpp"
@@ -33,6 +51,19 @@ struct AssociationOptions {
   /// apart; a detection inside a longer gap is not associated, > 0. 2 s suits a GNSS reference
   /// at 1 Hz or faster; an AIS reference (a report every 2-10 s, 3 min at anchor) needs 10 s or more.
   double reference_max_gap_s = 2;
+  /// Recentre each sensor's gates on its common bearing and range bias, estimated from a first
+  /// pass with the wide gates below (see the file comment); false: the one-pass association.
+  bool recentre_gates = true;
+  /// [deg] first-pass gate of bearing-only sensors, (0, 90]; one below gate_bearing_deg is taken
+  /// as gate_bearing_deg. 20 deg holds a bias of up to about 19 deg at 0.5 deg noise.
+  double wide_gate_bearing_deg = 20;
+  /// [m] first-pass gate of range sensors (distance between detection and prediction), > 0; one
+  /// below gate_position_m is taken as gate_position_m. 200 m holds a 20 deg bearing bias at
+  /// 500 m (174 m), or a range bias of up to about 190 m at a few metres of noise.
+  double wide_gate_position_m = 200;
+  /// Unambiguous first-pass pairs a sensor needs before its shifts are estimated, >= 3 (10 by
+  /// default: a median that one or two clutter pairs cannot carry).
+  int recentre_min_pairs = 10;
 };
 
 /// One detection associated to a target, with its reference geometry.
@@ -56,6 +87,11 @@ struct AssociatedDetection {
 struct SensorAssociation {
   int scans = 0, detections = 0, ambiguous_scans = 0;
   std::map<std::string, int> associated, missed;  ///< per target
+  /// Gate recentring (AssociationOptions::recentre_gates): the shifts the final pass's predictions
+  /// were moved by for gating, 0 where not applied (too few pairs, not significant, or off).
+  double gate_shift_bearing_rad = 0;  ///< [rad] added to every predicted bearing, clockwise
+  double gate_shift_range_m = 0;      ///< [m] added to every predicted range (range sensors)
+  int wide_pairs = 0;                 ///< unambiguous first-pass pairs the shifts were estimated from
 };
 
 /// Associate every scan; stats per sensor. Throws ConfigError without truth.

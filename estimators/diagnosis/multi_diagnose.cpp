@@ -83,9 +83,11 @@ std::vector<LeaveOneOutRow> score_left_out(const RecordingDetections& rec, const
     });
     if (it == p.catalogue.end()) continue;  // the recording has none of its observations
     const Eigen::MatrixXd C = it->columns(e.variant);
-    pred += C * Eigen::Map<const Eigen::VectorXd>(e.estimate.data(), static_cast<Eigen::Index>(e.estimate.size()));
+    // carried at the mean over the recordings it was fitted on (random effects) where it has one
+    const std::vector<double>& value = e.replication.tested ? e.replication.mean : e.estimate;
+    pred += C * Eigen::Map<const Eigen::VectorXd>(value.data(), static_cast<Eigen::Index>(value.size()));
     std::string what = e.name + "@" + c.scope.label() + " (";
-    for (std::size_t j = 0; j < e.params.size(); ++j) what += (j ? " " : "") + e.params[j] + "=" + short_num(e.estimate[j]);
+    for (std::size_t j = 0; j < e.params.size(); ++j) what += (j ? " " : "") + e.params[j] + "=" + short_num(value[j]);
     if (!e.scan_param.empty()) what += " " + e.scan_param + "=" + short_num(e.scan_value);
     carried.push_back(what + ")");
   }
@@ -246,7 +248,8 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["association"] = nlohmann::ordered_json::object();
   for (const auto& [s, st] : association)
     j["association"][s] = {{"scans", st.scans}, {"detections", st.detections}, {"ambiguous_scans", st.ambiguous_scans},
-                           {"associated", st.associated}, {"missed", st.missed}};
+                           {"associated", st.associated}, {"missed", st.missed}, {"wide_pairs", st.wide_pairs},
+                           {"gate_shift_bearing_rad", st.gate_shift_bearing_rad}, {"gate_shift_range_m", st.gate_shift_range_m}};
   j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
   j["effects"] = core["effects"];
@@ -289,7 +292,11 @@ std::string MultiReport::text() const {
   for (const auto& [s, st] : association) {
     o << "  sensor " << s << ": " << st.scans << " scans, " << st.detections << " detections, associated";
     for (const auto& [t, n] : st.associated) o << " " << t << ":" << n;
-    o << " (ambiguous scans " << st.ambiguous_scans << ")\n";
+    o << " (ambiguous scans " << st.ambiguous_scans << ")";
+    if (st.gate_shift_bearing_rad != 0 || st.gate_shift_range_m != 0)
+      o << ", gates recentred by " << short_num(st.gate_shift_bearing_rad / kDegToRad) << " deg, " << short_num(st.gate_shift_range_m)
+        << " m (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
+    o << "\n";
   }
   for (const auto& d : dropped_channels) o << "  not diagnosed (fewer than 10 associated detections): " << d << "\n";
   o << search_text(problem, result);

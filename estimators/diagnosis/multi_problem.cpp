@@ -192,6 +192,7 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
       cr.scope_only = true;
       cr.columns = cols(G, k, [in, r](const ObsGeom& g) { return g.rec == r && in(g); }, val);
       kinds[kind].per_recording.push_back(add(cr));
+      p.catalogue[hw].replicates.push_back(kinds[kind].per_recording.back());
     }
     return hw;
   };
@@ -254,11 +255,9 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
       if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }))
         target_clock.push_back(add({"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
                                   cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)}));
-    if (pooled) {  // "the same in seconds in every recording": only a scope-question alternative
-      Candidate c{"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, cols(G, 1, is_t, truth_rate)};
-      c.scope_only = true;
-      target_clock_hw.push_back(add(c));
-    }
+    if (pooled)  // "the same in seconds in every recording": the boat's reference logger
+      target_clock_hw.push_back(hardware("reference clocks (truth_time_offset per boat)",
+                                         {"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, {}}, 1, is_t, truth_rate));
     target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)",
                                      {"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}}, 2, is_t, offset_cols));
     for (const auto& s : range_sensors)

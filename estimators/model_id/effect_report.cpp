@@ -1,4 +1,5 @@
 #include "effect_report.hpp"
+#include "replication.hpp"
 
 #include "stats.hpp"
 
@@ -147,6 +148,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
       fe.note = "scanned over " + std::to_string(c.scan.size()) + " values of " + c.scan_param +
                 " (look-elsewhere: its share of alpha is split over them)";
     }
+    fe.replication = replication(d, chosen, s);
     confounding(d, o, chosen, m, fe, s);
     res.effects.push_back(fe);
   }

@@ -82,6 +82,10 @@ struct Candidate {
   /// Only an alternative of a scope question (e.g. a hardware effect's per-recording values):
   /// never selected, tested or given a limit on its own, and not in the familywise count.
   bool scope_only = false;
+  /// An entry that claims one value in several replicates (hardware in several recordings): its
+  /// scope_only copies, one per replicate, same grid. It enters only when the replicates agree
+  /// (replication.hpp); empty: no such claim.
+  std::vector<std::size_t> replicates;
   bool scanned() const { return !scan.empty(); }
   std::size_t variants() const { return scan.empty() ? 1 : scan.size(); }
 };
@@ -190,6 +194,16 @@ struct SearchOptions {
   InjectionOptions injection;
 };
 
+/// The replication check of an entry with replicates (replication.hpp).
+struct Replication {
+  bool tested = false;                   ///< two or more replicates carried data
+  std::vector<std::string> recordings;   ///< each replicate's Scope::recording
+  std::vector<std::vector<double>> estimate, stderr_;  ///< per replicate, per parameter (GLS, with the rest of the model)
+  std::vector<double> mean, mean_se;     ///< per parameter: random-effects mean and its Hartung-Knapp SE
+  std::vector<double> between_sd;        ///< per parameter: DerSimonian-Laird between-replicate sd
+  double log10_p = 0;                    ///< two-sided t(R - 1) p of the mean, Bonferroni over the parameters
+};
+
 struct FoundEffect {
   std::string name;
   Scope scope;
@@ -215,6 +229,7 @@ struct FoundEffect {
   std::vector<Confound> confounded_with;
   std::string note;
   std::size_t entry = 0, variant = 0;  ///< catalogue entry and grid point
+  Replication replication;             ///< entries with replicates: do they agree?
 };
 
 struct ChannelNoise {

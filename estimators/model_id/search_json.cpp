@@ -42,6 +42,11 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
     x["stderr"] = one_or_list(e.stderr_);
     if (!e.scan_param.empty()) x["scanned"] = {{"param", e.scan_param}, {"value", e.scan_value}, {"stderr", e.scan_se}};
     x["evidence"] = evidence_json(e);
+    if (e.replication.tested) {
+      const Replication& r = e.replication;
+      x["replication"] = {{"recordings", r.recordings}, {"estimate", r.estimate}, {"stderr", r.stderr_}, {"mean", r.mean},
+                          {"mean_se", r.mean_se}, {"between_sd", r.between_sd}, {"log10_p", r.log10_p}};
+    }
     x["confounded_with"] = nlohmann::ordered_json::array();
     for (const auto& c : e.confounded_with)
       x["confounded_with"].push_back({{"name", c.name}, {"scope", scope_json(c.scope)}, {"params", c.params}, {"canonical_corr", c.corr},
@@ -207,6 +212,16 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
       << ", log10 p " << short_num(e.kept_log10_p) << ")";
     for (const auto& c : e.confounded_with) o << "  confounded with " << c.name << " [" << c.scope.label() << "]";
     o << "\n";
+    if (e.replication.tested) {
+      const Replication& rp = e.replication;
+      o << "           replicated in " << rp.recordings.size() << " recordings:";
+      for (std::size_t i = 0; i < rp.mean.size(); ++i) {
+        const ShownUnit u = shown_unit(e.params[i]);
+        o << " " << u.name << " mean " << short_num(u.factor * rp.mean[i]) << " +- " << short_num(u.factor * rp.mean_se[i])
+          << " (between recordings sd " << short_num(u.factor * rp.between_sd[i]) << ")";
+      }
+      o << ", log10 p " << short_num(rp.log10_p) << "\n";
+    }
   }
   for (std::size_t c = 0; c < r.noise.size(); ++c) {
     const auto& n = r.noise[c];

@@ -1,0 +1,79 @@
+#include "replication.hpp"
+
+#include "stats.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace rnav::search_detail {
+
+double t_two_sided(double t, double nu) {
+  // P(|T| > t) = I_{nu / (nu + t^2)}(nu / 2, 1 / 2)
+  if (!(nu > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return beta_inc(nu / 2, 0.5, nu / (nu + t * t));
+}
+
+Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
+  const Problem& p = *d.pb;
+  const auto [e, v] = chosen[s];
+  const Candidate& c = p.catalogue[e];
+  Replication out;
+  if (c.replicates.empty()) return out;
+  const auto k = static_cast<Eigen::Index>(c.params.size());
+  // the replicates with data: a whitened column set that is not zero
+  std::vector<std::size_t> reps;
+  for (std::size_t r : c.replicates)
+    if (d.Cw[r][c.scanned() ? v : 0].norm() > 0) reps.push_back(r);
+  if (reps.size() < 2) return out;
+  Chosen model;
+  for (std::size_t i = 0; i < chosen.size(); ++i)
+    if (i != s) model.push_back(chosen[i]);
+  const Eigen::Index base = model_matrix(d, model).cols();
+  for (std::size_t r : reps) model.push_back({r, c.scanned() ? v : 0});
+  const Eigen::MatrixXd M = model_matrix(d, model);
+  const Ols f = ols(M, d.yw, d.used);
+  if (!f.ok) return out;  // a replicate inside the rest of the model: no per-replicate values
+  const double scale = f.rss / std::max(1.0, f.n - static_cast<double>(M.cols()));
+  const auto R = static_cast<Eigen::Index>(reps.size());
+  Eigen::MatrixXd b(R, k), se(R, k);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    out.recordings.push_back(p.catalogue[reps[static_cast<std::size_t>(r)]].scope.recording);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const Eigen::Index col = base + r * k + j;
+      b(r, j) = f.beta(col);
+      se(r, j) = std::sqrt(f.cov_unscaled(col, col) * scale);
+    }
+  }
+  out.estimate.assign(static_cast<std::size_t>(R), std::vector<double>(static_cast<std::size_t>(k)));
+  out.stderr_ = out.estimate;
+  for (Eigen::Index r = 0; r < R; ++r)
+    for (Eigen::Index j = 0; j < k; ++j) {
+      out.estimate[static_cast<std::size_t>(r)][static_cast<std::size_t>(j)] = b(r, j);
+      out.stderr_[static_cast<std::size_t>(r)][static_cast<std::size_t>(j)] = se(r, j);
+    }
+  const double nu = static_cast<double>(R - 1);
+  double min_p = 1;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    // DerSimonian-Laird: w_r = 1 / se_r^2, Q = sum w_r (b_r - b_FE)^2,
+    //   tau^2 = max(0, (Q - (R - 1)) / (sum w - sum w^2 / sum w))
+    const Eigen::VectorXd w = se.col(j).array().square().inverse();
+    const double sw = w.sum(), b_fe = w.dot(b.col(j)) / sw;
+    const double Q = (w.array() * (b.col(j).array() - b_fe).square()).sum();
+    const double tau2 = std::max(0.0, (Q - nu) / (sw - w.squaredNorm() / sw));
+    // random-effects weights w*_r = 1 / (se_r^2 + tau^2); mean m = sum w* b / sum w*;
+    // Hartung-Knapp: SE^2 = sum w* (b_r - m)^2 / ((R - 1) sum w*), t = m / SE ~ t(R - 1)
+    const Eigen::VectorXd ws = (se.col(j).array().square() + tau2).inverse();
+    const double sws = ws.sum(), m = ws.dot(b.col(j)) / sws;
+    const double se_hk = std::sqrt((ws.array() * (b.col(j).array() - m).square()).sum() / (nu * sws));
+    out.mean.push_back(m);
+    out.mean_se.push_back(se_hk);
+    out.between_sd.push_back(std::sqrt(tau2));
+    const double pj = se_hk > 0 ? t_two_sided(m / se_hk, nu) : (m != 0 ? 0.0 : 1.0);
+    min_p = std::min(min_p, pj);
+  }
+  out.tested = true;
+  out.log10_p = std::log10(std::max(1e-300, std::min(1.0, min_p * static_cast<double>(k))));  // Bonferroni over its parameters
+  return out;
+}
+
+}  // namespace rnav::search_detail

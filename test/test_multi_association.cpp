@@ -1,0 +1,281 @@
+// Association with gates recentred on each sensor's common bias, on data from a generator of its
+// own: an observer moving slowly near 63.44 N 10.40 E, two targets on straight lines 330-500 m
+// away (more than 60 deg apart in bearing all the time), a radar (range and bearing every 1.7 s)
+// and a camera "eo" (bearing every 0.2 s), white noise, missed detections and clutter in every
+// scan. A sensor bias beyond its gate (radar 5 deg: 29 m or more at 330 m, beyond the 20 m
+// position gate; eo 6 deg, beyond the 3 deg gate) must not cost the association its detections,
+// the shifts must be the biases within their standard errors, nominal data must associate
+// exactly as without recentring, and the associated measurements must stay the raw ones.
+#include "multi_association.hpp"
+
+#include "config.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <tuple>
+
+using namespace rnav;
+
+namespace {
+
+constexpr double kSpanS = 200;                                     // [s] observer and references from t = 0
+constexpr double kObserverDtS = 0.1;                               // [s] observer sample interval
+constexpr double kTruthDtS = 0.2;                                  // [s] reference sample interval
+constexpr double kFirstScanS = 5, kLastScanS = 195;                // [s] scans inside the references' span
+constexpr double kRadarDtS = 1.7, kEoDtS = 0.2;                    // [s] scan intervals
+constexpr double kRadarSigmaBearingDeg = 0.3;                      // [deg] white bearing noise
+constexpr double kRadarSigmaRangeM = 2.0;                          // [m] white range noise
+constexpr double kEoSigmaBearingDeg = 0.2;                         // [deg] white bearing noise
+constexpr double kMissProbability = 0.1;                           // a target's detection missing from a scan
+constexpr int kRadarClutter = 3, kEoClutter = 2;                   // clutter detections per scan
+constexpr double kClutterMinRangeM = 50, kClutterMaxRangeM = 700;  // [m] radar clutter ranges, uniform
+// Robust standard error of a median of n Gaussian residuals of sigma: sqrt(pi/2) sigma / sqrt(n).
+constexpr double kMedianSeFactor = 1.2533141373155003;
+// Tolerance of an estimated shift: 4 standard errors of its median over the sensor's wide-pass
+// pairs (n = SensorAssociation::wide_pairs; 160-180 radar pairs: 0.11 deg and 0.75 m, 1370 eo
+// pairs: 0.027 deg). The clutter left in the unambiguous pairs (a missed target with one clutter
+// detection inside its wide gate: about 3 % of them, spread over the whole wide gate) moves a
+// median by at most a third of an SE here.
+constexpr double kToleranceSe = 4;
+
+struct Bias {
+  double radar_bearing_rad = 0;  // added to every radar bearing of a target
+  double radar_range_m = 0;      // added to every radar range of a target
+  double eo_bearing_rad = 0;     // added to every eo bearing of a target
+};
+
+// A target's detection as generated (measured values, biases and noise included).
+struct TrueDetection {
+  double bearing_rad, range_m;
+};
+using Key = std::tuple<std::string, double, std::string>;  // sensor, t_s, target
+
+struct Scene {
+  MultiSensorData data;
+  std::map<Key, TrueDetection> targets;  // every target detection generated
+};
+
+// (north, east) [m] in the frame at the fixed point
+Eigen::Vector2d own(double t) { return {0.3 * t, 10 * std::sin(t / 50)}; }
+Eigen::Vector2d target_pos(int k, double t) {
+  return k == 1 ? Eigen::Vector2d(350, -200 + 3 * t) : Eigen::Vector2d(-400 + 1 * t, -100 + 2.5 * t);
+}
+
+Scene make(std::uint64_t seed, const Bias& bias) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> N(0, 1);
+  std::uniform_real_distribution<double> U(0, 1);
+  const LocalLevelFrame F({63.44, 10.40, 40.0}, 0.0);
+  auto geo = [&](const Eigen::Vector2d& p) { return F.to_geodetic(Eigen::Vector3d(p.x(), 0, p.y())); };
+  Scene sc;
+  MultiSensorData& d = sc.data;
+  for (int n = 0; n * kObserverDtS <= kSpanS + 1e-9; ++n)
+    d.observer.push_back({n * kObserverDtS, geo(own(n * kObserverDtS))});
+  d.observer_heading_deg.assign(d.observer.size(), NAN);
+  for (int k = 1; k <= 2; ++k)
+    for (int n = 0; n * kTruthDtS <= kSpanS + 1e-9; ++n)
+      d.truth[std::to_string(k)].push_back({n * kTruthDtS, geo(target_pos(k, n * kTruthDtS))});
+  struct Sensor {
+    std::string name;
+    double dt_s, sigma_bearing_rad, sigma_range_m, bias_bearing_rad, bias_range_m;
+    int clutter;
+    bool ranged;
+  };
+  const Sensor sensors[] = {
+      {"radar", kRadarDtS, kRadarSigmaBearingDeg * kDegToRad, kRadarSigmaRangeM, bias.radar_bearing_rad,
+       bias.radar_range_m, kRadarClutter, true},
+      {"eo", kEoDtS, kEoSigmaBearingDeg * kDegToRad, 0, bias.eo_bearing_rad, 0, kEoClutter, false}};
+  for (const auto& s : sensors)
+    for (int n = 0; kFirstScanS + n * s.dt_s <= kLastScanS; ++n) {
+      const double t = kFirstScanS + n * s.dt_s;
+      for (int k = 1; k <= 2; ++k) {
+        const bool missed = U(rng) < kMissProbability;
+        const Eigen::Vector2d rel = target_pos(k, t) - own(t);
+        const double b = wrap_pi(std::atan2(rel.y(), rel.x()) + s.bias_bearing_rad + s.sigma_bearing_rad * N(rng));
+        const double r = s.ranged ? rel.norm() + s.bias_range_m + s.sigma_range_m * N(rng) : NAN;
+        if (missed) continue;
+        d.detections.push_back({t, s.name, r, b, NAN});
+        sc.targets[Key{s.name, t, std::to_string(k)}] = {b, r};
+      }
+      for (int c = 0; c < s.clutter; ++c) {
+        const double r = kClutterMinRangeM + (kClutterMaxRangeM - kClutterMinRangeM) * U(rng);
+        d.detections.push_back({t, s.name, s.ranged ? r : NAN, wrap_pi(2 * M_PI * U(rng)), NAN});
+      }
+    }
+  return sc;
+}
+
+// Share of the sensor's generated target detections associated to their own target.
+double found_share(const Scene& sc, const std::vector<AssociatedDetection>& a, const std::string& sensor) {
+  int generated = 0, found = 0;
+  for (const auto& [key, x] : sc.targets) generated += std::get<0>(key) == sensor;
+  for (const auto& x : a) {
+    const auto it = sc.targets.find(Key{x.sensor, x.t_s, x.target});
+    found += x.sensor == sensor && it != sc.targets.end() && it->second.bearing_rad == x.bearing_rad;
+  }
+  return generated ? static_cast<double>(found) / generated : 0.0;
+}
+
+AssociationOptions off() {
+  AssociationOptions o;
+  o.recentre_gates = false;
+  return o;
+}
+
+// Same detections, same geometry, same tallies.
+void check_same(const std::vector<AssociatedDetection>& a, const std::vector<AssociatedDetection>& b,
+                const std::map<std::string, SensorAssociation>& sa,
+                const std::map<std::string, SensorAssociation>& sb) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    INFO(i);
+    CHECK(a[i].t_s == b[i].t_s);
+    CHECK(a[i].sensor == b[i].sensor);
+    CHECK(a[i].target == b[i].target);
+    CHECK(a[i].bearing_rad == b[i].bearing_rad);
+    CHECK(a[i].range_m == b[i].range_m);
+    CHECK(a[i].d == b[i].d);
+    CHECK(a[i].v_rel == b[i].v_rel);
+  }
+  REQUIRE(sa.size() == sb.size());
+  for (const auto& [s, x] : sa) {
+    INFO(s);
+    const SensorAssociation& y = sb.at(s);
+    CHECK(x.scans == y.scans);
+    CHECK(x.detections == y.detections);
+    CHECK(x.ambiguous_scans == y.ambiguous_scans);
+    CHECK(x.associated == y.associated);
+    CHECK(x.missed == y.missed);
+  }
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+}  // namespace
+
+TEST_CASE("multi association: bearing biases beyond the gates are associated once the gates are recentred") {
+  Bias b;
+  b.radar_bearing_rad = 5 * kDegToRad;  // 29-44 m across the line of sight at 330-500 m: 20 m gate
+  b.eo_bearing_rad = 6 * kDegToRad;     // 3 deg gate
+  const Scene sc = make(11, b);
+  std::map<std::string, SensorAssociation> st_on, st_off;
+  const auto on = associate(sc.data, AssociationOptions{}, st_on);
+  const auto no = associate(sc.data, off(), st_off);
+  for (const char* s : {"radar", "eo"}) {
+    INFO(s << ": " << found_share(sc, on, s) << " recentred, " << found_share(sc, no, s) << " not; shifts "
+           << st_on.at(s).gate_shift_bearing_rad << " rad " << st_on.at(s).gate_shift_range_m << " m from "
+           << st_on.at(s).wide_pairs << " pairs");
+    CHECK(found_share(sc, on, s) >= 0.85);
+    CHECK(found_share(sc, no, s) < 0.20);
+    CHECK(st_off.at(s).wide_pairs == 0);  // off: no first pass
+    CHECK(st_off.at(s).gate_shift_bearing_rad == 0);
+  }
+}
+
+TEST_CASE("multi association: the gate shifts are the sensors' biases within 4 standard errors") {
+  Bias b;
+  b.radar_bearing_rad = 5 * kDegToRad;
+  b.radar_range_m = 40;  // beyond the 20 m gate on its own
+  b.eo_bearing_rad = -6 * kDegToRad;
+  const Scene sc = make(12, b);
+  std::map<std::string, SensorAssociation> st;
+  const auto a = associate(sc.data, AssociationOptions{}, st);
+  const SensorAssociation &radar = st.at("radar"), &eo = st.at("eo");
+  INFO("radar: " << radar.gate_shift_bearing_rad / kDegToRad << " deg, " << radar.gate_shift_range_m << " m from "
+                 << radar.wide_pairs << " pairs; eo " << eo.gate_shift_bearing_rad / kDegToRad << " deg from "
+                 << eo.wide_pairs);
+  REQUIRE(radar.wide_pairs >= 10);
+  REQUIRE(eo.wide_pairs >= 10);
+  // tolerance: kToleranceSe standard errors of a median of the generator's white noise over the pairs
+  const auto tol = [](double sigma, int n) { return kToleranceSe * kMedianSeFactor * sigma / std::sqrt(double(n)); };
+  CHECK(std::abs(radar.gate_shift_bearing_rad - b.radar_bearing_rad) <
+        tol(kRadarSigmaBearingDeg * kDegToRad, radar.wide_pairs));
+  CHECK(std::abs(radar.gate_shift_range_m - b.radar_range_m) < tol(kRadarSigmaRangeM, radar.wide_pairs));
+  CHECK(std::abs(eo.gate_shift_bearing_rad - b.eo_bearing_rad) < tol(kEoSigmaBearingDeg * kDegToRad, eo.wide_pairs));
+  CHECK(eo.gate_shift_range_m == 0);  // bearing-only
+  CHECK(found_share(sc, a, "radar") >= 0.85);
+  CHECK(found_share(sc, a, "eo") >= 0.85);
+}
+
+TEST_CASE("multi association: nominal data apply no shift and associate exactly as without recentring") {
+  const Scene sc = make(13, Bias{});
+  std::map<std::string, SensorAssociation> st_on, st_off;
+  const auto on = associate(sc.data, AssociationOptions{}, st_on);
+  const auto no = associate(sc.data, off(), st_off);
+  for (const char* s : {"radar", "eo"}) {
+    INFO(s);
+    CHECK(st_on.at(s).wide_pairs >= 10);  // estimated, and found not significant
+    CHECK(st_on.at(s).gate_shift_bearing_rad == 0);
+    CHECK(st_on.at(s).gate_shift_range_m == 0);
+    CHECK(found_share(sc, on, s) >= 0.85);
+  }
+  check_same(on, no, st_on, st_off);
+}
+
+TEST_CASE("multi association: the associated bearings and ranges stay the raw measurements") {
+  Bias b;
+  b.radar_bearing_rad = 5 * kDegToRad;
+  b.radar_range_m = 40;
+  b.eo_bearing_rad = 6 * kDegToRad;
+  const Scene sc = make(14, b);
+  std::map<std::string, SensorAssociation> st;
+  const auto a = associate(sc.data, AssociationOptions{}, st);
+  REQUIRE(st.at("radar").gate_shift_bearing_rad != 0);
+  REQUIRE(st.at("eo").gate_shift_bearing_rad != 0);
+  // every row's measurements per scan (sensor, t_s)
+  std::multimap<std::pair<std::string, double>, std::pair<double, double>> rows;
+  for (const auto& r : sc.data.detections) rows.insert({{r.sensor, r.t_s}, {r.bearing_rad, r.range_m}});
+  std::map<std::string, std::vector<double>> db;  // per sensor: stored bearing minus reference bearing [rad]
+  std::vector<double> dr;                         // radar: stored range minus reference range [m]
+  int raw = 0, own_target = 0;
+  for (const auto& x : a) {
+    // bit for bit one row's measurements (a clutter row now and then, nearer the gate's centre)
+    bool is_row = false;
+    const auto span = rows.equal_range({x.sensor, x.t_s});
+    for (auto it = span.first; it != span.second; ++it)
+      is_row |= it->second.first == x.bearing_rad && (!x.has_range || it->second.second == x.range_m);
+    raw += is_row;
+    const auto it = sc.targets.find(Key{x.sensor, x.t_s, x.target});
+    if (it == sc.targets.end() || it->second.bearing_rad != x.bearing_rad) continue;
+    ++own_target;
+    db[x.sensor].push_back(wrap_pi(x.bearing_rad - x.bearing_pred()));
+    if (x.has_range) dr.push_back(x.range_m - x.range_pred());
+  }
+  CHECK(raw == static_cast<int>(a.size()));
+  REQUIRE(own_target > 1000);
+  // the raw residuals carry the whole bias (the geometry is the reference's, not the shifted gate's)
+  CHECK(std::abs(median(db.at("radar")) - b.radar_bearing_rad) < 0.5 * kDegToRad);
+  CHECK(std::abs(median(db.at("eo")) - b.eo_bearing_rad) < 0.5 * kDegToRad);
+  CHECK(std::abs(median(dr) - b.radar_range_m) < 5);  // [m]
+}
+
+TEST_CASE("multi association: too few unambiguous pairs apply no shift, and the options are checked") {
+  Bias b;
+  b.eo_bearing_rad = 6 * kDegToRad;
+  const Scene sc = make(15, b);
+  AssociationOptions few;
+  few.recentre_min_pairs = 1000000;  // more than the data hold
+  std::map<std::string, SensorAssociation> st_few, st_off;
+  const auto a = associate(sc.data, few, st_few);
+  CHECK(st_few.at("eo").gate_shift_bearing_rad == 0);
+  CHECK(st_few.at("eo").wide_pairs > 0);
+  check_same(a, associate(sc.data, off(), st_off), st_few, st_off);
+  std::map<std::string, SensorAssociation> st;
+  AssociationOptions o;
+  o.wide_gate_bearing_deg = 0;
+  CHECK_THROWS_WITH(associate(sc.data, o, st), Catch::Contains("wide_gate_bearing_deg"));
+  o = AssociationOptions{};
+  o.wide_gate_position_m = -1;
+  CHECK_THROWS_WITH(associate(sc.data, o, st), Catch::Contains("wide_gate_position_m"));
+  o = AssociationOptions{};
+  o.recentre_min_pairs = 2;
+  CHECK_THROWS_AS(associate(sc.data, o, st), ConfigError);
+  o.recentre_gates = false;  // the recentring options are not used, nor checked
+  CHECK_NOTHROW(associate(sc.data, o, st));
+}
