@@ -172,15 +172,17 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
     p.catalogue.push_back(std::move(c));
     return p.catalogue.size() - 1;
   };
-  // A hardware entry (one value in every recording) and, pooled, its per-recording copies
-  // (scope_only: the alternative of its scope question). `in` selects the entry's observations.
+  // A hardware entry (one value in every recording) and, pooled, its per-recording copies: the
+  // alternative of its scope question and its replicates (replication.hpp); scope_only unless
+  // `own` (an effect a recording may have of its own, e.g. a start-up bias: then each copy is a
+  // candidate too). `in` selects the entry's observations.
   using In = std::function<bool(const ObsGeom&)>;
   using Val = std::function<Eigen::RowVectorXd(const ObsGeom&, std::size_t)>;
   struct Kind {
     std::vector<std::size_t> hardware, per_recording;
   };
   std::map<std::string, Kind> kinds;  // scope-question key -> entries
-  auto hardware = [&](const std::string& kind, Candidate c, int k, const In& in, const Val& val) {
+  auto hardware = [&](const std::string& kind, Candidate c, int k, const In& in, const Val& val, bool own = false) {
     c.columns = cols(G, k, in, val);
     kinds[kind].hardware.push_back(add(c));
     if (!pooled) return kinds[kind].hardware.back();
@@ -189,7 +191,7 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
       if (!any(G, [in, r](const ObsGeom& g) { return g.rec == r && in(g); })) continue;  // none of its observations
       Candidate cr = c;
       cr.scope.recording = recs[static_cast<std::size_t>(r)].name;
-      cr.scope_only = true;
+      cr.scope_only = !own;
       cr.columns = cols(G, k, [in, r](const ObsGeom& g) { return g.rec == r && in(g); }, val);
       kinds[kind].per_recording.push_back(add(cr));
       p.catalogue[hw].replicates.push_back(kinds[kind].per_recording.back());
@@ -208,7 +210,8 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
     auto is_sb = [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; };
     sensor_clock.push_back(hardware("sensor clocks (time_offset)", {"time_offset", {s, ""}, {"s"}, rate_sig, "", {}, {}}, 1, is_s, rate));
     sensor_bias.push_back(hardware("sensor bearing biases (bearing_bias)",
-                                   {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb, unit));
+                                   {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb, unit,
+                                   true));
     for (int r = 0; r < R; ++r) {  // a step belongs to one recording
       if (!any(G, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; })) continue;
       std::vector<double> grid;
@@ -220,7 +223,8 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
   }
   for (const auto& s : range_sensors) {
     auto is_sr = [s](const ObsGeom& g) { return g.sensor == s && g.is_range; };
-    hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr, unit);
+    hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr, unit,
+             true);
     hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr,
              [](const ObsGeom& g, std::size_t) { return one(g.range_pred); });
     const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
