@@ -225,6 +225,27 @@ def ex_autoferry(tmp):
         fail("Autoferry scenario 4: the README quotes held-out channel %s, the diagnosis has none" % k)
 
 
+def ex_autoferry_pooled(tmp):
+    """The pooled diagnosis of the nine recordings: the README quotes the study's hardware table
+    rows and its leave-one-out summary line as the study prints them."""
+    lines, after = block_after("scripts/autoferry_study --pooled --out out/autoferry")
+    if not os.path.isdir(os.path.join(SRC, "../shared/data/autoferry/scenario4")):
+        print("readme: pooled Autoferry example skipped: ../shared/data/autoferry is not beside the checkout")
+        return
+    printed = "".join(run_ok(c, tmp, "the pooled Autoferry example") for c in commands(lines))
+    section = after[:after.find("#### One recording at a time")]
+    hardware = [l for l in printed.splitlines() if l.startswith("| ") and " | " in l and l.count("|") == 6
+                and not l.startswith("| effect") and not l.startswith("|---")]
+    if not hardware:
+        fail("pooled Autoferry example: the study printed no hardware row")
+    for row in hardware:
+        if row not in section:
+            fail("pooled Autoferry example: the README lacks the hardware row '%s'" % row)
+    summary = next((l for l in printed.splitlines() if "pairs with >= 5 detections" in l), None)
+    if summary is None or summary not in section:
+        fail("pooled Autoferry example: the README lacks the leave-one-out summary '%s'" % summary)
+
+
 def ex_replay(tmp):
     """No figures quoted: the commands run and the replay writes its log."""
     lines, _ = block_after("scripts/run paper --realizations 3 --lcm-log /tmp/run.lcmlog")
@@ -294,6 +315,7 @@ def ex_uav_pf(tmp):
 
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
+            "autoferry_pooled": ex_autoferry_pooled,
             "replay": ex_replay, "python": ex_python, "uav_ml": ex_uav_ml,
             "uav_pf": ex_uav_pf, "shards": ex_shards}
 

@@ -87,7 +87,8 @@ std::vector<LeaveOneOutRow> score_left_out(const RecordingDetections& rec, const
     const std::vector<double>& value = e.replication.tested ? e.replication.mean : e.estimate;
     pred += C * Eigen::Map<const Eigen::VectorXd>(value.data(), static_cast<Eigen::Index>(value.size()));
     std::string what = e.name + "@" + c.scope.label() + " (";
-    for (std::size_t j = 0; j < e.params.size(); ++j) what += (j ? " " : "") + e.params[j] + "=" + short_num(value[j]);
+    for (std::size_t j = 0; j < e.params.size(); ++j)
+      what += (j ? " " : "") + (e.params[j] == "1" ? std::string("ratio") : e.params[j]) + "=" + short_num(value[j]);
     if (!e.scan_param.empty()) what += " " + e.scan_param + "=" + short_num(e.scan_value);
     carried.push_back(what + ")");
   }
