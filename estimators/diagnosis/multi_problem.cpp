@@ -1,6 +1,7 @@
 #include "multi_problem.hpp"
 
 #include "config.hpp"
+#include "scan_stamp.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -56,13 +57,6 @@ std::string period_text(double T) {
 }
 
 }  // namespace
-
-double sweep_delay_s(double beta, double beta_end, double period_s) {
-  // ((beta_end - beta) mod 2 pi) / omega, omega = 2 pi / T
-  double a = std::fmod(beta_end - beta, 2 * M_PI);
-  if (a < 0) a += 2 * M_PI;
-  return period_s * a / (2 * M_PI);
-}
 
 MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
   const double sb = o.sigma_bearing_rad, sr = o.sigma_range_m;

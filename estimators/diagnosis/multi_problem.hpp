@@ -49,11 +49,9 @@ struct MultiProblem {
 /// values (scope_only entries). Recording names must be distinct.
 MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o);
 
-/// Shift of a measurement h of a scanning sensor whose scan is stamped at the end of its sweep:
-/// the stamp is late by ((beta_end - beta) mod 2 pi) / omega, omega = 2 pi / period, so
-///   dh = -(dh/dd v_rel) [c + f T ((beta_end - beta) mod 2 pi) / (2 pi)],
-/// c [s] a constant delay, f [1] the sweep's share (1: one stamp per scan at its end, clockwise;
-/// -1: counter-clockwise, with c absorbing T). Returns the sweep delay for f = 1 [s], in [0, T).
-double sweep_delay_s(double beta_rad, double beta_end_rad, double period_s);
+// scan_time_offset shifts a measurement h of a scanning sensor whose scan is stamped at the end
+// of its sweep by dh = -(dh/dd v_rel) [c + f sweep_delay_s(beta, beta_end, T)] (scan_stamp.hpp),
+// c [s] a constant delay, f [1] the sweep's share (1: one stamp per scan at its end, clockwise;
+// -1: counter-clockwise, with c absorbing T).
 
 }  // namespace rnav

@@ -2,6 +2,7 @@
 
 #include "stats.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -25,9 +26,13 @@ Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
   for (std::size_t r : c.replicates)
     if (d.Cw[r][c.scanned() ? v : 0].norm() > 0) reps.push_back(r);
   if (reps.size() < 2) return out;
+  // the rest of the model, without the entry's own per-replicate copies where they are chosen
+  // too (a recording's own start-up bias): with them in, its replicates would be spanned and
+  // the check would have nothing to compare
   Chosen model;
   for (std::size_t i = 0; i < chosen.size(); ++i)
-    if (i != s) model.push_back(chosen[i]);
+    if (i != s && std::find(c.replicates.begin(), c.replicates.end(), chosen[i].first) == c.replicates.end())
+      model.push_back(chosen[i]);
   const Eigen::Index base = model_matrix(d, model).cols();
   for (std::size_t r : reps) model.push_back({r, c.scanned() ? v : 0});
   const Eigen::MatrixXd M = model_matrix(d, model);
