@@ -154,6 +154,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   po.scan_period_s = scan_periods(recordings);
   MultiProblem mp = build_multi_problem(recs, po);
   rep.split_time_s = mp.split_time_s.front();
+  rep.split_fraction = o.split_fraction;
   rep.dropped_channels = mp.dropped_channels;
   rep.scan_period_s = mp.scan_period_s;
   check_limit_entries(mp.problem, o.search.injection, "diagnose multi");
@@ -269,7 +270,8 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["gain"] = nlohmann::ordered_json::object();
   for (const auto& [k, g] : gain)
     j["gain"][k] = {{"n", g.n}, {"nominal_rms", g.nominal_rms}, {"extended_rms", g.extended_rms}, {"unit", g.unit}};
-  j["gain_window"] = "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s";
+  j["gain_window"] = recordings.empty() ? "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s"
+                                        : "fit on the first " + short_num(100 * split_fraction) + " % of each recording, scored on the rest";
   j["gain_effects"] = result.holdout_effects;
   for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
@@ -309,7 +311,10 @@ std::string MultiReport::text() const {
   for (const auto& [k, g] : gain)
     o << "  gain " << k << ": RMS " << short_num(g.nominal_rms) << " -> " << short_num(g.extended_rms) << " " << g.unit
       << " (n " << g.n << ")\n";
-  o << "  gain window: fit on t < " << short_num(split_time_s) << " s with";
+  if (recordings.empty())
+    o << "  gain window: fit on t < " << short_num(split_time_s) << " s with";
+  else
+    o << "  gain window: fit on the first " << short_num(100 * split_fraction) << " % of each recording with";
   o << gain_fit_text(problem, result);
   if (result.holdout_effects.empty()) o << " no effect (none named, or none determined by the window)";
   o << "\n";

@@ -92,6 +92,7 @@ struct MultiReport {
   std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>" ("<recording>/<sensor>:<target>" pooled)
   std::map<std::string, SensorAssociation> association;  ///< per sensor ("<recording>/<sensor>" pooled)
   double split_time_s = 0;          ///< one recording: the gain's split time
+  double split_fraction = 0.6;      ///< the gain's estimation window: this fraction of each recording's span
   std::vector<std::string> recordings;  ///< pooled: the recordings' names, in input order
   std::map<std::string, double> scan_period_s;  ///< per range sensor: median interval between scans
   std::vector<LeaveOneOutRow> leave_one_out;    ///< pooled, per recording and pair
