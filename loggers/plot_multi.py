@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Residual plot of a multi-sensor diagnosis: one panel per sensor:target, bearing residual
 (measured minus reference) [deg] against time with the extended model's fit, the estimation /
-held-out split marked. Usage: plot_multi.py RESIDUALS.csv OUT.png [TITLE]"""
+held-out split marked. Recordings diagnosed together (a non-empty recording column): one figure
+per recording, OUT with _<recording> before its extension.
+Usage: plot_multi.py RESIDUALS.csv OUT.png [TITLE]"""
+import os
 import csv
 import math
 import sys
@@ -15,15 +18,22 @@ from plot_gaps import broken  # noqa: E402  (lines break at data gaps)
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
-    rows = {}
+    by_rec = {}
     with open(sys.argv[1], newline="") as f:
         for r in csv.DictReader(f):
             if r["quantity"] != "bearing":
                 continue
-            rows.setdefault(f"{r['sensor']}:{r['target']}", []).append(r)
-    keys = sorted(rows)
-    if not keys:
+            by_rec.setdefault(r.get("recording") or "", {}).setdefault(f"{r['sensor']}:{r['target']}", []).append(r)
+    if not by_rec:
         sys.exit(f"plot_multi: no bearing rows in {sys.argv[1]}")
+    base, ext = os.path.splitext(sys.argv[2])
+    for rec, rows in sorted(by_rec.items()):
+        title = sys.argv[3] if len(sys.argv) > 3 else "multi-sensor diagnosis (dotted: held-out window starts)"
+        plot(rows, sys.argv[2] if rec == "" else f"{base}_{rec}{ext}", title if rec == "" else f"{rec}: {title}")
+
+
+def plot(rows, out_png, title):
+    keys = sorted(rows)
     t0 = min(float(r["t_s"]) for k in keys for r in rows[k])
     cols = 2
     nrow = math.ceil(len(keys) / cols)
@@ -52,9 +62,10 @@ def main():
     for ax in axes[-1]:
         ax.set_xlabel("time since first detection [s]")
     axes.flat[0].legend(fontsize=7, loc="upper right")
-    fig.suptitle(sys.argv[3] if len(sys.argv) > 3 else "multi-sensor diagnosis (dotted: held-out window starts)", fontsize=10)
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=110)
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <random>
+#include <set>
 
 using namespace rnav;
 
@@ -444,6 +447,17 @@ TEST_CASE("multi diagnosis, recordings together: a radar clock is hardware, a re
     for (const auto& c : r.carried.at(rec)) clock |= c.rfind("time_offset@sensor radar", 0) == 0;
     CHECK(clock);
   }
+  // the residuals name their recording (plot_multi.py draws one figure per recording)
+  const std::string csv = (std::filesystem::temp_directory_path() / "test_multi_pooled_residuals.csv").string();
+  r.write_residuals_csv(csv);
+  std::ifstream in(csv);
+  std::string header, line;
+  std::getline(in, header);
+  CHECK(header.substr(header.rfind(',') + 1) == "recording");
+  std::set<std::string> seen;
+  while (std::getline(in, line)) seen.insert(line.substr(line.rfind(',') + 1));
+  CHECK(seen == std::set<std::string>{"a", "b", "c", "d"});
+  std::filesystem::remove(csv);
   const nlohmann::ordered_json j = r.to_json();
   REQUIRE(j.contains("leave_one_out"));
   REQUIRE(!j["leave_one_out"].empty());

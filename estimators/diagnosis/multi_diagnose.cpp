@@ -337,7 +337,7 @@ std::string MultiReport::text() const {
 
 void MultiReport::write_residuals_csv(const std::string& file) const {
   std::ostringstream f;
-  f << "t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier\n";
+  f << "t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier,recording\n";
   std::vector<std::size_t> pos(problem.channels.size(), 0);
   char b[256];
   for (std::size_t i = 0; i < problem.size(); ++i) {
@@ -346,9 +346,12 @@ void MultiReport::write_residuals_csv(const std::string& file) const {
     const auto& flags = result.noise[c].fit.outlier;
     const bool out = pos[c] < flags.size() && flags[pos[c]];
     ++pos[c];
-    std::snprintf(b, sizeof b, "%.6f,%s,%s,%s,%.9g,%.9g,%d,%d\n", problem.t_s[i], ch.sensor.c_str(), ch.target.c_str(),
+    // pooled channels are named "<recording>/<sensor>:<target>:<quantity>"
+    const auto slash = ch.name.find('/');
+    const std::string rec = slash == std::string::npos ? "" : ch.name.substr(0, slash);
+    std::snprintf(b, sizeof b, "%.6f,%s,%s,%s,%.9g,%.9g,%d,%d,%s\n", problem.t_s[i], ch.sensor.c_str(), ch.target.c_str(),
                   ch.unit == "m" ? "range" : "bearing", problem.y[i], result.effect_fit(static_cast<Eigen::Index>(i)),
-                  problem.estimation[i] ? 1 : 0, out ? 1 : 0);
+                  problem.estimation[i] ? 1 : 0, out ? 1 : 0, rec.c_str());
     f << b;
   }
   if (!f.flush()) throw ConfigError("cannot write " + file + " (disk full?)");

@@ -100,7 +100,8 @@ struct MultiReport {
   std::vector<std::string> dropped_channels;  ///< sensor:target:quantity with too few detections to diagnose
   nlohmann::ordered_json to_json() const;
   std::string text() const;
-  /// t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier (bearings in rad)
+  /// t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier,recording (bearings in
+  /// rad; recording empty for one recording)
   void write_residuals_csv(const std::string& file) const;
 };
 
