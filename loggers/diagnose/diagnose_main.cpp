@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
                  if (list.empty()) throw rnav::ConfigError("--limits-for: no entry named in '" + v + "'");
                  o.search.injection.entries = uo.search.injection.entries = mo.search.injection.entries = list;
                })
-        .value("--threads", "N", "concurrent injected searches (multi: also target tracks searched at once), >= 1", "2", [&](const std::string& v) {
+        .value("--threads", "N", "concurrent injected searches (multi: also target tracks searched at once, and recordings left out at once), >= 1", "2", [&](const std::string& v) {
                  const int n = static_cast<int>(rnav::parse_integer("--threads", v, 1, 256));
                  o.search.injection.threads = uo.search.injection.threads = mo.search.injection.threads = n;
                })
