@@ -48,6 +48,17 @@ def mean_effects(rep):
     return [e for e in rep["effects"] if e["name"] not in ("target_maneuver", "noise_scale", "correlated_noise", "outliers")]
 
 
+def generated_report(tmp, name, *keys):
+    """Seed 11's recording with `keys` set, diagnosed with the AIS gap allowed: its JSON report,
+    or None (the failure checked and printed)."""
+    folder = os.path.join(tmp, name)
+    gen(folder, 11, *keys)
+    out = os.path.join(tmp, name + ".json")
+    p = diagnose(folder, out, "--reference-max-gap", "12")
+    check(p.returncode == 0, "%s diagnosis runs: %s" % (name, p.stderr.strip()[-200:]))
+    return json.load(open(out)) if p.returncode == 0 else None
+
+
 with tempfile.TemporaryDirectory(prefix="check_shipradar.") as tmp:
     nominal = os.path.join(tmp, "nominal")
     gen(nominal, 11)
@@ -67,24 +78,16 @@ with tempfile.TemporaryDirectory(prefix="check_shipradar.") as tmp:
         named = ["%s[%s]" % (e["name"], e.get("scope")) for e in mean_effects(rep)]
         check(not named, "nominal recording: no mean effect named (%s)" % ", ".join(named))
 
-    biased = os.path.join(tmp, "biased")
-    gen(biased, 11, "bearing_bias_deg=0.3")
-    p = diagnose(biased, os.path.join(tmp, "biased.json"), "--reference-max-gap", "12")
-    check(p.returncode == 0, "biased diagnosis runs: %s" % p.stderr.strip()[-200:])
-    if p.returncode == 0:
-        rep = json.load(open(os.path.join(tmp, "biased.json")))
+    rep = generated_report(tmp, "biased", "bearing_bias_deg=0.3")
+    if rep:
         found = [e for e in mean_effects(rep) if e["name"] == "bearing_bias"]
         ok = any(e["scope"]["sensor"] in ("radar", None) and
                  abs(e["estimate"] - math.radians(0.3)) < 3 * e["stderr"] for e in found)
         check(ok, "a 0.3 deg radar bearing bias named within 3 SE: %s" %
               ["%s %.5f +- %.5f" % (e["scope"], e["estimate"], e["stderr"]) for e in found])
 
-    stamped = os.path.join(tmp, "stamped")
-    gen(stamped, 11, "stamp=scan")
-    p = diagnose(stamped, os.path.join(tmp, "stamped.json"), "--reference-max-gap", "12")
-    check(p.returncode == 0, "scan-stamped diagnosis runs: %s" % p.stderr.strip()[-200:])
-    if p.returncode == 0:
-        rep = json.load(open(os.path.join(tmp, "stamped.json")))
+    rep = generated_report(tmp, "stamped", "stamp=scan")
+    if rep:
         found = [e for e in mean_effects(rep) if e["name"] == "scan_time_offset" and e["scope"]["sensor"] == "radar"]
         check(len(found) == 1, "scan_time_offset named on the radar: %s" % [e["name"] for e in mean_effects(rep)])
         if found:

@@ -249,7 +249,7 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       x.v_target = to_local * pr.v;
       x.v_rel = to_local * (pr.v - s.vo);
       const double speed = pr.v.norm();
-      x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(pr.v / speed) : Eigen::Vector2d::Zero();
+      x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(to_local * pr.v / speed) : Eigen::Vector2d::Zero();
       if (x.d.norm() < kMinPredRange) continue;  // on top of the observer: no bearing
       out.push_back(x);
       ++st.associated[x.target];

@@ -44,12 +44,6 @@ bool any(const Geoms& g, In in) {
 
 Eigen::RowVectorXd one(double x) { return Eigen::RowVectorXd::Constant(1, x); }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 std::string period_text(double T) {
   char b[32];
   std::snprintf(b, sizeof b, "%.3g", T);
@@ -83,21 +77,10 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
     for (const auto& x : a) t0[r] = std::min(t0[r], x.t_s), t1[r] = std::max(t1[r], x.t_s);
     mp.split_time_s.push_back(t0[r] + o.split_fraction * (t1[r] - t0[r]));
   }
-  // a range sensor's scan period: the median interval between its successive scans (distinct
-  // stamps) over every recording
-  std::map<std::string, std::vector<double>> gaps;
-  for (const auto& rd : recs) {
-    std::map<std::string, std::set<double>> stamps;
-    for (const auto& x : rd.a)
-      if (x.has_range) stamps[x.sensor].insert(x.t_s);
-    for (const auto& [s, ts] : stamps)
-      for (auto it = std::next(ts.begin()); ts.size() > 1 && it != ts.end(); ++it) gaps[s].push_back(*it - *std::prev(it));
-  }
-  for (auto& [s, g] : gaps) mp.scan_period_s[s] = median(g);
-  for (const auto& [s, T] : o.scan_period_s) {
+  // each range sensor's scan period, as the caller measured it (MultiProblemOptions::scan_period_s)
+  for (const auto& [s, T] : o.scan_period_s)
     if (!(T > 0) || !std::isfinite(T)) throw ConfigError("multi diagnosis: scan period of " + s + " must be finite and > 0");
-    mp.scan_period_s[s] = T;
-  }
+  mp.scan_period_s = o.scan_period_s;
 
   // channels in a fixed order: recording, sensor, target, quantity
   auto geoms = std::make_shared<std::vector<ObsGeom>>();

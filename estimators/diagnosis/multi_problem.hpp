@@ -29,8 +29,9 @@ struct MultiProblemOptions {
   /// Autoferry lidar, 0.504 s between scans, drew a sweep share of -5 in scenario 4 where a
   /// stamp can give at most 1: a slow drift, not its sweep.)
   double min_sweep_period_s = 1.0;
-  /// [s] per range sensor: its scan period, in place of the median from the data (e.g. a
-  /// recording scored with the period of the recordings a model was fitted on); each > 0
+  /// [s] per range sensor: its scan period (the median interval between its scans, measured by
+  /// the caller over every recording; a recording scored with a model fitted on others takes
+  /// theirs); each > 0. A range sensor without one gets no scan_time_offset.
   std::map<std::string, double> scan_period_s;
 };
 
@@ -39,7 +40,7 @@ struct MultiProblem {
   /// per recording, per associated detection: its observation index (-1: none)
   std::vector<std::vector<long>> bearing_obs, range_obs;
   std::vector<double> split_time_s;           ///< per recording
-  std::map<std::string, double> scan_period_s;  ///< per range sensor: median interval between its scans [s]
+  std::map<std::string, double> scan_period_s;  ///< MultiProblemOptions::scan_period_s, as used
   std::vector<std::string> dropped_channels;  ///< "name (n detections)": fewer than 10, not used
 };
 
