@@ -9,7 +9,12 @@
    limit for the entry asked (--limits-for) with its check batch and ladder, uses it as the
    detection limit, and names an unknown entry;
 3. Gauss-Markov bearing noise (tau 8 s) on a UAV orbit: correlated noise, no outliers, no mean
-   effect.
+   effect;
+4. a glide (elevation) bias step of 0.24 deg (0.8 sigma) at mid-flight on the intercept of seed 7,
+   where the elevation refraction (cot of the elevation: step-like between the level segment and
+   the glide) enters first under the null's slow glide noise and then fails the noise check:
+   the step is named within 3 SE because selection is repeated without the dropped entry (before,
+   nothing was named).
 
   python3 test/check_discovery.py SOURCE_DIR BUILD_DIR
 """
@@ -81,6 +86,15 @@ def main():
     found = [x["name"] for x in rep["effects"] if not x.get("nominal")]
     check("correlated_noise" in found and not set(found) - {"correlated_noise", "noise_scale"},
           "Gauss-Markov bearing noise: correlated noise named and nothing else (%s)" % found)
+    # 4. a glide step behind an entry that enters first and fails the noise check
+    gen("landing", tmp + "/step", 7, "step_channel=elevation", "step_size=0.24", "step_time_frac=0.5")
+    rep, _ = diagnose("prl", tmp + "/step", tmp + "/step.json", "--injections", "0")
+    e = [x for x in named(rep, "bias_step") if "glide_rad" in x["params"]]
+    est = [(x["estimate"], x["stderr"]) for x in e]
+    check(len(e) == 1 and abs(math.degrees(e[0]["estimate"][1]) - 0.24) < 3 * math.degrees(e[0]["stderr"][1])
+          and not named(rep, "elevation_refraction"),
+          "glide step 0.24 deg named within 3 SE, no refraction: %s (named: %s)"
+          % (est, [x["name"] for x in rep["effects"] if not x.get("nominal")]))
     return checks.finish()
 
 

@@ -14,7 +14,14 @@ detections) so the test stays short; the full hour is scripts/flightgen.py's def
    generator's own code: latency ((beta0 - beta) mod 360) / omega, beta0 = 0) is named
    scan_time_offset on the radar, its sweep share within 3 SE of 1 and its constant within 3 SE
    of 0, the sweep's end within 15 deg (one grid step) plus 3 SE of beta0; no constant radar
-   clock in its place.
+   clock in its place;
+4. a sparse reference of turning ships (AIS every 10-30 s, every ship turns, 2 m range noise,
+   15 ships): the interpolation's own uncertainty (the chord's miss a b / 2, a from each ship's
+   reference) is the nominal correlated component of range channels (stated in the JSON, at
+   least 10 % of the nominal sigma, its correlation time the median AIS interval), and fewer
+   channels are judged to carry correlated noise than with the reference taken as exact
+   (--reference-accel 0: one acceleration bends a whole 10-30 s interval, a slow misfit the
+   noise identification otherwise takes for correlated noise); no mean effect either way.
 
   python3 test/check_shipradar.py SOURCE_DIR BUILD_DIR
 """
@@ -99,5 +106,30 @@ with tempfile.TemporaryDirectory(prefix="check_shipradar.") as tmp:
                   "sweep share %.3f +- %.3f (1), constant %.3f +- %.3f s (0), sweep end %.0f deg (0)" % (f, se_f, c, se_c, end))
         clocks = [e for e in mean_effects(rep) if e["name"] == "time_offset" and e["scope"]["sensor"] == "radar"]
         check(not clocks, "no constant radar clock in its place")
+
+    sparse = os.path.join(tmp, "sparse")
+    gen(sparse, 11, "turn_fraction=1", "ais_min_s=10", "ais_max_s=30", "range_sigma_m=2", "bearing_sigma_deg=0.3",
+        "n_targets=15")
+    reps = {}
+    for accel in ("-1", "0"):
+        out = os.path.join(tmp, "sparse_%s.json" % accel)
+        p = run(DIAG, "multi", sparse, "--json", out, "--gate-m", "300", "--sigma-range-m", "2", "--sigma-deg", "0.3",
+                "--threads", "2", "--reference-max-gap", "30", "--reference-accel", accel)
+        check(p.returncode == 0, "sparse reference, --reference-accel %s: runs: %s" % (accel, p.stderr.strip()[-200:]))
+        reps[accel] = json.load(open(out)) if p.returncode == 0 else None
+    if reps["-1"] and reps["0"]:
+        comp = {k: v for k, v in reps["-1"]["noise"].items() if "nominal_correlated_sigma" in v}
+        check(comp and all(k.endswith(":range") or v["nominal_correlated_sigma"] >= 0.1 * math.radians(0.3) for k, v in comp.items())
+              and all(v["nominal_correlated_sigma"] >= 0.1 * 2 for k, v in comp.items() if k.endswith(":range"))
+              and all(10 <= v["nominal_correlated_tau_s"] <= 30 for v in comp.values()),
+              "the interpolation's component on %d channels, e.g. %s" % (len(comp), sorted(comp.items())[:1]))
+        check(not any("nominal_correlated_sigma" in v for v in reps["0"]["noise"].values()),
+              "none with the reference taken as exact")
+        corr = {a: sum(1 for v in r["noise"].values() if v["model"] != "white") for a, r in reps.items()}
+        check(corr["-1"] < corr["0"], "channels judged correlated: %d with the interpolation's uncertainty, %d without"
+              % (corr["-1"], corr["0"]))
+        for a, r in reps.items():
+            named = ["%s[%s]" % (e["name"], e.get("scope")) for e in mean_effects(r)]
+            check(not named, "sparse reference, --reference-accel %s: no mean effect named (%s)" % (a, ", ".join(named)))
 
 sys.exit(checks.finish())

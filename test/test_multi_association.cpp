@@ -7,6 +7,7 @@
 // the shifts must be the biases within their standard errors, nominal data must associate
 // exactly as without recentring, and the associated measurements must stay the raw ones.
 #include "multi_association.hpp"
+#include "plane_series.hpp"
 
 #include "config.hpp"
 
@@ -278,4 +279,50 @@ TEST_CASE("multi association: too few unambiguous pairs apply no shift, and the 
   CHECK_THROWS_AS(associate(sc.data, o, st), ConfigError);
   o.recentre_gates = false;  // the recentring options are not used, nor checked
   CHECK_NOTHROW(associate(sc.data, o, st));
+}
+
+TEST_CASE("reference interpolation: a track bending off the chord by a b / 2, and its acceleration") {
+  // p(t) = (a t^2 / 2 north, 0 east), sampled every 10 s: the chord between t_a and t_b misses it
+  // by a (t - t_a)(t_b - t) / 2, and every second difference is a (on the north axis alone: RMS
+  // per axis a / sqrt(2)). Tolerances: the geodetic round trip (nanometres), not the model.
+  constexpr double kAccel = 0.2, kDt = 10;  // [m/s^2], [s]
+  const LocalLevelFrame F(Geodetic{63.44, 10.40, 0}, 0.0);
+  std::vector<GeoSample> v;
+  for (int k = 0; k <= 10; ++k) {
+    const double t = k * kDt;
+    v.push_back({t, F.to_geodetic(Eigen::Vector3d(0.5 * kAccel * t * t, 0, 0))});
+  }
+  const PlaneSeries s(v, F, 12);
+  CHECK(s.accel_rms() == Approx(kAccel / std::sqrt(2.0)).epsilon(1e-6));
+  double b = -1, interval = -1;
+  REQUIRE(s.bridge(33, b, interval));
+  CHECK(b == Approx(21));  // (33 - 30)(40 - 33)
+  CHECK(interval == Approx(kDt));
+  Eigen::Vector2d p;
+  REQUIRE(s.at(33, p));
+  CHECK(p.x() - 0.5 * kAccel * 33 * 33 == Approx(kAccel * b / 2).margin(1e-6));
+  REQUIRE(s.bridge(30, b, interval));
+  CHECK(b == 0);
+  const PlaneSeries gappy(v, F, 5);  // 10 s between samples: nothing interpolated, no acceleration
+  CHECK_FALSE(gappy.bridge(33, b, interval));
+  CHECK(gappy.accel_rms() == 0);
+}
+
+TEST_CASE("multi association: each detection carries its reference's interpolation sd") {
+  const Scene sc = make(21, Bias{});
+  AssociationOptions o;
+  o.reference_accel_mps2 = 1;  // [m/s^2]: sd = b / 2 with the 0.2 s references, b <= 0.01 s^2
+  std::map<std::string, SensorAssociation> st;
+  const auto a = associate(sc.data, o, st);
+  REQUIRE(!a.empty());
+  double most = 0;
+  for (const auto& x : a) {
+    CHECK(x.ref_interval_s == Approx(kTruthDtS));
+    CHECK(x.ref_interp_sd_m >= 0);
+    CHECK(x.ref_interp_sd_m <= 0.5 * 0.25 * kTruthDtS * kTruthDtS + 1e-12);
+    most = std::max(most, x.ref_interp_sd_m);
+  }
+  CHECK(most > 0);  // the radar's 1.7 s scans fall between reference samples
+  o.reference_accel_mps2 = -2;
+  CHECK_THROWS_WITH(associate(sc.data, o, st), Catch::Contains("reference_accel_mps2"));
 }

@@ -31,6 +31,7 @@ constexpr double kMinPredRange = 1.0;   ///< [m] a prediction nearer the observe
 struct Pred {
   std::string target;
   Eigen::Vector2d p, v;
+  double interp_sd_m = 0, interval_s = 0;  // AssociatedDetection::ref_interp_sd_m, ref_interval_s
 };
 
 // One scan: rows [begin, end) of one sensor with one t_s, and the reference geometry at its time
@@ -106,6 +107,8 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   if (!(o.gate_position_m > 0)) throw ConfigError("association: gate_position_m must be > 0");
   if (!(o.reference_max_gap_s > 0) || !std::isfinite(o.reference_max_gap_s))
     throw ConfigError("association: reference_max_gap_s must be finite and > 0");
+  if (!(o.reference_accel_mps2 == -1 || (o.reference_accel_mps2 >= 0 && std::isfinite(o.reference_accel_mps2))))
+    throw ConfigError("association: reference_accel_mps2 must be -1 (each target's own) or finite and >= 0");
   if (o.recentre_gates) {
     if (!(o.wide_gate_bearing_deg > 0 && o.wide_gate_bearing_deg <= kMaxWideGateDeg))
       throw ConfigError("association: wide_gate_bearing_deg must be in (0, 90]");
@@ -143,7 +146,12 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       s.gamma = std::atan2(north_F.z(), north_F.x());
       for (const auto& [name, series] : truth) {
         Pred pr{name, {}, {}};
-        if (series.at(t, pr.p) && series.velocity(t, h, pr.v)) s.preds.push_back(pr);
+        double b = 0;
+        if (!series.at(t, pr.p) || !series.velocity(t, h, pr.v) || !series.bridge(t, b, pr.interval_s)) continue;
+        // the chord's miss a b / 2 (PlaneSeries::bridge)
+        const double accel = o.reference_accel_mps2 < 0 ? series.accel_rms() : o.reference_accel_mps2;
+        pr.interp_sd_m = 0.5 * accel * b;
+        s.preds.push_back(pr);
       }
     }
     scans.push_back(std::move(s));
@@ -250,6 +258,8 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       x.v_rel = to_local * (pr.v - s.vo);
       const double speed = pr.v.norm();
       x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(to_local * pr.v / speed) : Eigen::Vector2d::Zero();
+      x.ref_interp_sd_m = pr.interp_sd_m;
+      x.ref_interval_s = pr.interval_s;
       if (x.d.norm() < kMinPredRange) continue;  // on top of the observer: no bearing
       out.push_back(x);
       ++st.associated[x.target];

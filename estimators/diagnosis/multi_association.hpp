@@ -51,6 +51,12 @@ struct AssociationOptions {
   /// apart; a detection inside a longer gap is not associated, > 0. 2 s suits a GNSS reference
   /// at 1 Hz or faster; an AIS reference (a report every 2-10 s, 3 min at anchor) needs 10 s or more.
   double reference_max_gap_s = 2;
+  /// [m/s^2] RMS per horizontal axis of a target's acceleration between its reference samples,
+  /// behind the interpolation's own uncertainty (AssociatedDetection::ref_interp_sd_m): -1
+  /// (default): each target's own, from its reference's second differences
+  /// (PlaneSeries::accel_rms, an upper estimate); 0: the interpolated reference taken as exact;
+  /// else this value for every target, >= 0.
+  double reference_accel_mps2 = -1;
   /// Recentre each sensor's gates on its common bearing and range bias, estimated from a first
   /// pass with the wide gates below (see the file comment); false: the one-pass association.
   bool recentre_gates = true;
@@ -77,6 +83,11 @@ struct AssociatedDetection {
   Eigen::Vector2d v_rel;           ///< [m/s] its rate (target velocity minus observer velocity)
   Eigen::Vector2d v_target;        ///< [m/s] target velocity from its reference track
   Eigen::Vector2d u_course;        ///< unit vector along the target's course; zero below min_speed
+  /// [m] sd per horizontal axis of the reference position's interpolation error at t_s: a track
+  /// accelerating at a (AssociationOptions::reference_accel_mps2) leaves the chord between the
+  /// samples t_a <= t_s <= t_b by a (t_s - t_a)(t_b - t_s) / 2; 0 at a sample.
+  double ref_interp_sd_m = 0;
+  double ref_interval_s = 0;       ///< [s] t_b - t_a: the reference interval around t_s
   double bearing_pred() const { return std::atan2(d.y(), d.x()); }
   double range_pred() const { return d.norm(); }
   /// d bearing / d d [rad/m] and d range / d d [1], as rows (north, east).

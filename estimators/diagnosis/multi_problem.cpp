@@ -50,6 +50,37 @@ std::string period_text(double T) {
   return b;
 }
 
+// The reference's interpolation error (AssociatedDetection::ref_interp_sd_m, seen by a range as
+// sd and by a bearing as sd / range) as each channel's nominal correlated component: sigma =
+// its RMS over the channel's detections, seen with the gain sd_i / sigma (0 at a reference
+// sample, largest mid-interval), correlation time the channel's median reference interval (one
+// acceleration bends the whole interval). Only where sigma reaches kInterpolationFloor of the
+// channel's nominal sigma: below, it changes the variance by under 1 %, and a reference at 1 Hz
+// or faster (the Autoferry GNSS tracks) stays exact.
+constexpr double kInterpolationFloor = 0.1;
+
+void add_interpolation_noise(Problem& p, const std::vector<double>& sd, const std::vector<double>& interval) {
+  std::vector<double> gain(p.size(), 1.0);
+  bool any = false;
+  for (std::size_t c = 0; c < p.channels.size(); ++c) {
+    std::vector<std::size_t> obs;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.channel[i] == static_cast<int>(c)) obs.push_back(i);
+    double s2 = 0;
+    std::vector<double> iv;
+    for (std::size_t i : obs) s2 += sd[i] * sd[i], iv.push_back(interval[i]);
+    const double rms = std::sqrt(s2 / static_cast<double>(obs.size()));
+    Channel& ch = p.channels[c];
+    if (!(rms >= kInterpolationFloor * ch.nominal_sigma)) continue;
+    std::nth_element(iv.begin(), iv.begin() + static_cast<std::ptrdiff_t>(iv.size() / 2), iv.end());
+    ch.nominal_corr_sigma = rms;
+    ch.nominal_corr_tau_s = std::max(iv[iv.size() / 2], 1e-3);
+    for (std::size_t i : obs) gain[i] = sd[i] / rms;
+    any = true;
+  }
+  if (any) p.nominal_corr_gain = std::move(gain);
+}
+
 }  // namespace
 
 MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
@@ -84,6 +115,7 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
 
   // channels in a fixed order: recording, sensor, target, quantity
   auto geoms = std::make_shared<std::vector<ObsGeom>>();
+  std::vector<double> interp_sd, interval;  // per observation: the reference's interpolation sd [unit], its interval [s]
   for (int r = 0; r < R; ++r) {
     const auto& rd = recs[static_cast<std::size_t>(r)];
     const auto& a = rd.a;
@@ -131,10 +163,13 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
         p.y.push_back(is_range ? x.range_m - x.range_pred() : wrap_pi(x.bearing_rad - x.bearing_pred()));
         p.estimation.push_back(x.t_s < mp.split_time_s[static_cast<std::size_t>(r)]);
         geoms->push_back(g);
+        interp_sd.push_back(is_range ? x.ref_interp_sd_m : x.ref_interp_sd_m / x.range_pred());
+        interval.push_back(x.ref_interval_s);
       }
     }
   }
   if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with 10 or more associated detections");
+  add_interpolation_noise(p, interp_sd, interval);
   const auto n = static_cast<Eigen::Index>(p.y.size());
   p.nuisance = Eigen::MatrixXd(n, 0);
   const Geoms G = geoms;

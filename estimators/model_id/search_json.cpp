@@ -91,6 +91,12 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        {"outlier_frames_in_runs", n.outliers_in_runs},
                                        {"noise_scale", n.noise_scale},
                                        {"frames", n.fit.n}};
+    // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a
+    // reference's interpolation), where the channel has one
+    if (pb.channels[c].nominal_corr_sigma > 0) {
+      j["noise"][pb.channels[c].name]["nominal_correlated_sigma"] = pb.channels[c].nominal_corr_sigma;
+      j["noise"][pb.channels[c].name]["nominal_correlated_tau_s"] = pb.channels[c].nominal_corr_tau_s;
+    }
   }
   j["series_gain"] = nlohmann::ordered_json::object();
   for (std::size_t c = 0; c < r.gain.size(); ++c) {

@@ -131,6 +131,11 @@ int main(int argc, char** argv) {
         .value("--reference-max-gap", "S",
                "multi: interpolate a target's reference track only between samples at most S apart [s] (AIS: 10 or "
                "more), > 0", "2 s", num("--reference-max-gap", mo.association.reference_max_gap_s))
+        .value("--reference-accel", "A",
+               "multi: RMS acceleration per axis of a target between its reference samples [m/s^2], behind the "
+               "interpolation's own uncertainty in the noise (a b / 2 off the chord, b = (t - t_a)(t_b - t)); -1: each "
+               "target's own from its reference's second differences; 0: the reference taken as exact",
+               "-1", num("--reference-accel", mo.association.reference_accel_mps2))
         .value("--sigma-deg", "D", "uav, multi: nominal bearing noise, 1 sigma [deg]", "0.5 deg",
                num_two("--sigma-deg", uo.sigma_deg, mo.sigma_bearing_deg))
         .value("--sigma-range-m", "M", "multi: nominal range noise of range sensors, 1 sigma [m]", "1 m",
