@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""The README's pooled Autoferry tables from one `rnav_diagnose multi DIR1 ... DIR9 --json` report
-(scripts/autoferry_study --pooled writes it): the hardware effects (one value in every
-recording) with their per-recording spread, each recording's own effects, the scope answers, and
-the leave-one-recording-out error per sensor:target pair with its summary (pairs with >= 5
-detections)."""
+"""The pooled Autoferry tables of docs/autoferry-multi-sensor.md from one `rnav_diagnose multi
+DIR1 ... DIR9 --json` report (scripts/autoferry_study --pooled writes it): the hardware effects
+(one value in every recording) with their per-recording spread, each recording's own effects,
+the scope answers, and the leave-one-recording-out error per sensor:target pair with its summary
+(pairs with >= 5 detections)."""
 import json
 import math
 import os

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Independent flight generator: synthetic measured data in the project's CSV interchange formats
-(README, "Measured data") flown on trajectories the simulator never flies. It shares no code with
-sim/, estimators/ or common/: its own WGS84 geodesy, kinematics, error models and random streams.
+(landing radar: docs/diagnosis.md, "Measured data"; azimuth-only: docs/adsb-and-camera-bearings.md;
+multi-sensor: docs/autoferry-multi-sensor.md) flown on trajectories the simulator never flies. It
+shares no code with sim/, estimators/ or common/: its own WGS84 geodesy, kinematics, error models
+and random streams.
 
   scripts/flightgen.py landing OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]   site.json radar.csv nav.csv truth.csv
   scripts/flightgen.py uav OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]       observer.csv bearings.csv truth.csv

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# ctest multihost.two_namespaces: the README's several-hosts recipe ("Networking") run as written
-# on two "hosts" — two network namespaces joined by a veth pair named eth1 at both ends
+# ctest multihost.two_namespaces: the documentation's several-hosts recipe ("Networking" in
+# docs/processes-and-protocol.md) run as written on two "hosts" — two network namespaces joined
+# by a veth pair named eth1 at both ends
 # (10.231.0.1 on host A, 10.231.0.2 on host B; besides lo the only link of each) — gives byte for
 # byte the statistics of the single-host run (scripts/run with the recipe's scenario,
 # realizations and seed).
 #
-# The recipe is read from README.md (the indented block starting "# both hosts"): its "# both
-# hosts" lines run on both hosts (variable assignments before every command, other lines such as
+# The recipe is read from the documentation, README.md or a docs/*.md page (the indented block
+# starting "# both hosts", in exactly one of them): its "# both hosts" lines run on both hosts
+# (variable assignments before every command, other lines such as
 # the multicast route once per host), its "# host A" and "# host B" lines start one process each
 # on that host. The commands run unchanged in a scratch folder holding `sim` and `build` as links
 # to SOURCE_DIR/sim and BUILD_DIR. Before the run, a probe datagram must cross the veth both ways
@@ -33,7 +35,14 @@ done
 command -v ip >/dev/null || fail "needs ip (Debian package iproute2)"
 [[ -x $PY ]] || fail "needs $PY"
 
-# ---- The recipe, from the README. ----
+# ---- The recipe, from the documentation. ----
+RECIPE_FILE=""
+for doc in "$SRC/README.md" "$SRC"/docs/*.md; do
+  [[ -f $doc ]] && grep -q '^    # both hosts' "$doc" || continue
+  [[ -z $RECIPE_FILE ]] || fail "two several-hosts recipes (indented blocks starting '# both hosts'): ${RECIPE_FILE#$SRC/} and ${doc#$SRC/}"
+  RECIPE_FILE=$doc
+done
+[[ -n $RECIPE_FILE ]] || fail "neither README.md nor docs/*.md has a several-hosts recipe (an indented block starting '# both hosts')"
 declare -a HOST_OF_LINE=() LINES=()
 host="" in_block=0 cont=""
 while IFS= read -r raw; do
@@ -53,26 +62,26 @@ while IFS= read -r raw; do
     "#"* | "") ;;
     *) LINES+=("$line"); HOST_OF_LINE+=("$host") ;;
   esac
-done <"$SRC/README.md"
-((in_block)) || fail "README.md has no several-hosts recipe (an indented block starting '# both hosts')"
+done <"$RECIPE_FILE"
+((in_block)) || fail "${RECIPE_FILE#$SRC/} has no several-hosts recipe (an indented block starting '# both hosts')"
 
 PRELUDE=""
 SETUP=() PROCS=() PROC_HOST=() PROC_NAME=()
 for i in "${!LINES[@]}"; do
   line=${LINES[$i]} h=${HOST_OF_LINE[$i]}
   if [[ $line =~ ^[A-Za-z_][A-Za-z0-9_]*= ]]; then
-    [[ $h == both ]] || fail "recipe line '$line': assignments belong under '# both hosts'"
+    [[ $h == both ]] || fail "recipe line '$line' (${RECIPE_FILE#$SRC/}): assignments belong under '# both hosts'"
     PRELUDE+="$line"$'\n'
   elif [[ $line =~ ^build/bin/rnav_([a-z_]+)[[:space:]] ]]; then
-    [[ $h == A || $h == B ]] || fail "recipe line '$line': a process belongs under '# host A' or '# host B'"
+    [[ $h == A || $h == B ]] || fail "recipe line '$line' (${RECIPE_FILE#$SRC/}): a process belongs under '# host A' or '# host B'"
     PROCS+=("$(sed -E 's/[[:space:]]*&$//' <<<"$line")"); PROC_HOST+=("$h"); PROC_NAME+=("${BASH_REMATCH[1]}")
   else
-    [[ $h == both ]] || fail "recipe line '$line': only processes under '# host A' and '# host B'"
+    [[ $h == both ]] || fail "recipe line '$line' (${RECIPE_FILE#$SRC/}): only processes under '# host A' and '# host B'"
     SETUP+=("$line")
   fi
 done
 # The recipe must really span both hosts: one clock, every node it waits for started once, each
-# host running something (a README edit that puts everything on one host fails here).
+# host running something (a documentation edit that puts everything on one host fails here).
 clock_i="" started=()
 for i in "${!PROCS[@]}"; do
   if [[ ${PROC_NAME[$i]} == clock ]]; then

@@ -1,17 +1,22 @@
 #!/usr/bin/env python3
-"""ctest readme.examples: the README's examples run as written and give the figures it quotes.
+"""ctest readme.examples: the examples of the README and of docs/ run as written and give the
+figures they quote.
 
-Each example below is found in README.md by the first line of its command block (an indented
-block); its commands are taken from the README, not from this file, so an edited command is the
-one that runs. Two rewrites only, so that parallel tests cannot collide: `/tmp/` and a leading
-`out/` become folders of this test's own scratch directory. The figures are read from the
-README's prose and tables by the patterns below and compared with what the commands wrote:
-a figure quoted with d decimals matches if it is the value rounded to d decimals (|value -
-quoted| <= 0.5e-d, plus 1e-9 for the decimal representation). A README edit that changes a
-figure without the code, or the code without the README, fails here, naming the figure.
+The documentation is README.md and every docs/*.md page. Each example below is found by the
+first line of its command block (an indented block), searched in each of those files; it must be
+in exactly one of them, and its block and the prose read after it never reach past the end of
+that file. Its commands are taken from the documentation, not from this file, so an edited
+command is the one that runs. Two rewrites only, so that parallel tests cannot collide: `/tmp/`
+and a leading `out/` become folders of this test's own scratch directory. The figures are read
+from the prose and tables after the example by the patterns below and compared with what the
+commands wrote: a figure quoted with d decimals matches if it is the value rounded to d decimals
+(|value - quoted| <= 0.5e-d, plus 1e-9 for the decimal representation). A documentation edit
+that changes a figure without the code, or the code without the documentation, fails here,
+naming the figure and the file that quotes it.
 
 Usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...]   (no EXAMPLE: all of them)
 """
+import glob
 import json
 import os
 import re
@@ -22,7 +27,12 @@ import tempfile
 
 SRC, BUILD = sys.argv[1], sys.argv[2]
 ONLY = sys.argv[3:]
-README = open(os.path.join(SRC, "README.md"), encoding="utf-8").read()
+# The documentation, file by file: (path relative to SRC, text). Each file is searched on its own,
+# so a block and the prose after it never cross from one file into the next.
+DOCS = [(name, open(os.path.join(SRC, name), encoding="utf-8").read())
+        for name in ["README.md"] + sorted(os.path.relpath(p, SRC)
+                                           for p in glob.glob(os.path.join(SRC, "docs", "*.md")))]
+WHERE = "the documentation"  # the file the current example was found in (named in messages)
 FAILS = []
 
 
@@ -31,13 +41,38 @@ def fail(what):
     print("FAIL: " + what, flush=True)
 
 
+def locate(needle, what):
+    """The file holding `needle` (exactly one of README.md and docs/*.md), its text and the index;
+    the file becomes WHERE, named in this example's messages."""
+    global WHERE
+    hits = [(name, text, text.find(needle)) for name, text in DOCS if needle in text]
+    if not hits:
+        raise SystemExit("check_readme: the documentation (README.md, docs/*.md) no longer has the "
+                         "example %s (update test/check_readme.py with it)" % what)
+    if len(hits) > 1:
+        raise SystemExit("check_readme: the example %s is in %s; keep it in one file (or make "
+                         "test/check_readme.py tell them apart)" % (what, " and ".join(h[0] for h in hits)))
+    WHERE = hits[0][0]
+    return hits[0][1], hits[0][2]
+
+
+def section(heading):
+    """The text of the file whose heading (any level) starts with `heading`, from that heading to
+    the end of the file."""
+    global WHERE
+    pattern = r"^#+ " + re.escape(heading)
+    hits = [(name, text, m.start()) for name, text in DOCS for m in [re.search(pattern, text, re.M)] if m]
+    if len(hits) != 1:
+        raise SystemExit("check_readme: %s heading starting '%s' (README.md, docs/*.md); "
+                         "update test/check_readme.py" % ("no" if not hits else "more than one", heading))
+    WHERE = hits[0][0]
+    return hits[0][1][hits[0][2]:]
+
+
 def block_after(first_line):
-    """The indented command block starting with `first_line` and the README text after it."""
-    i = README.find("\n    " + first_line)
-    if i < 0:
-        raise SystemExit("check_readme: the README no longer has the example '%s' "
-                         "(update test/check_readme.py with it)" % first_line)
-    lines, rest = [], README[i + 1:]
+    """The indented command block starting with `first_line` and the text of its file after it."""
+    text, i = locate("\n    " + first_line, "'%s'" % first_line)
+    lines, rest = [], text[i + 1:]
     while rest.startswith("    ") or rest.startswith("\n    "):
         line, _, rest = rest.lstrip("\n").partition("\n")
         lines.append(line[4:])
@@ -73,7 +108,7 @@ def run(cmd, tmp, what):
 def run_ok(cmd, tmp, what):
     r = run(cmd, tmp, what)
     if r.returncode != 0:
-        fail("%s: '%s' exited %d: %s" % (what, cmd, r.returncode, r.stderr.strip()[-600:]))
+        fail("%s (%s): '%s' exited %d: %s" % (what, WHERE, cmd, r.returncode, r.stderr.strip()[-600:]))
         raise RuntimeError(what)
     return r.stdout
 
@@ -88,14 +123,14 @@ def number(text):
 def agree(what, quoted, value, scale=1.0):
     q, tol = number(quoted)
     if abs(value / scale - q) > tol:
-        fail("%s: the README quotes %s, the run gives %.10g" % (what, quoted, value / scale))
+        fail("%s: %s quotes %s, the run gives %.10g" % (what, WHERE, quoted, value / scale))
 
 
 def find(pattern, text, what, flags=0):
     m = re.search(pattern, text, flags)
     if not m:
-        raise SystemExit("check_readme: the README's wording for %s changed (pattern %r); "
-                         "update test/check_readme.py" % (what, pattern))
+        raise SystemExit("check_readme: the wording for %s in %s changed (pattern %r); "
+                         "update test/check_readme.py" % (what, WHERE, pattern))
     return m
 
 
@@ -123,20 +158,23 @@ def ex_errors(tmp):
         got = (r.stdout + r.stderr).strip().splitlines()
         pattern = "^" + ".*".join(re.escape(p) for p in "\n".join(expected).split("...")) + "$"
         if r.returncode == 0 or not re.match(pattern, "\n".join(got), re.S):
-            fail("'%s' prints %r (exit %d); the README shows %r" % (cmd, got, r.returncode, expected))
+            fail("'%s' prints %r (exit %d); %s shows %r" % (cmd, got, r.returncode, WHERE, expected))
 
 
 def ex_table2(tmp):
-    i = README.index("## Results: the paper scenario")
-    cmd = find(r"`(scripts/run paper [^`]*)`", README[i:], "Table 2's command").group(1)
+    results = section("Results: the paper scenario")
+    cmd = find(r"`(scripts/run paper [^`]*)`", results, "Table 2's command").group(1)
     run_ok(cmd, tmp, "Table 2")
     out = find(r"--out (\S+)", cmd, "Table 2's --out").group(1)
     d = json.load(open(os.path.join(localize(" " + out, tmp).strip(), "table2_detail.json")))
-    table = README[README.index("| range from threshold", i):]
+    if "| range from threshold" not in results:
+        raise SystemExit("check_readme: Table 2 ('| range from threshold') is no longer under its "
+                         "heading in %s; update test/check_readme.py" % WHERE)
+    table = results[results.index("| range from threshold"):]
     table = table[:table.index("\n\n")]  # the first table of the section: Table 2
     rows = re.findall(r"^\| (\d+) km +\| (APOI|TOI) +\| ([^|]+)\| ([^|]+)\| ([^|]+)\|", table, re.M)
     if len(rows) != 4:
-        raise SystemExit("check_readme: expected 4 rows of Table 2 in the README, found %d" % len(rows))
+        raise SystemExit("check_readme: expected 4 rows of Table 2 in %s, found %d" % (WHERE, len(rows)))
     for km, row, *cells in rows:
         b = d[row][str(int(km) * 1000)]
         for axis, cell in enumerate(cells):
@@ -199,7 +237,7 @@ def ex_autoferry(tmp):
         run_ok(c, tmp, "the Autoferry example")
     rep = json.load(open(tmp + "/out/af4.json"))
     row = [c.strip() for c in find(r"^\| 4 \| ([^|]+)\| ([^|]+)\| ([^|]+)\| ([^|]+)\|", after, "scenario 4's row", re.M).groups()]
-    # The row as scripts/autoferry_study --multi words it (the README says it regenerates the table).
+    # The row as scripts/autoferry_study --multi words it (the documentation says it regenerates the table).
     mean = [e for e in rep["effects"] if e["name"] not in ("noise_scale", "correlated_noise", "outliers", "target_maneuver")]
     scope = lambda e: ":".join(x for x in (e["scope"]["sensor"], e["scope"]["target"]) if x) or "common"
     named = ", ".join("%s[%s]" % (e["name"], scope(e)) for e in mean) or "–"
@@ -209,41 +247,43 @@ def ex_autoferry(tmp):
     for what, quoted, got in (("named effects", row[0], named), ("clock question", row[1], clock),
                               ("radar time_offset", row[2], radar)):
         if quoted != got:
-            fail("Autoferry scenario 4, %s: the README shows '%s', the diagnosis gives '%s'" % (what, quoted, got))
+            fail("Autoferry scenario 4, %s: %s shows '%s', the diagnosis gives '%s'" % (what, WHERE, quoted, got))
     quoted_gain = dict(p.strip().split(" ", 1) for p in row[3].split(","))
     for k in sorted(rep["gain"]):
         g = rep["gain"][k]
         if g["n"] < 5:
             continue
         if k not in quoted_gain:
-            fail("Autoferry scenario 4: held-out channel %s is missing from the README's row" % k)
+            fail("Autoferry scenario 4: held-out channel %s is missing from the row in %s" % (k, WHERE))
             continue
         before, after_ = quoted_gain.pop(k).split("→")
         agree("Autoferry scenario 4 %s nominal RMS" % k, before, g["nominal_rms"])
         agree("Autoferry scenario 4 %s extended RMS" % k, after_, g["extended_rms"])
     for k in quoted_gain:
-        fail("Autoferry scenario 4: the README quotes held-out channel %s, the diagnosis has none" % k)
+        fail("Autoferry scenario 4: %s quotes held-out channel %s, the diagnosis has none" % (WHERE, k))
 
 
 def ex_autoferry_pooled(tmp):
-    """The pooled diagnosis of the nine recordings: the README quotes the study's hardware table
-    rows and its leave-one-out summary line as the study prints them."""
+    """The pooled diagnosis of the nine recordings: the documentation quotes the study's hardware
+    table rows and its leave-one-out summary line as the study prints them."""
     lines, after = block_after("scripts/autoferry_study --pooled --out out/autoferry")
     if not os.path.isdir(os.path.join(SRC, "../shared/data/autoferry/scenario4")):
         print("readme: pooled Autoferry example skipped: ../shared/data/autoferry is not beside the checkout")
         return
     printed = "".join(run_ok(c, tmp, "the pooled Autoferry example") for c in commands(lines))
-    section = after[:after.find("#### One recording at a time")]
+    # up to the next recording-at-a-time heading (any level), or the end of the file
+    m = re.search(r"^#+ One recording at a time", after, re.M)
+    section = after[:m.start()] if m else after
     hardware = [l for l in printed.splitlines() if l.startswith("| ") and " | " in l and l.count("|") == 6
                 and not l.startswith("| effect") and not l.startswith("|---")]
     if not hardware:
         fail("pooled Autoferry example: the study printed no hardware row")
     for row in hardware:
         if row not in section:
-            fail("pooled Autoferry example: the README lacks the hardware row '%s'" % row)
+            fail("pooled Autoferry example: %s lacks the hardware row '%s'" % (WHERE, row))
     summary = next((l for l in printed.splitlines() if "pairs with >= 5 detections" in l), None)
     if summary is None or summary not in section:
-        fail("pooled Autoferry example: the README lacks the leave-one-out summary '%s'" % summary)
+        fail("pooled Autoferry example: %s lacks the leave-one-out summary '%s'" % (WHERE, summary))
 
 
 def ex_replay(tmp):
@@ -256,16 +296,16 @@ def ex_replay(tmp):
 
 
 def ex_python(tmp):
-    """The Python example prints what the README quotes; rnav_log2csv writes as many rows."""
+    """The Python example prints what the documentation quotes; rnav_log2csv writes as many rows."""
     lines, after = block_after("scripts/run paper --realizations 2 --seed 1 --lcm-log /tmp/run.lcmlog")
     out = [run_ok(c, tmp, "the Python example") for c in commands(lines)]
     printed = next((o.strip() for c, o in zip(commands(lines), out) if "python3" in c), "")
     quoted = find(r"prints `([^`]*)`", after, "the Python example's output").group(1)
     if printed != quoted:
-        fail("Python example: the README quotes '%s', it prints '%s'" % (quoted, printed))
+        fail("Python example: %s quotes '%s', it prints '%s'" % (WHERE, quoted, printed))
     rows = sum(1 for _ in open(tmp + "/run_csv/PRL_BIAS.csv")) - 1
     if str(rows) != quoted.split()[0]:
-        fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, the README quotes %s" % (rows, quoted.split()[0]))
+        fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, %s quotes %s" % (rows, WHERE, quoted.split()[0]))
 
 
 def ex_shards(tmp):
@@ -274,14 +314,14 @@ def ex_shards(tmp):
     lines, _ = block_after("scripts/run paper --inproc --realizations 200 --first-realization 0")
     cmds = commands(lines)
     if not any(c.startswith("cmp ") for c in cmds):
-        fail("the shards example no longer compares the merged and the whole run")
+        fail("the shards example in %s no longer compares the merged and the whole run" % WHERE)
     for c in cmds:
         run_ok(c, tmp, "the shards example")
 
 
 def uav_estimator_table(tmp, first_command, what):
-    """A README table of UAV estimators: its commands run, every row against the summary.json of
-    the run it names."""
+    """A documentation table of UAV estimators: its commands run, every row against the
+    summary.json of the run it names."""
     lines, after = block_after(first_command)
     for cmd in commands(lines):
         run_ok(cmd, tmp, what + " example")
@@ -290,7 +330,7 @@ def uav_estimator_table(tmp, first_command, what):
     rows = re.findall(r"^\| `(out/[^`]+)` \| `(\w+)` \| ([\d.]+) m \| ([\d.]+) \| ([\d. ]+) \((inside|outside)\) "
                       r"\| (\d+) / (\d+) \|$", table, re.M)
     if len(rows) != table.count("\n") - 1:
-        raise SystemExit("check_readme: a row of the %s table does not parse; update test/check_readme.py" % what)
+        raise SystemExit("check_readme: a row of the %s table in %s does not parse; update test/check_readme.py" % (what, WHERE))
     for out, name, rmse, ratio, nees, inside, diverged, runs in rows:
         e = json.load(open(os.path.join(tmp, out, "summary.json")))["estimators"][name]
         row = "%s table %s %s" % (what, out, name)
@@ -298,9 +338,9 @@ def uav_estimator_table(tmp, first_command, what):
         agree(row + " RMSE/PCRB", ratio, e["rmse_pos_over_pcrb"])
         agree(row + " mean NEES", nees, e["nees_mean"])
         if (inside == "inside") != e["nees_within_band"]:
-            fail(row + ": the README says NEES %s the band, the run says within_band=%s" % (inside, e["nees_within_band"]))
+            fail(row + ": %s says NEES %s the band, the run says within_band=%s" % (WHERE, inside, e["nees_within_band"]))
         if int(diverged) != e["diverged"] or int(runs) != e["runs"]:
-            fail(row + ": the README quotes %s / %s diverged, the run gives %d / %d" % (diverged, runs, e["diverged"], e["runs"]))
+            fail(row + ": %s quotes %s / %s diverged, the run gives %d / %d" % (WHERE, diverged, runs, e["diverged"], e["runs"]))
 
 
 def ex_uav_ml(tmp):
@@ -323,13 +363,14 @@ for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:
         continue
     tmp = tempfile.mkdtemp(prefix="rnav-readme-")
+    WHERE = "the documentation"
     try:
         n = len(FAILS)
         try:
             f(tmp)
         except RuntimeError:
             pass
-        print("readme: %s %s" % (name, "ok" if len(FAILS) == n else "FAILED"), flush=True)
+        print("readme: %s %s (%s)" % (name, "ok" if len(FAILS) == n else "FAILED", WHERE), flush=True)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 print("%d failure(s)" % len(FAILS))
