@@ -51,7 +51,7 @@ LcmBus::LcmBus(const std::string& url) {
   lcm_ = std::make_unique<lcm::LCM>(url);
   if (!lcm_->good())
     throw std::runtime_error("cannot initialise LCM (url '" + url +
-                             "'): is there a multicast route? see README, 'Networking'");
+                             "'): is there a multicast route? see docs/processes-and-protocol.md, 'Networking'");
 }
 
 void LcmBus::publish_raw(const std::string& channel, const void* data, int size) {

@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
         "the report; --json writes it as JSON. scripts/diagnose adds plots.");
     p.positionals("KIND INPUT [INPUT...]",
                   "KIND: prl (landing radar), uav (azimuth-only) or multi (multi-sensor, multi-target). INPUT: a CSV "
-                  "folder (README, 'Measured data'), or for prl and uav an LCM event log of a simulation run "
+                  "folder (docs/diagnosis.md, 'Measured data'), or for prl and uav an LCM event log of a simulation run "
                   "(scripts/run --lcm-log FILE); multi takes several folders, diagnosed together (each named by "
                   "its folder's name: hardware effects one value in all, validated by leaving each out)",
                   [&](const std::string& v) { pos.push_back(v); });
