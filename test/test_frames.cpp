@@ -1,5 +1,6 @@
 // Unit tests of common/frames.hpp: local-level frames on WGS84, NED velocities, rigid transforms
 // between frames, radar polar coordinates and their Jacobian, angle wrapping.
+#include "bearing.hpp"
 #include "frames.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
@@ -13,6 +14,11 @@
 using rnav::Geodetic;
 using rnav::kDegToRad;
 using rnav::LocalLevelFrame;
+using rnav::bearing_jacobian;
+using rnav::bearing_rad;
+using rnav::bearing_rate_radps;
+using rnav::range_jacobian;
+using rnav::wrap_pi;
 
 namespace {
 
@@ -226,5 +232,32 @@ TEST_CASE("wrap_pi maps into the half-open interval from -pi to pi and keeps the
       const double turns = (x - w) / (2 * M_PI);
       CHECK(std::abs(turns - std::round(turns)) < 1e-12);
     }
+  }
+}
+
+TEST_CASE("bearing: clockwise from north, its Jacobians and rate against finite differences") {
+  // hand values: north 0, east 90 deg, south 180 deg, north-west -45 deg
+  CHECK(bearing_rad(Eigen::Vector2d(1, 0)) == 0);
+  CHECK(bearing_rad(Eigen::Vector2d(0, 2)) == Approx(M_PI / 2));
+  CHECK(bearing_rad(Eigen::Vector2d(-3, 0)) == Approx(M_PI));
+  CHECK(bearing_rad(Eigen::Vector2d(5, -5)) == Approx(-M_PI / 4));
+  // central differences with step h = 1e-4 |d|: truncation O(h^2 / |d|^3) ~ 1e-8 of |J|, rounding
+  // ~ 1e-16 / h; tolerance 1e-7 relative to the gradient's size
+  for (const Eigen::Vector2d d : {Eigen::Vector2d(300, 40), Eigen::Vector2d(-20, 7), Eigen::Vector2d(-5e3, -2e3)}) {
+    const double h = 1e-4 * d.norm();
+    Eigen::RowVector2d jb, jr;
+    for (int i = 0; i < 2; ++i) {
+      Eigen::Vector2d e = Eigen::Vector2d::Zero();
+      e(i) = h;
+      jb(i) = wrap_pi(bearing_rad(d + e) - bearing_rad(d - e)) / (2 * h);
+      jr(i) = ((d + e).norm() - (d - e).norm()) / (2 * h);
+    }
+    CHECK((bearing_jacobian(d) - jb).norm() < 1e-7 * jb.norm());
+    CHECK((range_jacobian(d) - jr).norm() < 1e-7);
+    const Eigen::Vector2d v(3, -8);  // [m/s]
+    const double dt = 1e-3;          // [s]
+    const double rate = wrap_pi(bearing_rad(d + v * dt) - bearing_rad(d - v * dt)) / (2 * dt);
+    CHECK(bearing_rate_radps(d, v) == Approx(rate).epsilon(1e-6));
+    CHECK(bearing_rate_radps(d, v) == Approx(bearing_jacobian(d) * v).epsilon(1e-12));
   }
 }

@@ -62,13 +62,13 @@ double distance(const Detection& dk, const Scan& s, const Eigen::Vector2d& p) {
     const Eigen::Vector2d q = s.po + dk.range_m * Eigen::Vector2d(std::cos(b_F), std::sin(b_F));
     return (q - p).norm();
   }
-  return std::abs(wrap_pi(b_F - std::atan2(d.y(), d.x())));
+  return std::abs(wrap_pi(b_F - bearing_rad(d)));
 }
 
 // Separation of two predictions, in the units of distance().
 double separation(const Scan& s, const Eigen::Vector2d& pa, const Eigen::Vector2d& pb) {
   const Eigen::Vector2d da = pa - s.po, db = pb - s.po;
-  return s.ranged ? (pa - pb).norm() : std::abs(wrap_pi(std::atan2(da.y(), da.x()) - std::atan2(db.y(), db.x())));
+  return s.ranged ? (pa - pb).norm() : std::abs(wrap_pi(bearing_rad(da) - bearing_rad(db)));
 }
 
 // The prediction p moved by a bearing shift db [rad] and a range shift dr [m] about the observer:
@@ -77,7 +77,7 @@ double separation(const Scan& s, const Eigen::Vector2d& pa, const Eigen::Vector2
 Eigen::Vector2d shifted(const Scan& s, const Eigen::Vector2d& p, double db, double dr) {
   if (db == 0 && dr == 0) return p;
   const Eigen::Vector2d d = p - s.po;
-  const double b = std::atan2(d.y(), d.x()) + db, r = std::max(0.0, d.norm() + dr);
+  const double b = bearing_rad(d) + db, r = std::max(0.0, d.norm() + dr);
   return s.po + r * Eigen::Vector2d(std::cos(b), std::sin(b));
 }
 
@@ -183,7 +183,7 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
         for (std::size_t b = 0; b < s.preds.size(); ++b)
           shared |= b != a && distance(det[hit], s, s.preds[b].p) <= gate;
         if (shared) continue;
-        w.bearing_rad.push_back(wrap_pi(det[hit].bearing_rad + s.gamma - std::atan2(d.y(), d.x())));
+        w.bearing_rad.push_back(wrap_pi(det[hit].bearing_rad + s.gamma - bearing_rad(d)));
         if (s.ranged) {
           w.range_m.push_back(det[hit].range_m - d.norm());
           w.pred_range_m.push_back(d.norm());

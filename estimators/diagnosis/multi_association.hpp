@@ -34,6 +34,7 @@
 
 #include "multi_sensor_data.hpp"
 
+#include "bearing.hpp"
 #include <Eigen/Dense>
 
 #include <map>
@@ -88,11 +89,11 @@ struct AssociatedDetection {
   /// samples t_a <= t_s <= t_b by a (t_s - t_a)(t_b - t_s) / 2; 0 at a sample.
   double ref_interp_sd_m = 0;
   double ref_interval_s = 0;       ///< [s] t_b - t_a: the reference interval around t_s
-  double bearing_pred() const { return std::atan2(d.y(), d.x()); }
+  double bearing_pred() const { return rnav::bearing_rad(d); }
   double range_pred() const { return d.norm(); }
   /// d bearing / d d [rad/m] and d range / d d [1], as rows (north, east).
-  Eigen::RowVector2d dbearing() const { return Eigen::RowVector2d(-d.y(), d.x()) / d.squaredNorm(); }
-  Eigen::RowVector2d drange() const { return Eigen::RowVector2d(d.x(), d.y()) / d.norm(); }
+  Eigen::RowVector2d dbearing() const { return bearing_jacobian(d); }
+  Eigen::RowVector2d drange() const { return range_jacobian(d); }
 };
 
 struct SensorAssociation {

@@ -1,5 +1,6 @@
 #include "uav_diagnose.hpp"
 
+#include "bearing.hpp"
 #include "config.hpp"
 #include "plane_series.hpp"
 #include "stats.hpp"
@@ -56,7 +57,7 @@ double wrapped_nearest(const std::vector<double>& bearings, double ref) {
 std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double gate,
                               int& dropped) {
   std::vector<Ob> obs;
-  auto brg = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return std::atan2(b.y() - a.y(), b.x() - a.x()); };
+  auto brg = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return bearing_rad(b - a); };
   for (const auto& fr : data.frames) {
     Eigen::Vector2d po, pt, po_a, po_b, pt_a, pt_b;
     const double h = 0.5;  // [s] half-step of the central difference of the bearing rate

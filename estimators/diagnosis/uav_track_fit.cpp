@@ -1,5 +1,6 @@
 #include "uav_track_fit.hpp"
 
+#include "bearing.hpp"
 #include "config.hpp"
 #include "stats.hpp"
 
@@ -10,22 +11,18 @@
 namespace rnav {
 
 double CvTrack::bearing(const TrackObs& x) const {
-  const Eigen::Vector2d d = at(x.t_s) - x.o_F;
-  return std::atan2(d.y(), d.x());
+  return bearing_rad(at(x.t_s) - x.o_F);
 }
 
 Eigen::Vector4d CvTrack::jacobian(const TrackObs& x) const {
-  // beta = atan2(d_e, d_n): d beta/d p = (-d_e, d_n) / r^2; d p / d v = (t - t_ref).
-  const Eigen::Vector2d d = at(x.t_s) - x.o_F;
-  const double r2 = d.squaredNorm(), dt = x.t_s - t_ref_s;
-  const double gn = -d.y() / r2, ge = d.x() / r2;
-  return {gn, ge, dt * gn, dt * ge};
+  // d beta/d p (bearing_jacobian); d p / d v = (t - t_ref).
+  const Eigen::RowVector2d g = bearing_jacobian(at(x.t_s) - x.o_F);
+  const double dt = x.t_s - t_ref_s;
+  return {g(0), g(1), dt * g(0), dt * g(1)};
 }
 
 double CvTrack::bearing_rate(const TrackObs& x) const {
-  // beta_dot = (d_n dv_e - d_e dv_n) / r^2
-  const Eigen::Vector2d d = at(x.t_s) - x.o_F, dv = v_F - x.vo_F;
-  return (d.x() * dv.y() - d.y() * dv.x()) / d.squaredNorm();
+  return bearing_rate_radps(at(x.t_s) - x.o_F, v_F - x.vo_F);
 }
 
 std::vector<TrackObs> track_observations(const AzimuthData& data, const LocalLevelFrame& F) {

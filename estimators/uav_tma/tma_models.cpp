@@ -1,5 +1,6 @@
 #include "tma_models.hpp"
 
+#include "bearing.hpp"
 #include <cmath>
 
 namespace rnav::tma {
@@ -21,7 +22,7 @@ Mat4 cv_process_noise(double q, double dt) {
 }
 
 double bearing(const Vec4& x, const Eigen::Vector2d& o) {
-  return std::atan2(x[kE] - o.y(), x[kN] - o.x());
+  return bearing_rad(Eigen::Vector2d(x[kN] - o.x(), x[kE] - o.y()));
 }
 
 double range(const Vec4& x, const Eigen::Vector2d& o) {
@@ -29,10 +30,10 @@ double range(const Vec4& x, const Eigen::Vector2d& o) {
 }
 
 Row4 bearing_jacobian(const Vec4& x, const Eigen::Vector2d& o) {
-  const double dn = x[kN] - o.x(), de = x[kE] - o.y(), d2 = dn * dn + de * de;
+  const Eigen::RowVector2d g = rnav::bearing_jacobian(Eigen::Vector2d(x[kN] - o.x(), x[kE] - o.y()));
   Row4 H = Row4::Zero();
-  H(kN) = -de / d2;
-  H(kE) = dn / d2;
+  H(kN) = g(0);
+  H(kE) = g(1);
   return H;
 }
 

@@ -1,5 +1,6 @@
 #include "tma_particle.hpp"
 
+#include "bearing.hpp"
 #include "frames.hpp"
 
 #include <algorithm>
@@ -118,7 +119,7 @@ void ParticleFilter::update(const BearingMeas& z) {
     const double dn = x_[i](kN) - z.p_obs_F.x(), de = x_[i](kE) - z.p_obs_F.y();
     // R = sigma_b^2 + sigma_nav^2 / D^2 (bearing_variance) from D^2, without the square root.
     const double R = o_.add_nav_noise ? sb2 + sn2 / (dn * dn + de * de) : sb2;
-    const double nu = wrap_pi(z.bearing_rad - std::atan2(de, dn));
+    const double nu = wrap_pi(z.bearing_rad - bearing_rad(Eigen::Vector2d(dn, de)));
     lw[i] = std::log(w_[i]) - 0.5 * nu * nu / R - 0.5 * std::log(R);
     mx = std::max(mx, lw[i]);
   }

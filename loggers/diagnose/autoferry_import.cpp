@@ -1,6 +1,7 @@
 #include "autoferry_import.hpp"
 
 #include "atomic_file.hpp"
+#include "bearing.hpp"
 #include "config.hpp"
 #include "frames.hpp"
 
@@ -102,7 +103,7 @@ void add_measurement(const json& m, int sid, double t, const std::string& where,
     for (std::size_t k = 0; k < n.size(); ++k) {
       x.range_m = std::hypot(n[k], e[k]);
       if (x.range_m > 1e6) bad(where, "detection " + std::to_string(k) + " is farther than 1e6 m");
-      x.bearing_rad = wrap_pi(std::atan2(e[k], n[k]));
+      x.bearing_rad = wrap_pi(bearing_rad(Eigen::Vector2d(n[k], e[k])));
       d.detections.push_back(x);
     }
   }

@@ -1,5 +1,6 @@
 #include "uav_node.hpp"
 
+#include "bearing.hpp"
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>
@@ -90,7 +91,7 @@ void UavNode::steer(std::int64_t utime, const Eigen::Vector2d& p_nav_F, const be
   std::optional<double> beta, range;
   if (d) range = d->norm();
   if (sc_.uav.guidance == "estimate" && d) {
-    beta = std::atan2(d->y(), d->x());
+    beta = bearing_rad(*d);
   } else if (last_bearing_rad_) {
     beta = *last_bearing_rad_;  // los, or no estimate yet: the measured bearing
   }
@@ -144,7 +145,7 @@ int UavNode::process(const sim_window_t&) {
     nav.states.push_back(sol);
     // Sensor: the true bearing from the true UAV position, within the field of regard.
     const Eigen::Vector2d d(ts.p_OT_F[0] - k.p_OU_F.x(), ts.p_OT_F[1] - k.p_OU_F.y());
-    const double truth_b = std::atan2(d.y(), d.x());
+    const double truth_b = bearing_rad(d);
     const double rel = wrap_pi(truth_b - k.course_rad - sc_.sensor.fov_centre_deg * kDegToRad);
     BearingTruth bt;
     bt.t_s = t;
