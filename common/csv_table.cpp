@@ -47,7 +47,13 @@ CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvCo
     int found = -1;
     for (std::size_t i = 0; i < header.size(); ++i)
       if (header[i] == c.name) found = static_cast<int>(i);
-    if (found < 0 && !c.optional) throw ConfigError(file + ":1: header lacks column '" + c.name + "'");
+    if (found < 0 && !c.optional) {
+      // a CSV separated by ';' (a spreadsheet's locale export) reads as one column
+      if (header.size() == 1 && line.find(';') != std::string::npos)
+        throw ConfigError(file + ":1: the header is separated by ';', not ',' (columns must be comma-separated: " +
+                          "export the file with ',' as separator and '.' as decimal point)");
+      throw ConfigError(file + ":1: header lacks column '" + c.name + "'");
+    }
     idx.push_back(found);
     if (found < 0) continue;
     if (c.kind == CsvKind::kText) t.text_[c.name];

@@ -189,6 +189,19 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     std::ofstream(dir / file) << content;
     expect(where, col);
   };
+  SECTION("a header separated by ';' is named as such") {
+    std::ofstream(dir / "detections.csv") << "t_s;sensor;range_m;bearing_deg\n1;radar;10;20\n";
+    expect("detections.csv:1: the header is separated by ';'", "");
+  }
+  SECTION("a raw Autoferry folder is answered with the command that imports it") {
+    const fs::path raw = temp_dir("scenario9");
+    std::ofstream(raw / "scenario9_detections.json") << "[]";
+    std::ofstream(raw / "scenario9_groundTruth.json") << "[]";
+    const std::string e = read_error(raw);
+    INFO(e);
+    CHECK(e.find("a raw Autoferry folder") != std::string::npos);
+    CHECK(e.find("rnav_import_autoferry " + raw.string() + " --out out/" + raw.filename().string()) != std::string::npos);
+  }
   SECTION("non-numeric cell") {
     det("1,radar,10,20\n2,radar,abc,20\n");
     expect("detections.csv:3", "range_m");

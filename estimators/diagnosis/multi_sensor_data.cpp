@@ -173,8 +173,33 @@ std::map<std::string, std::vector<GeoSample>> MultiSensorData::truth_on_level() 
   return out;
 }
 
+namespace {
+
+// A raw Autoferry folder (scenarioN_detections.json and scenarioN_groundTruth.json, no CSV) is
+// answered with the command that imports it, not with "observer.csv: cannot open".
+void refuse_raw_autoferry(const std::string& dir) {
+  namespace fs = std::filesystem;
+  if (fs::exists(dir + "/observer.csv") || !fs::is_directory(dir)) return;
+  std::string det, truth;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string f = e.path().filename().string();
+    auto ends = [&](const std::string& tail) { return f.size() > tail.size() && f.compare(f.size() - tail.size(), tail.size(), tail) == 0; };
+    if (ends("_detections.json")) det = f;
+    if (ends("_groundTruth.json")) truth = f;
+  }
+  if (det.empty() || truth.empty()) return;
+  std::string name = fs::path(dir).lexically_normal().filename().string();
+  if (name.empty()) name = fs::path(dir).lexically_normal().parent_path().filename().string();
+  throw ConfigError(dir + ": a raw Autoferry folder (" + det + ", " + truth + "), not the multi-sensor CSV format; "
+                    "import it first: build/bin/rnav_import_autoferry " + dir + " --out out/" + name +
+                    " (add --boat-names A,B to name its boats), then diagnose out/" + name);
+}
+
+}  // namespace
+
 MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
   MultiSensorData d;
+  refuse_raw_autoferry(dir);
   read_observer(dir + "/observer.csv", d);
   read_detections(dir + "/detections.csv", d);
   if (std::filesystem::exists(dir + "/truth.csv")) read_truth(dir + "/truth.csv", d);
