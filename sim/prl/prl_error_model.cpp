@@ -4,41 +4,25 @@
 
 namespace rnav {
 
-GaussMarkovDrift::GaussMarkovDrift(const PolarError& sigma, double tau_s)
-    : d_(sigma.range_m, tau_s), e_(sigma.course_rad, tau_s), g_(sigma.glide_rad, tau_s) {}
+PolarGaussMarkov::PolarGaussMarkov(const PolarError& sigma, double tau_s, Part part)
+    : d_(sigma.range_m, tau_s), e_(sigma.course_rad, tau_s), g_(sigma.glide_rad, tau_s), part_(part) {}
 
-void GaussMarkovDrift::start(Rng& rng) {
+void PolarGaussMarkov::start(Rng& rng) {
   d_.start(rng);
   e_.start(rng);
   g_.start(rng);
   last_t_s_ = 0;
 }
 
-void GaussMarkovDrift::apply(const PlotTruth& truth, Rng& rng, PolarError& sys, PolarError&) {
+void PolarGaussMarkov::apply(const PlotTruth& truth, Rng& rng, PolarError& sys, PolarError& fl) {
   const double dt = truth.t_s - last_t_s_;
   last_t_s_ = truth.t_s;
-  sys += PolarError{d_.step(dt, rng), e_.step(dt, rng), g_.step(dt, rng)};
+  (part_ == Part::kSystematic ? sys : fl) += PolarError{d_.step(dt, rng), e_.step(dt, rng), g_.step(dt, rng)};
 }
 
 void WhiteFluctuation::apply(const PlotTruth&, Rng& rng, PolarError&, PolarError& fl) {
   fl += PolarError{s_.range_m * rng.normal(), s_.course_rad * rng.normal(),
                    s_.glide_rad * rng.normal()};
-}
-
-CorrelatedFluctuation::CorrelatedFluctuation(const PolarError& sigma, double tau_s)
-    : d_(sigma.range_m, tau_s), e_(sigma.course_rad, tau_s), g_(sigma.glide_rad, tau_s) {}
-
-void CorrelatedFluctuation::start(Rng& rng) {
-  d_.start(rng);
-  e_.start(rng);
-  g_.start(rng);
-  last_t_s_ = 0;
-}
-
-void CorrelatedFluctuation::apply(const PlotTruth& truth, Rng& rng, PolarError&, PolarError& fl) {
-  const double dt = truth.t_s - last_t_s_;
-  last_t_s_ = truth.t_s;
-  fl += PolarError{d_.step(dt, rng), e_.step(dt, rng), g_.step(dt, rng)};
 }
 
 void Outliers::apply(const PlotTruth&, Rng& rng, PolarError&, PolarError& fl) {
@@ -90,16 +74,17 @@ PrlErrorModel::PrlErrorModel(const PrlOptions& o, const PrlEffectsOptions& fx,
   effects_.push_back(std::make_unique<ConstantBias>(
       PolarError{o.bias_range_m, o.bias_course_deg * kDegToRad, o.bias_glide_deg * kDegToRad}));
   if (o.drift_sigma_range_m > 0 || o.drift_sigma_course_deg > 0 || o.drift_sigma_glide_deg > 0)
-    effects_.push_back(std::make_unique<GaussMarkovDrift>(
+    effects_.push_back(std::make_unique<PolarGaussMarkov>(
         PolarError{o.drift_sigma_range_m, o.drift_sigma_course_deg * kDegToRad,
                    o.drift_sigma_glide_deg * kDegToRad},
-        o.drift_tau_s));
+        o.drift_tau_s, PolarGaussMarkov::Part::kSystematic));
   // Table 1 gives fluctuation errors as 2 sigma; noise_scale multiplies them.
   const PolarError sigma{o.noise2s_range_m / 2 * fx.noise_scale,
                          o.noise2s_course_deg / 2 * kDegToRad * fx.noise_scale,
                          o.noise2s_glide_deg / 2 * kDegToRad * fx.noise_scale};
   if (fx.correlated_noise_tau_s > 0)
-    effects_.push_back(std::make_unique<CorrelatedFluctuation>(sigma, fx.correlated_noise_tau_s));
+    effects_.push_back(
+        std::make_unique<PolarGaussMarkov>(sigma, fx.correlated_noise_tau_s, PolarGaussMarkov::Part::kFluctuation));
   else
     effects_.push_back(std::make_unique<WhiteFluctuation>(sigma));
   const bool geometric = fx.range_gain != 0 || fx.time_offset_s != 0 ||

@@ -55,16 +55,21 @@ class ConstantBias : public PrlErrorEffect {
   PolarError b_;
 };
 
-/// Slowly varying systematic error: one Gauss-Markov process per coordinate.
-class GaussMarkovDrift : public PrlErrorEffect {
+/// One Gauss-Markov process per coordinate (sigma per coordinate [m, rad, rad], correlation
+/// time tau [s], stationary start), added to the systematic part (Part::kSystematic:
+/// gauss_markov_drift, a slowly varying systematic error) or to the fluctuation
+/// (Part::kFluctuation: correlated_noise, an AR(1) fluctuation): one process, two roles.
+class PolarGaussMarkov : public PrlErrorEffect {
  public:
-  GaussMarkovDrift(const PolarError& sigma, double tau_s);
-  std::string name() const override { return "gauss_markov_drift"; }
+  enum class Part { kSystematic, kFluctuation };
+  PolarGaussMarkov(const PolarError& sigma, double tau_s, Part part);
+  std::string name() const override { return part_ == Part::kSystematic ? "gauss_markov_drift" : "correlated_noise"; }
   void start(Rng& rng) override;
-  void apply(const PlotTruth& truth, Rng& rng, PolarError& sys, PolarError&) override;
+  void apply(const PlotTruth& truth, Rng& rng, PolarError& sys, PolarError& fl) override;
 
  private:
   GaussMarkov d_, e_, g_;
+  Part part_;
   double last_t_s_ = 0;
 };
 
@@ -77,19 +82,6 @@ class WhiteFluctuation : public PrlErrorEffect {
 
  private:
   PolarError s_;
-};
-
-/// Fluctuation as an AR(1) (Gauss-Markov) sequence with correlation time tau (correlated_noise).
-class CorrelatedFluctuation : public PrlErrorEffect {
- public:
-  CorrelatedFluctuation(const PolarError& sigma, double tau_s);
-  std::string name() const override { return "correlated_noise"; }
-  void start(Rng& rng) override;
-  void apply(const PlotTruth& truth, Rng& rng, PolarError&, PolarError& fl) override;
-
- private:
-  GaussMarkov d_, e_, g_;
-  double last_t_s_ = 0;
 };
 
 /// Occasional gross errors (outliers): with probability p a plot gets scale * sigma more noise.
