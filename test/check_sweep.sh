@@ -13,6 +13,7 @@ SW=("$SRC/scripts/sweep" paper --grid radar.x_m=-1500,-1000 --grid prl.period_s=
 
 "${SW[@]}" 2>"$T/first.err" || { cat "$T/first.err"; fail "the sweep failed"; }
 grep -q "4 settings: 4 run, 0 from an earlier run, 0 failed" "$T/first.err" || { cat "$T/first.err"; fail "not 4 settings run"; }
+grep -q "sweep: setting 3 of 4 (002): radar.x_m=-1000 prl.period_s=0.5" "$T/first.err" || { cat "$T/first.err"; fail "progress does not name the setting's place and values"; }
 [[ $(wc -l <"$T/sw/sweep.csv") == 5 ]] || fail "sweep.csv does not hold a header and 4 rows"
 [[ -s $T/sw/sweep.png && -s $T/sw/sweep.json ]] || fail "sweep.png or sweep.json missing"
 
