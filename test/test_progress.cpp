@@ -50,3 +50,28 @@ TEST_CASE("progress on a terminal: redrawn in place, one line break at the end",
   CHECK(s.back() == '\n');
   CHECK(s.find("] 20/20") != std::string::npos);
 }
+
+TEST_CASE("progress inside a realization: the share done, the sim time, and no ETA before anything is done",
+          "[progress]") {
+  char* buf = nullptr;
+  std::size_t size = 0;
+  std::FILE* f = open_memstream(&buf, &size);
+  REQUIRE(f != nullptr);
+  {
+    rnav::ProgressBar bar("realtime", f, false);
+    bar.update(0, 1, 0, 0.0);
+    // one realization of 50 s in 50 windows, one a second of wall time
+    for (int w = 1; w < 50; ++w) bar.update(w / 50.0, 1, 0, 1.0 * w, "sim " + std::to_string(w) + "/50 s");
+    bar.update(1, 1, 0, 50.0);
+  }
+  std::fclose(f);
+  const std::string s(buf, size);
+  std::free(buf);
+  INFO(s);
+  CHECK(s.find("realtime 0/1 (  0 %)  0.0 s elapsed  ETA unknown") == 0);
+  // at 10 s of 50: 0.20 done, 10 s elapsed, 40 s to go
+  CHECK(s.find("realtime 0.10/1 ( 10 %)  sim 5/50 s  5.0 s elapsed  ETA 45.0 s") != std::string::npos);
+  CHECK(s.find("realtime 0.20/1 ( 20 %)  sim 10/50 s  10.0 s elapsed  ETA 40.0 s") != std::string::npos);
+  CHECK(s.find("realtime 1/1 (100 %)  50.0 s elapsed  ETA 0.0 s") != std::string::npos);
+  CHECK(std::count(s.begin(), s.end(), '\n') == 11);
+}

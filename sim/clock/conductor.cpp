@@ -162,6 +162,12 @@ void Conductor::next_window() {
   }
   if (w_ + 1 < n_windows_) {
     ++w_;
+    if (on_window) {
+      const double share = static_cast<double>(w_) / n_windows_;
+      on_window(r_ - o_.first_realization + share, o_.n_realizations, static_cast<int>(retries_.size()),
+                static_cast<double>(static_cast<std::int64_t>(w_) * window_us_) * 1e-6,
+                static_cast<double>(end_us_) * 1e-6);
+    }
   } else {
     const int done = r_ - o_.first_realization + 1;
     if (on_progress) on_progress(done, o_.n_realizations, static_cast<int>(retries_.size()));

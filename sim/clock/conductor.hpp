@@ -76,6 +76,10 @@ class Conductor {
 
   /// Called after each completed realization: (completed, total, retries so far).
   std::function<void(int, int, int)> on_progress;
+  /// Called after each completed window inside a realization: (realizations completed,
+  /// counting the current one's completed share, total, retries so far, the current
+  /// realization's sim time reached [s] and its end [s]).
+  std::function<void(double, int, int, double, double)> on_window;
 
  private:
   enum class State { kWaitHello, kRunning, kFinishing, kDone };

@@ -154,6 +154,13 @@ int main(int argc, char** argv) {
     rnav::ProgressBar bar(o.realtime ? "realtime" : "ensemble");
     const double t0 = rnav::wall_seconds();
     c.on_progress = [&](int done, int total, int retries) { bar.update(done, total, retries, rnav::wall_seconds()); };
+    // inside a realization, where whole realizations are too coarse (real time, or fewer than
+    // ten): its share of windows and the sim time reached
+    if (o.realtime || o.n_realizations < 10) c.on_window = [&](double done, int total, int retries, double sim_s, double end_s) {
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "sim %.1f/%.1f s", sim_s, end_s);
+      bar.update(done, total, retries, rnav::wall_seconds(), detail);
+    };
     bar.update(0, o.n_realizations, 0, t0);
     while (!c.done()) {
       bus.handle(static_cast<int>(std::ceil(1000 * c.idle_s(rnav::wall_seconds()))));

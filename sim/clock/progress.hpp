@@ -15,12 +15,16 @@ class ProgressBar {
   ProgressBar(std::string label, std::FILE* out, bool redraw);
   /// done of total finished at wall time now_s [s] (monotonic); `retries` so far.
   void update(int done, int total, int retries, double now_s);
+  /// The same with done fractional (a realization partly run) and a detail after the count
+  /// (e.g. "sim 12.0/50.0 s"). Before anything is done the ETA is unknown, never 0.
+  void update(double done, int total, int retries, double now_s, const std::string& detail);
 
  private:
   std::string label_;
   std::FILE* out_;
   bool redraw_;
   double start_s_ = -1;
+  double last_draw_s_ = -1;
   int last_decile_ = -1;
   bool finished_ = false;
 };
