@@ -38,6 +38,7 @@ Nothing is read silently wrong; LogError names the file, the byte offset or even
 """
 
 import csv
+import json
 import importlib
 import os
 import pkgutil
@@ -425,13 +426,21 @@ def column_units(table, unit_map=None):
 
 
 def write_csv(table, path, unit_map=None):
-    """One table as CSV: header 'column [unit]' (units where the .lcm gives them), then the rows
-    (numbers in Python's shortest round-trip form, booleans 1/0)."""
+    """One table as CSV: a header of plain column names (letters, digits and '_': numpy's
+    genfromtxt(names=True) and pandas read them as they are), then the rows (numbers in Python's
+    shortest round-trip form, booleans 1/0); beside it PATH without '.csv' + '.units.json',
+    {column: unit} for every column (the unit where the .lcm comments give one, else "")."""
     u = column_units(table, unit_map)
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f, lineterminator="\n")
-        w.writerow([c + (" [%s]" % u[c] if c in u else "") for c in table.columns])
+        w.writerow(table.columns)
         for r in table.rows:
             w.writerow([_text(x) for x in r])
+        f.flush()
+        os.fsync(f.fileno())
+    units_path = (path[:-4] if path.endswith(".csv") else path) + ".units.json"
+    with open(units_path, "w", encoding="utf-8") as f:
+        json.dump({c: u.get(c, "") for c in table.columns}, f, indent=1)
+        f.write("\n")
         f.flush()
         os.fsync(f.fileno())

@@ -306,6 +306,13 @@ def ex_python(tmp):
     rows = sum(1 for _ in open(tmp + "/run_csv/PRL_BIAS.csv")) - 1
     if str(rows) != quoted.split()[0]:
         fail("Python example: rnav_log2csv wrote %d PRL_BIAS rows, %s quotes %s" % (rows, WHERE, quoted.split()[0]))
+    # its CSVs load with numpy by their header's names, the units beside them
+    import numpy
+    a = numpy.genfromtxt(tmp + "/run_csv/PRL_BIAS.csv", delimiter=",", names=True)
+    units = json.load(open(tmp + "/run_csv/PRL_BIAS.units.json"))
+    if a.shape != (rows,) or "eta_0" not in a.dtype.names or units.get("eta_0") != "m" or list(units) != list(a.dtype.names):
+        fail("Python example: numpy.genfromtxt(names=True) reads PRL_BIAS.csv as %s rows, columns %s; units %s"
+             % (a.shape, a.dtype.names[:4], list(units.items())[:4]))
 
 
 def ex_shards(tmp):

@@ -21,12 +21,14 @@
 #include <rnav/tma_batch_t.hpp>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -82,7 +84,8 @@ std::vector<std::string> cells(const std::string& line) {
   return out;
 }
 
-// A CSV of rnav_log2csv: column names (the header without its " [unit]"), units, rows of cells.
+// A CSV of rnav_log2csv: column names (the header: plain names, letters, digits and '_' only),
+// units (from CHANNEL.units.json beside it, one per column), rows of cells.
 struct Csv {
   std::vector<std::string> names, units;
   std::vector<std::vector<std::string>> rows;
@@ -101,10 +104,17 @@ Csv read_csv(const fs::path& f) {
   std::string line;
   std::getline(in, line);
   for (const auto& h : cells(line)) {
-    const auto k = h.find(" [");
-    c.names.push_back(h.substr(0, k));
-    c.units.push_back(k == std::string::npos ? "" : h.substr(k + 2, h.size() - k - 3));
+    INFO(f.string() << ": column '" << h << "'");
+    CHECK((!h.empty() && std::all_of(h.begin(), h.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; })));
+    c.names.push_back(h);
   }
+  fs::path up = f;
+  up.replace_extension(".units.json");
+  std::ifstream uin(up);
+  REQUIRE(uin.good());
+  const nlohmann::json units = nlohmann::json::parse(uin);
+  REQUIRE(units.size() == c.names.size());
+  for (const auto& n : c.names) c.units.push_back(units.at(n).get<std::string>());
   while (std::getline(in, line)) {
     c.rows.push_back(cells(line));
     REQUIRE(c.rows.back().size() == c.names.size());
@@ -456,7 +466,7 @@ TEST_CASE("corrupt_log", "[python][lcm_log][input]") {
 
 TEST_CASE("log2csv", "[python][lcm_log][input]") {
   // --out: refused if it holds someone else's files (left as they were), replaced if it is an
-  // earlier output or with --force; a CSV per channel, units in the header.
+  // earlier output or with --force; a CSV per channel, its units in CHANNEL.units.json beside it.
   const fs::path d = scratch("out");
   const std::string log = (d / "run.lcmlog").string();
   REQUIRE(export_lcm_log(kPaper, {}, 3, 1, log) == 0);
@@ -473,13 +483,14 @@ TEST_CASE("log2csv", "[python][lcm_log][input]") {
   CHECK(!fs::exists(out / "notes.txt"));
   std::set<std::string> files;
   for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
-  std::set<std::string> expected = {".rnav-output", "SIM_WINDOW.csv", "SIM_ACK.csv", "SIM_SCENARIO.csv"};
-  for (const auto& c : kPaperData) expected.insert(c + ".csv");
+  std::set<std::string> expected = {".rnav-output"};
+  for (const std::string c : {"SIM_WINDOW", "SIM_ACK", "SIM_SCENARIO"}) expected.insert({c + ".csv", c + ".units.json"});
+  for (const auto& c : kPaperData) expected.insert({c + ".csv", c + ".units.json"});
   CHECK(files == expected);
   log2csv(log, out, " --channels PRL_APOI");  // an earlier output: replaced whole, no --force
   files.clear();
   for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
-  CHECK(files == std::set<std::string>{".rnav-output", "PRL_APOI.csv"});
+  CHECK(files == std::set<std::string>{".rnav-output", "PRL_APOI.csv", "PRL_APOI.units.json"});
   const Csv apoi = read_csv(out / "PRL_APOI.csv");
   CHECK(apoi.units[apoi.col("range_m")] == "m");
   CHECK(apoi.units[apoi.col("course_rad")] == "rad");
