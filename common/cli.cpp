@@ -1,5 +1,7 @@
 #include "cli.hpp"
 
+#include "decimal.hpp"
+
 #include "did_you_mean.hpp"
 
 #include <cctype>
@@ -200,15 +202,9 @@ std::string Parser::list() const {
 }
 
 double number(const std::string& option, const std::string& text, double lo, double hi) {
-  std::size_t pos = 0;
   double x = NAN;
-  try {
-    x = std::stod(text, &pos);
-  } catch (const std::exception&) {
-    pos = 0;
-  }
-  if (text.empty() || pos != text.size() || !std::isfinite(x))
-    throw ConfigError(option + ": '" + text + "' is not a finite number");
+  std::string why;
+  if (!parse_decimal(text, x, why)) throw ConfigError(option + ": '" + text + "' is not a finite number (" + why + ")");
   if (x < lo || x > hi)
     throw ConfigError(option + ": " + text + " is outside [" + value_text(lo) + ", " + value_text(hi) + "]");
   return x;

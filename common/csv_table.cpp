@@ -1,5 +1,7 @@
 #include "csv_table.hpp"
 
+#include "decimal.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -89,10 +91,9 @@ CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvCo
         t.cols_[c.name].push_back(std::numeric_limits<double>::quiet_NaN());
         continue;
       }
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
-        throw ConfigError(where + "'" + cell + "' is not a finite number");
+      double v = 0;
+      std::string why;
+      if (!parse_decimal(cell, v, why)) throw ConfigError(where + "'" + cell + "' is not a finite number (" + why + ")");
       t.cols_[c.name].push_back(v);
     }
     t.lines_.push_back(lineno);

@@ -1,6 +1,7 @@
 // Unit tests of common/did_you_mean.hpp and common/cli.hpp: the edit distance, the nearest-name
 // rule, and the option table that both parses and prints --help.
 #include "cli.hpp"
+#include "decimal.hpp"
 #include "did_you_mean.hpp"
 
 #include <catch2/catch.hpp>
@@ -147,4 +148,27 @@ TEST_CASE("errors print once as PROGRAM: error: message", "[cli]") {
   CHECK(rnav::cli::guarded_main("rnav_toy", [] { return 7; }) == 7);
   CHECK(rnav::cli::guarded_main("rnav_toy", []() -> int { throw ConfigError("bad input"); }) == 2);
   CHECK(rnav::cli::guarded_main("rnav_toy", []() -> int { throw std::runtime_error("disk"); }) == 1);
+}
+
+TEST_CASE("decimal numbers: the one parser of CSV cells and options", "[cli][input]") {
+  double x = -1;
+  std::string why;
+  for (const auto& [text, value] : std::vector<std::pair<std::string, double>>{
+           {"0", 0}, {"-12.5", -12.5}, {"+3", 3}, {".5", 0.5}, {"5.", 5}, {"1e3", 1000}, {"-2.5E-2", -0.025}, {"4.9e-324", 4.9e-324}}) {
+    INFO(text);
+    CHECK(rnav::parse_decimal(text, x, why));
+    CHECK(x == value);
+  }
+  for (const std::string text : {"", "0x1.0p+15", "0x10", "inf", "-inf", "nan", "null", "1e", "e5", ".", "-", "1.2.3", " 1", "1 ", "1,5", "1e+"}) {
+    INFO(text);
+    x = 42;
+    CHECK_FALSE(rnav::parse_decimal(text, x, why));
+    CHECK(why == "not a decimal number");
+    CHECK(x == 42);  // untouched
+  }
+  CHECK_FALSE(rnav::parse_decimal("1e400", x, why));
+  CHECK(why == "overflows the double range");
+  CHECK_FALSE(rnav::parse_decimal("-1e400", x, why));
+  CHECK_THROWS_WITH(rnav::cli::number("--speed", "0x10", 0, 100), Catch::Contains("--speed: '0x10' is not a finite number (not a decimal number)"));
+  CHECK_THROWS_WITH(rnav::cli::number("--speed", "1e400", 0, 1e300), Catch::Contains("overflows the double range"));
 }

@@ -206,6 +206,16 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     det("1,radar,10,20\n2,radar,abc,20\n");
     expect("detections.csv:3", "range_m");
   }
+  SECTION("a hexadecimal float is not a decimal number (strtod read 0x1.0p+15 as 32768)") {
+    det("1,radar,10,20\n2,radar,0x1.0p+15,20\n");
+    expect("detections.csv:3", "range_m");
+    CHECK(read_error(dir).find("not a decimal number") != std::string::npos);
+  }
+  SECTION("a number beyond the double range is named as such") {
+    det("1,radar,10,20\n2,radar,1e400,20\n");
+    expect("detections.csv:3", "range_m");
+    CHECK(read_error(dir).find("overflows the double range") != std::string::npos);
+  }
   SECTION("bad sensor name") {
     det("1,radar,10,20\n2,Radar,10,20\n");
     expect("detections.csv:3", "sensor");
