@@ -3,6 +3,7 @@
 #include "did_you_mean.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <cctype>
 #include <set>
@@ -225,7 +226,21 @@ nlohmann::json parse_json_checked(const std::string& text, const std::string& so
   return parse_checked(text, source, allow_comments);
 }
 
+void require_regular_file(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st) || fs::is_regular_file(st)) return;
+  const char* kind = fs::is_fifo(st)        ? "a FIFO (named pipe)"
+                     : fs::is_directory(st)  ? "a folder"
+                     : fs::is_character_file(st) || fs::is_block_file(st) ? "a device"
+                     : fs::is_socket(st)     ? "a socket"
+                                             : "not a regular file";
+  throw ConfigError(file + ": is " + std::string(kind) + ", not a regular file: inputs are read from files");
+}
+
 nlohmann::json load_json_file(const std::string& file) {
+  require_regular_file(file);
   std::ifstream in(file);
   if (!in) throw ConfigError("cannot open scenario file '" + file + "'");
   return parse_json_checked(in, "scenario file '" + file + "'", /*allow_comments=*/true);

@@ -86,6 +86,11 @@ std::string scenario_kind(const std::string& file);
 /// Load a JSON file; errors name the file and the parse position.
 nlohmann::json load_json_file(const std::string& file);
 
+/// Throws ConfigError if `file` exists and is not a regular file (a FIFO, a device, a socket, a
+/// folder), naming its type: opening a FIFO blocks until someone writes to it, a device may
+/// never end. A missing file passes (the opener names it).
+void require_regular_file(const std::string& file);
+
 /// Apply an override "a.b.c=value" to a JSON document. `value` is parsed as JSON when it
 /// parses (numbers, true/false, arrays), otherwise taken as a string.
 void apply_override(nlohmann::json& doc, const std::string& assignment);

@@ -34,6 +34,7 @@ CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>&
 CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvColumn>& columns) {
   CsvTable t;
   t.file_ = file;
+  require_regular_file(file);
   std::ifstream in(file);
   if (!in) throw ConfigError(file + ": cannot open");
   std::string line;

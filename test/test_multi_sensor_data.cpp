@@ -3,6 +3,8 @@
 // the boats' GNSS truth, malformed JSON named by record).
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include "config.hpp"
 #include "multi_sensor_data.hpp"
 
@@ -205,6 +207,11 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
   SECTION("non-numeric cell") {
     det("1,radar,10,20\n2,radar,abc,20\n");
     expect("detections.csv:3", "range_m");
+  }
+  SECTION("a FIFO given as a CSV is refused by its type, not waited on") {
+    fs::remove(dir / "detections.csv");
+    REQUIRE(::mkfifo((dir / "detections.csv").c_str(), 0600) == 0);
+    expect("detections.csv: is a FIFO (named pipe), not a regular file", "");
   }
   SECTION("a hexadecimal float is not a decimal number (strtod read 0x1.0p+15 as 32768)") {
     det("1,radar,10,20\n2,radar,0x1.0p+15,20\n");

@@ -16,7 +16,8 @@ std::uint64_t be(const std::uint8_t* p, int n) {
 
 }  // namespace
 
-LcmEventReader::LcmEventReader(const std::string& file) : file_(file), in_(file, std::ios::binary) {
+LcmEventReader::LcmEventReader(const std::string& file)
+    : file_((require_regular_file(file), file)), in_(file, std::ios::binary) {
   std::error_code ec;
   size_ = static_cast<std::int64_t>(std::filesystem::file_size(file, ec));
   if (!in_ || ec) throw ConfigError(file + ": cannot open for reading");
