@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(HERE), "loggers"))
 import cli_args  # noqa: E402
 import rnav_lcmlog  # noqa: E402
 
-PROG = "spy"
+PROG = "spy_text.py"
 SHORT, FRAGMENT = 0x4C433032, 0x4C433033   # 'LC02', 'LC03'
 DEFAULT_URL = "udpm://239.255.76.67:7667?ttl=0"
 MAX_FIELDS = 6                              # fields shown per channel
@@ -166,8 +166,8 @@ class View:
     def text(self, now):
         rows = self.rows(now)
         lost = sum(s[2] for s in self.senders.values())
-        head = "%s: %d channel(s), %d sender(s), %.0f s; lost %d (LCM sequence gaps), RESEND commands %d" % (
-            PROG, len(rows), len(self.senders), now - self.start, lost, self.resend_commands)
+        head = "spy: %d channel(s), %d sender(s), %.0f s; lost %d (LCM sequence gaps), RESEND commands %d" % (
+            len(rows), len(self.senders), now - self.start, lost, self.resend_commands)
         lines = [head, "%-22s %-26s %8s %7s %7s %7s  %s" % ("channel", "type", "messages", "rate/s", "mean/s", "repeats",
                                                            "last values")]
         for r in rows:
