@@ -1,5 +1,7 @@
 #include "prl_diagnose.hpp"
 
+#include "gross_check.hpp"
+
 #include "config.hpp"
 #include "stats.hpp"
 
@@ -244,6 +246,11 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
   auto plots = std::make_shared<std::vector<Plot>>(plots_with_nav(data, o, rep.plots_dropped));
   rep.plots_used = static_cast<int>(plots->size());
   if (plots->size() < 30) throw ConfigError("diagnose prl: fewer than 30 plots with a nav solution around them");
+  {
+    std::vector<PlotGeometry> g;
+    for (const Plot& p : *plots) g.push_back({p.meas(0), p.meas(1), p.meas(2), p.D, p.Ek, p.Eg});
+    check_plot_units(g, data.azimuth_reference_deg, data.radar_site.h_m);
+  }
   const Problem pb = prl_problem(plots, data, o);
   check_limit_entries(pb, o.search.injection, "diagnose prl");
   const SearchResult r = search_effects(pb, o.search);

@@ -1,0 +1,113 @@
+#include "gross_check.hpp"
+
+#include "config.hpp"
+#include "frames.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <tuple>
+
+namespace rnav {
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+std::string num(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", x);
+  return b;
+}
+
+// the unit whose factor f brings the ratio q to 1 (|q f - 1| <= kUnitMatch), else ""
+std::string unit_of(double q, const std::vector<std::pair<const char*, double>>& units) {
+  for (const auto& [name, f] : units)
+    if (std::abs(q * f - 1) <= kUnitMatch) return name;
+  return "";
+}
+
+// Least-squares slope of y on x; NaN where x spreads (sd) less than min_sd.
+double slope(const std::vector<double>& x, const std::vector<double>& y, double min_sd) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) mx += x[i] / n, my += y[i] / n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxx += (x[i] - mx) * (x[i] - mx), sxy += (x[i] - mx) * (y[i] - my);
+  if (!(std::sqrt(sxx / n) >= min_sd)) return std::nan("");
+  return sxy / sxx;
+}
+
+}  // namespace
+
+void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_reference_deg, double radar_h_m) {
+  if (plots.empty()) return;
+  std::vector<double> q, dk, ek, ek_hat, eg, eg_hat;
+  for (const auto& p : plots) {
+    q.push_back(p.range_m / p.range_pred_m);
+    dk.push_back(wrap_pi(p.course_rad - p.course_pred_rad));
+    ek.push_back(p.course_rad), ek_hat.push_back(p.course_pred_rad);
+    eg.push_back(p.glide_rad), eg_hat.push_back(p.glide_pred_rad);
+  }
+  const std::string n = " over " + std::to_string(plots.size()) + " plots";
+  // range: q = median(D / D^)
+  const double qm = median(q);
+  if (!(qm >= 1 / kMaxRangeScale && qm <= kMaxRangeScale)) {
+    const std::string u = unit_of(qm, {{"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852},
+                                       {"statute miles", 1609.344}, {"millimetres", 0.001}});
+    throw ConfigError("radar.csv range_m " + (u.empty() ? std::string("does not match the nav solution's geometry")
+                                                        : "looks like " + u) +
+                      ": median ratio to the range from nav.csv " + num(qm) + n +
+                      " (expected 1; a range off by more than 25 % is no radar effect)");
+  }
+  // course: an azimuth reference read as radians, the offset, then the slope. A reference of r
+  // radians written as r "degrees" (r <= 2 pi) leaves d = r - r 180/pi (wrapped; 18 deg for
+  // 6.07 rad): named where d matches it and is beyond kMinRefOffsetDeg.
+  const double d = median(dk) / kDegToRad;
+  const double r = azimuth_reference_deg;
+  const double off = std::abs(wrap_pi((d - r * (1 - 180 / M_PI)) * kDegToRad)) / kDegToRad;
+  if (r >= 0 && r <= 2 * M_PI && std::abs(d) > kMinRefOffsetDeg && off <= kRefMatchDeg)
+    throw ConfigError("site.json radar.azimuth_reference_deg looks like radians: " + num(r) + " rad is " +
+                      num(r * 180 / M_PI) + " deg, and the azimuths are off by the difference (median " + num(d) +
+                      " deg" + n + ")");
+  if (std::abs(d) > kMaxAngleOffsetDeg)
+    throw ConfigError("radar.csv azimuth_deg is off the azimuth from nav.csv and site.json by a median " + num(d) +
+                      " deg" + n + " (more than " + num(kMaxAngleOffsetDeg) +
+                      " deg is no radar effect): check site.json radar.azimuth_reference_deg and the column's unit");
+  // Heights: the aircraft's height H = D sin(Eg) + h_R + (D cos Eg)^2 / (2 R_E) (above the radar,
+  // the radar's own, the Earth's drop over the horizontal distance), measured and from nav.csv:
+  // nav heights in feet make H^ = H / 0.3048 (an angle's slope tells nothing there: near the
+  // runway the radar's height over D dominates it).
+  std::vector<double> hq;
+  auto height = [&](double D, double Eg) { return D * std::sin(Eg) + radar_h_m + std::pow(D * std::cos(Eg), 2) / (2 * kEarthRadiusM); };
+  for (const auto& p : plots) {
+    const double H = height(p.range_m, p.glide_rad), H_hat = height(p.range_pred_m, p.glide_pred_rad);
+    if (H >= kMinHeightM && H_hat > 0) hq.push_back(H_hat / H);
+  }
+  if (hq.size() >= kMinHeightPlots) {
+    const double qh = median(hq);
+    if (std::abs(qh * 0.3048 - 1) <= kUnitMatch)
+      throw ConfigError("nav.csv h_m looks like feet: the aircraft's heights from nav.csv are a median " + num(qh) +
+                        " times those from the radar's range and elevation over " + std::to_string(hq.size()) +
+                        " plots (1 / 0.3048 = 3.281; expected 1)");
+  }
+  for (const auto& [col, y, x] : {std::tuple<const char*, const std::vector<double>&, const std::vector<double>&>{"azimuth_deg", ek, ek_hat},
+                                  {"elevation_deg", eg, eg_hat}}) {
+    const double b = slope(x, y, kMinSpreadDeg * kDegToRad);
+    if (std::isnan(b)) continue;
+    if (std::abs(b * 180 / M_PI - 1) <= kAngleUnitMatch)
+      throw ConfigError(std::string("radar.csv ") + col + " looks like radians: least-squares slope " + num(b) +
+                        " against the angle from nav.csv" + n + " (pi/180 = 0.01745; expected 1)");
+    if (std::abs(b * M_PI / 180 - 1) <= kAngleUnitMatch)
+      throw ConfigError(std::string("radar.csv ") + col + " looks like radians converted twice: least-squares slope " +
+                        num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
+    if (b >= 1 / kMaxSlope && b <= kMaxSlope) continue;
+    throw ConfigError(std::string("radar.csv ") + col + " does not scale with the angle from nav.csv: least-squares slope " +
+                      num(b) + n + " (expected 1): check its unit, and nav.csv's heights");
+  }
+}
+
+}  // namespace rnav

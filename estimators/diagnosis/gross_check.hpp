@@ -1,0 +1,53 @@
+// Gross checks of a landing flight's radar plots against the geometry of its nav solution,
+// before any diagnosis: a unit mixed up (ranges in kilometres, angles in radians, nav heights in
+// feet, an azimuth reference in radians) passes every range check and used to come out as a
+// confident, wrong "effect" (a range gain of -0.999, an azimuth bias of -113.8 deg). Here a
+// mismatch far beyond any catalogue effect is an error that names the column and the likely unit.
+//
+// With D, Ek, Eg the measured range, course (azimuth from the reference) and glide (elevation)
+// and D^, Ek^, Eg^ those computed from the nav positions:
+//   range:  q = median(D / D^); an error unless 1 / kMaxRangeScale <= q <= kMaxRangeScale;
+//   course: d = median(wrap(Ek - Ek^)); an error if |d| > kMaxAngleOffsetDeg; and the slope b of
+//           the least-squares line Ek = a + b Ek^ (where Ek^ spreads over kMinSpreadDeg or more):
+//           an error unless 1 / kMaxSlope <= b <= kMaxSlope;
+//   height: the median ratio of the aircraft's height from the nav to that from the radar,
+//           H = D sin Eg + h_R + (D cos Eg)^2 / (2 R_E), over plots with H >= kMinHeightM (nav
+//           heights in feet: 1 / 0.3048);
+//   glide:  the same as the course.
+// The likely unit: the factor f among kilometres (1000), feet (0.3048), nautical miles (1852),
+// statute miles (1609.344), millimetres (0.001) [range] or degrees/radians (180/pi and its
+// inverse) [angles] with |q f - 1| (or |b f - 1|) <= kUnitMatch; an azimuth_reference_deg r read
+// as radians (r <= 2 pi, |d| > kMinRefOffsetDeg and d = r (1 - 180/pi) wrapped within
+// kRefMatchDeg: checked before the offset, which wrapping may bring under its bound); for a
+// glide slope of about 0.3048, nav heights in feet.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace rnav {
+
+struct PlotGeometry {
+  double range_m, course_rad, glide_rad;                 ///< measured
+  double range_pred_m, course_pred_rad, glide_pred_rad;  ///< from the nav solution
+};
+
+constexpr double kMaxRangeScale = 1.25;     ///< a range 25 % off is no radar effect (range_gain is a few 1e-3)
+constexpr double kMaxAngleOffsetDeg = 20;   ///< [deg] a bias of 20 deg is no radar effect
+constexpr double kMaxSlope = 2;             ///< an angle scaled by 2 or 1/2
+constexpr double kMinSpreadDeg = 0.5;       ///< [deg] the computed angle's spread (sd) a slope needs
+constexpr double kUnitMatch = 0.03;         ///< |q f - 1| within which a unit's factor f is named
+constexpr double kAngleUnitMatch = 0.1;     ///< the same for an angle's slope (its noise and nav error bend it)
+constexpr double kMinHeightM = 50;          ///< [m] heights compared only above this (a ratio needs a height)
+constexpr std::size_t kMinHeightPlots = 30; ///< plots the height ratio needs
+constexpr double kEarthRadiusM = 6371000;   ///< [m] mean Earth radius: the drop d^2 / (2 R) over d
+constexpr double kRefMatchDeg = 5;          ///< [deg] a radians reference's offset matched within
+constexpr double kMinRefOffsetDeg = 2;      ///< [deg] ... and beyond (a real azimuth bias is well below)
+
+/// Throws ConfigError naming the file's column and the likely unit (files: radar.csv, nav.csv,
+/// site.json as read by PrlFlightData::read_folder). azimuth_reference_deg: site.json's value;
+/// radar_h_m: the radar site's ellipsoidal height [m].
+void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_reference_deg, double radar_h_m);
+
+}  // namespace rnav
