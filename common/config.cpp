@@ -18,6 +18,12 @@ long long parse_integer(const std::string& option, const std::string& text, long
   if (ok) {
     try {
       x = std::stoll(text, &pos);
+    } catch (const std::out_of_range&) {
+      // all digits, beyond long long: an integer, out of range (not "not an integer")
+      const bool digits = text.find_first_not_of("0123456789", text[0] == '-' ? 1 : 0) == std::string::npos;
+      if (digits && text.size() > (text[0] == '-' ? 1u : 0u))
+        throw ConfigError(option + ": " + text + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      ok = false;
     } catch (const std::exception&) {
       ok = false;
     }
@@ -199,6 +205,7 @@ namespace {
 template <class Input>
 nlohmann::json parse_checked(Input&& in, const std::string& source, bool allow_comments) {
   std::vector<std::set<std::string>> keys;  // of each object being parsed
+  std::string last_key;                      // the key parsed last (named when a number overflows)
   const nlohmann::json::parser_callback_t check = [&](int depth, nlohmann::json::parse_event_t event,
                                                       nlohmann::json& parsed) {
     using E = nlohmann::json::parse_event_t;
@@ -208,12 +215,17 @@ nlohmann::json parse_checked(Input&& in, const std::string& source, bool allow_c
     else if (event == E::object_end && !keys.empty()) keys.pop_back();
     else if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
       throw ConfigError(source + ": key '" + parsed.get<std::string>() + "' appears twice in one object");
+    if (event == E::key) last_key = parsed.get<std::string>();
     return true;
   };
   try {
     return nlohmann::json::parse(std::forward<Input>(in), check, true, allow_comments);
   } catch (const nlohmann::json::parse_error& e) {
     throw ConfigError(source + ": " + e.what());
+  } catch (const nlohmann::json::out_of_range& e) {
+    // 1e400: nlohmann refuses it while parsing (out_of_range.406), before the callback sees it
+    throw ConfigError(source + ": a number overflows the double range" +
+                      (last_key.empty() ? std::string() : " (at or after key '" + last_key + "')") + ": " + e.what());
   }
 }
 }  // namespace
@@ -266,7 +278,12 @@ void apply_override(nlohmann::json& doc, const std::string& assignment) {
     value = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error&) {
     value = text;
+  } catch (const nlohmann::json::out_of_range&) {
+    throw ConfigError("override '" + assignment + "': the number overflows the double range");
   }
+  // null would read as "the key left out" (its default), silently: a value is needed
+  if (value.is_null())
+    throw ConfigError("override '" + assignment + "': null is not a value (give one, or leave the key out for its default)");
   nlohmann::json* node = &doc;
   std::size_t start = 0;
   while (true) {

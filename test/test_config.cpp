@@ -228,7 +228,21 @@ TEST_CASE("command-line integers: whole text, in range, never truncated", "[conf
   CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "", 1, 10), Catch::Contains("'' is not an integer"));
   CHECK_THROWS_WITH(rnav::parse_integer("--realizations", " 5", 1, 10), Catch::Contains("is not an integer"));
   CHECK_THROWS_WITH(rnav::parse_integer("--realizations", "-3", 1, 10), Catch::Contains("outside [1, 10]"));
-  CHECK_THROWS_WITH(rnav::parse_integer("--seed", "99999999999999999999", -5, 5), Catch::Contains("not an integer"));
+  // all digits beyond long long: an integer out of range, said so (it used to be "not an integer")
+  CHECK_THROWS_WITH(rnav::parse_integer("--seed", "18446744073709551615", -5, 5),
+                    Catch::Contains("--seed: 18446744073709551615 is outside [-5, 5]"));
+  CHECK_THROWS_WITH(rnav::parse_integer("--seed", "1844674407370955161x", -5, 5), Catch::Contains("not an integer"));
+}
+
+TEST_CASE("overrides and JSON numbers: null is no value, an overflow is named with its key", "[config][input]") {
+  nlohmann::json doc = nlohmann::json::object();
+  // null used to read as "the key left out": the default, silently
+  CHECK_THROWS_WITH(rnav::apply_override(doc, "prl.period_s=null"),
+                    Catch::Contains("override 'prl.period_s=null': null is not a value"));
+  CHECK_THROWS_WITH(rnav::apply_override(doc, "prl.period_s=1e400"),
+                    Catch::Contains("override 'prl.period_s=1e400': the number overflows the double range"));
+  CHECK_THROWS_WITH(rnav::parse_json_checked(std::string(R"({"prl": {"period_s": 1e400}})"), "big.json", true),
+                    Catch::Contains("big.json: a number overflows the double range (at or after key 'period_s')"));
 }
 
 TEST_CASE("JSON input: a repeated key and deep nesting are errors, not the last value or a crash", "[config][input]") {
