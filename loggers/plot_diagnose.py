@@ -2,8 +2,10 @@
 """Residuals of a diagnosis against time, with the nominal and the extended model's fits.
 prl: measured minus nav per channel (range, course, glide); nominal = constant bias.
 uav: bearing minus the reference (truth or fitted track); nominal = zero mean.
-Usage: /usr/bin/python3 loggers/plot_diagnose.py prl|uav residuals.csv out.png"""
+With the diagnosis's JSON report, the extended model's legend names each effect with its estimate.
+Usage: /usr/bin/python3 loggers/plot_diagnose.py prl|uav residuals.csv out.png [report.json]"""
 import csv
+import json
 import math
 import sys
 
@@ -11,13 +13,22 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from plot_gaps import broken  # noqa: E402  (lines break at data gaps)
+from effect_labels import legend  # noqa: E402  (the effects named, with their estimates)
 
 
 def main(argv):
-    if len(argv) != 4 or argv[1] not in ("prl", "uav"):
+    if len(argv) not in (4, 5) or argv[1] not in ("prl", "uav"):
         print(__doc__, file=sys.stderr)
         return 2
     kind, path, out = argv[1], argv[2], argv[3]
+    report = None
+    if len(argv) == 5:
+        try:
+            with open(argv[4]) as f:
+                report = json.load(f)
+        except (OSError, ValueError) as e:
+            print("plot_diagnose: %s: %s" % (argv[4], e), file=sys.stderr)
+            return 2
     try:
         with open(path) as f:
             rows = list(csv.DictReader(f))
@@ -46,10 +57,11 @@ def main(argv):
             print("plot_diagnose: %s: no column '%s' (is it a %s diagnosis?)" % (path, k, kind), file=sys.stderr)
             return 2
     if kind == "uav":
-        return plot_uav(cols, out)
+        return plot_uav(cols, out, report)
     t = cols["t_s"]
     fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
     spec = [("range", "m", 1.0), ("course", "deg", 180 / math.pi), ("glide", "deg", 180 / math.pi)]
+    fit_label = legend(report)
     for ax, (ch, unit, sc) in zip(axes, spec):
         key = "%s_%s" % (ch, "m" if ch == "range" else "rad")
         y = [v * sc for v in cols[key]]
@@ -57,10 +69,10 @@ def main(argv):
         ax.plot(*broken(t, [v * sc for v in cols[key.replace("_m", "_nominal_m").replace("_rad", "_nominal_rad")]]),
                 color="tab:red", lw=1.5, label="nominal model (constant bias)")
         ax.plot(*broken(t, [v * sc for v in cols[key.replace("_m", "_extended_m").replace("_rad", "_extended_rad")]]),
-                color="tab:blue", lw=1.5, label="extended model")
+                color="tab:blue", lw=1.5, label=fit_label)
         ax.set_ylabel("%s residual [%s]" % (ch, unit))
         ax.grid(alpha=0.3)
-    axes[0].legend(loc="upper right", fontsize=8)
+    axes[0].legend(loc="upper right", fontsize=7)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle("Landing radar: residuals against the nav solution, nominal vs extended model")
     fig.tight_layout()
@@ -69,7 +81,7 @@ def main(argv):
     return 0
 
 
-def plot_uav(cols, out):
+def plot_uav(cols, out, report=None):
     t0 = cols["t_s"][0]
     t = [v - t0 for v in cols["t_s"]]
     deg = 180 / math.pi
@@ -83,7 +95,7 @@ def plot_uav(cols, out):
         ax.plot([t[i] for i in out_i], [cols["bearing_residual_rad"][i] * deg for i in out_i], "x", ms=4,
                 color="tab:orange", label="outliers")
     ax.axhline(0, color="tab:red", lw=1.5, label="nominal model (zero mean)")
-    ax.plot(*broken(t, [v * deg for v in cols["bearing_extended_rad"]]), color="tab:blue", lw=1.5, label="extended model")
+    ax.plot(*broken(t, [v * deg for v in cols["bearing_extended_rad"]]), color="tab:blue", lw=1.5, label=legend(report))
     ax.set_ylabel("bearing residual [deg]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
