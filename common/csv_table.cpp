@@ -3,6 +3,8 @@
 #include "decimal.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -31,10 +33,31 @@ CsvTable CsvTable::read(const std::string& file, const std::vector<std::string>&
   return read_columns(file, spec);
 }
 
+namespace {
+std::uint64_t g_max_csv_bytes = std::uint64_t{64} << 20;
+}  // namespace
+
+std::uint64_t max_csv_bytes() { return g_max_csv_bytes; }
+
+void set_max_csv_bytes(std::uint64_t bytes) {
+  if (bytes == 0) throw ConfigError("the CSV input limit must be > 0 bytes");
+  g_max_csv_bytes = bytes;
+}
+
 CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvColumn>& columns) {
   CsvTable t;
   t.file_ = file;
   require_regular_file(file);
+  {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(file, ec);
+    if (!ec && size > g_max_csv_bytes) {
+      char b[160];
+      std::snprintf(b, sizeof b, ": %.3g MB is more than the input limit of %.3g MB (rnav_diagnose --max-input-mb M raises it)",
+                    static_cast<double>(size) / 1e6, static_cast<double>(g_max_csv_bytes) / 1e6);
+      throw ConfigError(file + b);
+    }
+  }
   std::ifstream in(file);
   if (!in) throw ConfigError(file + ": cannot open");
   std::string line;

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include "config.hpp"
+#include "csv_table.hpp"
 #include "multi_sensor_data.hpp"
 
 #include <sys/wait.h>
@@ -207,6 +208,16 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
   SECTION("non-numeric cell") {
     det("1,radar,10,20\n2,radar,abc,20\n");
     expect("detections.csv:3", "range_m");
+  }
+  SECTION("a CSV beyond the input limit is refused up front, naming its size and the limit") {
+    const std::uint64_t before = max_csv_bytes();
+    set_max_csv_bytes(20);  // [bytes]: less than detections.csv holds
+    const std::string e = read_error(dir);
+    set_max_csv_bytes(before);
+    INFO(e);
+    CHECK(e.find("MB is more than the input limit of 2e-05 MB (rnav_diagnose --max-input-mb M raises it)") != std::string::npos);
+    CHECK(read_error(dir).empty());  // the default limit reads it
+    CHECK_THROWS_AS(set_max_csv_bytes(0), ConfigError);
   }
   SECTION("a FIFO given as a CSV is refused by its type, not waited on") {
     fs::remove(dir / "detections.csv");

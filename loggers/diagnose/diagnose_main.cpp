@@ -5,6 +5,7 @@
 // log's SIM_SCENARIO. Prints the report; writes JSON.
 #include "atomic_file.hpp"
 #include "cli.hpp"
+#include "csv_table.hpp"
 #include "did_you_mean.hpp"
 #include "config.hpp"
 #include "lcm_log_input.hpp"
@@ -76,6 +77,12 @@ int main(int argc, char** argv) {
                   "its folder's name: hardware effects one value in all, validated by leaving each out)",
                   [&](const std::string& v) { pos.push_back(v); });
     p.value("--json", "FILE", "write the report as JSON to FILE", "none", json)
+        .value("--max-input-mb", "M",
+               "the largest CSV input file read [MB]; a larger one is refused up front, naming its size, > 0",
+               "67.1 MB (64 MiB)", [&](const std::string& v) {
+                 const double mb = rnav::cli::number("--max-input-mb", v, 1e-6, 1e6);
+                 rnav::set_max_csv_bytes(static_cast<std::uint64_t>(mb * 1e6));
+               })
         .value("--residuals", "FILE", "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE",
                "none", residuals)
         .value("--alpha", "A", "familywise false-alarm level, (0, 0.5)", "0.01",
