@@ -326,3 +326,36 @@ TEST_CASE("multi association: each detection carries its reference's interpolati
   o.reference_accel_mps2 = -2;
   CHECK_THROWS_WITH(associate(sc.data, o, st), Catch::Contains("reference_accel_mps2"));
 }
+
+TEST_CASE("multi association: a unit mixed up is named before any gate", "[multisensor][input]") {
+  std::map<std::string, SensorAssociation> st;
+  SECTION("radar ranges in kilometres") {
+    Scene sc = make(31, Bias{});
+    for (auto& d : sc.data.detections)
+      if (d.sensor == "radar" && std::isfinite(d.range_m)) d.range_m /= 1000;
+    CHECK_THROWS_WITH(associate(sc.data, AssociationOptions{}, st),
+                      Catch::Contains("detections.csv range_m of sensor radar looks like kilometres: median ratio"));
+  }
+  SECTION("radar ranges in feet") {
+    Scene sc = make(32, Bias{});
+    for (auto& d : sc.data.detections)
+      if (d.sensor == "radar" && std::isfinite(d.range_m)) d.range_m /= 0.3048;
+    CHECK_THROWS_WITH(associate(sc.data, AssociationOptions{}, st), Catch::Contains("range_m of sensor radar looks like feet"));
+  }
+  SECTION("camera bearings in radians written as degrees") {
+    Scene sc = make(33, Bias{});
+    for (auto& d : sc.data.detections)
+      if (d.sensor == "eo" && std::isfinite(d.bearing_rad)) {
+        const double b = d.bearing_rad < 0 ? d.bearing_rad + 2 * M_PI : d.bearing_rad;  // bearing_deg in [0, 360)
+        d.bearing_rad = b * kDegToRad;                                                   // its radians read as degrees
+      }
+    CHECK_THROWS_WITH(associate(sc.data, AssociationOptions{}, st),
+                      Catch::Contains("detections.csv bearing_deg of sensor eo looks like radians"));
+  }
+  SECTION("a 5 deg radar bearing bias and a 40 m range bias are effects, not units") {
+    Bias b;
+    b.radar_bearing_rad = 5 * kDegToRad;
+    b.radar_range_m = 40;
+    CHECK_NOTHROW(associate(make(34, b).data, AssociationOptions{}, st));
+  }
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace rnav {
@@ -101,6 +102,80 @@ double shift_of(const std::vector<double>& r, int min_pairs, double scale, doubl
 
 }  // namespace
 
+// Gross checks of each sensor's units against the reference geometry, before any gate: a unit
+// mixed up passes every range check and either associates nothing or comes out as a wrong bias
+// (ranges in km on the Autoferry lidar: a range bias of -77 m). Per sensor, over its detections
+// in scans with a reference:
+//   bearings: every |bearing| within 2 pi degrees (0.1097 rad: the values were radians in the
+//             degree column) while most scans' nearest predicted bearings lie outside that band;
+//   ranges:   per scan and target, of the detections within kUnitsBearingDeg of its predicted
+//             bearing the ratio r / |d| nearest 1; their median outside [1 / kUnitsMaxScale,
+//             kUnitsMaxScale] is an error, the likely unit named where a factor brings it to 1
+//             within kUnitsMatch. (The detection nearest in bearing, as first written, took the
+//             real Autoferry radar's clutter on a boat's bearing: a median of 2.08.)
+namespace {
+
+constexpr int kUnitsMinDetections = 10;
+constexpr double kUnitsBearingDeg = 10;  // [deg] a detection compared with the target this near in bearing
+constexpr double kUnitsMaxScale = 1.25;  // a range 25 % off is no sensor effect
+constexpr double kUnitsMatch = 0.03;
+void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
+  const double band = 2 * M_PI * M_PI / 180;  // [rad]: 2 pi read as degrees
+  struct Acc {
+    int bearings = 0, inside = 0, preds_outside = 0, preds = 0;
+    std::vector<double> ratio;
+  };
+  std::map<std::string, Acc> acc;
+  for (const Scan& s : scans) {
+    if (s.preds.empty() || s.rows.empty()) continue;
+    Acc& a = acc[det[s.begin].sensor];
+    for (const auto& pr : s.preds) {
+      const double b = wrap_pi(bearing_rad(pr.p - s.po) - s.gamma);
+      ++a.preds;
+      if (b < -kDegToRad || b > band + kDegToRad) ++a.preds_outside;
+    }
+    for (auto k : s.rows) {
+      ++a.bearings;
+      if (std::abs(det[k].bearing_rad) <= band) ++a.inside;
+    }
+    if (!s.ranged) continue;
+    // per target: of the detections within kUnitsBearingDeg of its bearing, the ratio nearest 1
+    // (clutter at other ranges on its bearing, a shore or a wake, does not count)
+    for (const auto& pr : s.preds) {
+      const Eigen::Vector2d d = pr.p - s.po;
+      if (d.norm() < kMinPredRange) continue;
+      double best = INFINITY, q = 0;
+      for (auto k : s.rows) {
+        if (std::abs(wrap_pi(det[k].bearing_rad + s.gamma - bearing_rad(d))) > kUnitsBearingDeg * kDegToRad) continue;
+        const double r = det[k].range_m / d.norm();
+        if (r > 0 && std::abs(std::log(r)) < best) best = std::abs(std::log(r)), q = r;
+      }
+      if (q > 0) a.ratio.push_back(q);
+    }
+  }
+  for (auto& [sensor, a] : acc) {
+    if (a.bearings >= kUnitsMinDetections && a.inside == a.bearings && 2 * a.preds_outside > a.preds)
+      throw ConfigError("detections.csv bearing_deg of sensor " + sensor + " looks like radians: all " +
+                        std::to_string(a.bearings) + " values lie within [-6.28, 6.28] while the targets' reference "
+                        "bearings mostly lie outside");
+    if (static_cast<int>(a.ratio.size()) < kUnitsMinDetections) continue;
+    const double q = median(a.ratio);
+    if (q >= 1 / kUnitsMaxScale && q <= kUnitsMaxScale) continue;
+    std::string unit;
+    for (const auto& [name, f] : std::vector<std::pair<const char*, double>>{
+             {"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852}, {"statute miles", 1609.344}, {"millimetres", 0.001}})
+      if (unit.empty() && std::abs(q * f - 1) <= kUnitsMatch) unit = name;
+    char b[64];
+    std::snprintf(b, sizeof b, "%.4g", q);
+    throw ConfigError("detections.csv range_m of sensor " + sensor + " " +
+                      (unit.empty() ? std::string("does not match the reference geometry") : "looks like " + unit) +
+                      ": median ratio to the range of a target on its bearing " + b + " over " +
+                      std::to_string(a.ratio.size()) + " target scans (expected 1; a range off by more than 25 % is no sensor effect)");
+  }
+}
+
+}  // namespace
+
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
                                            std::map<std::string, SensorAssociation>& stats) {
   if (!(o.gate_bearing_deg > 0 && o.gate_bearing_deg <= 45)) throw ConfigError("association: gate_bearing_deg must be in (0, 45]");
@@ -157,6 +232,8 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     scans.push_back(std::move(s));
     i = j;
   }
+
+  check_units(scans, det);
 
   // first pass (recentre_gates): unambiguous pairs inside the wide gates, and each sensor's shifts
   std::map<std::string, std::pair<double, double>> shift;  // per sensor: (bearing [rad], range [m])
