@@ -3,7 +3,8 @@
 independent generator (scripts/flightgen.py landing, seed 4): the same flight with one unit
 mixed up in one file must be refused before any diagnosis, naming the file's column and the
 likely unit; the flight as written, and the same flight with a large but real radar effect (a
-range gain of 0.05, a 3 deg azimuth bias), is diagnosed as before.
+range gain of 0.05, a 3 deg azimuth bias), is diagnosed as before; an azimuth-only flight
+(flightgen uav, seed 3) with its bearings in radians is refused the same way.
 
   python3 test/check_units.py SOURCE_DIR BUILD_DIR
 """
@@ -76,6 +77,21 @@ def main():
                        ("a 3 deg azimuth bias", lambda d: rewrite(d, "radar.csv", "azimuth_deg", lambda x: x + 3))):
         p = variant(tmp, base, what.replace(" ", "_"), edit)
         check(p.returncode == 0, "%s: diagnosed (exit %d%s)" % (what, p.returncode, ", " + p.stderr.strip()[-200:] if p.returncode else ""))
+    # an azimuth-only flight (the UAV orbiting a boat, seed 3) with its bearings in radians
+    uav = os.path.join(tmp, "uav")
+    generated_checks.gen(SRC, "check_units", "uav", uav, 3, [])
+    for what, edit, refused in (("as written", lambda d: None, False),
+                                ("bearings in radians", lambda d: rewrite(d, "bearings.csv", "bearing_deg",
+                                                                         lambda x: math.radians(x % 360)), True)):
+        d = os.path.join(tmp, "uav_" + what.replace(" ", "_"))
+        shutil.copytree(uav, d)
+        edit(d)
+        p = run(DIAG, "uav", d, "--injections", "0")
+        if refused:
+            check(p.returncode == 2 and "bearings.csv bearing_deg looks like radians" in p.stderr,
+                  "uav, %s: refused, naming it: exit %d, %s" % (what, p.returncode, p.stderr.strip()[-200:]))
+        else:
+            check(p.returncode == 0, "uav, %s: diagnosed (exit %d)" % (what, p.returncode))
     shutil.rmtree(tmp, ignore_errors=True)
     return checks.finish()
 

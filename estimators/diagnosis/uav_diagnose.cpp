@@ -53,6 +53,25 @@ double wrapped_nearest(const std::vector<double>& bearings, double ref) {
   return best;
 }
 
+// Bearings in radians written into bearing_deg (0 ... 6.28 "degrees") pass every range check and
+// leave nothing near the reference: named before any gate where every bearing lies within
+// +-2 pi degrees while most reference bearings (truth) lie outside that band.
+void check_bearing_units(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth) {
+  const double band = 2 * M_PI * kDegToRad;  // [rad]
+  int n = 0, inside = 0, preds = 0, outside = 0;
+  for (const auto& fr : data.frames) {
+    Eigen::Vector2d po, pt;
+    if (!observer.at(fr.t_s, po) || !truth.at(fr.t_s, pt)) continue;
+    const double b = bearing_rad(pt - po);
+    ++preds;
+    if (b < -kDegToRad || b > band + kDegToRad) ++outside;
+    for (double x : fr.bearings_rad) ++n, inside += std::abs(x) <= band;
+  }
+  if (n >= 10 && inside == n && 2 * outside > preds)
+    throw ConfigError("bearings.csv bearing_deg looks like radians: all " + std::to_string(n) +
+                      " values lie within [-6.28, 6.28] while the reference bearings from truth.csv mostly lie outside");
+}
+
 // Against truth: each frame's detection nearest the true bearing within the gate.
 std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double gate,
                               int& dropped) {
@@ -173,6 +192,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   TrackFit full;
   auto obs = std::make_shared<std::vector<Ob>>();
   if (with_truth) {
+    check_bearing_units(data, observer, truth);
     rep.reference = "truth (truth.csv)";
     *obs = against_truth(data, observer, truth, gate, rep.plots_dropped);
   } else {
