@@ -2,6 +2,7 @@
 
 #include "config.hpp"
 #include "frames.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,24 +12,6 @@
 namespace rnav {
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
-std::string num(double x) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", x);
-  return b;
-}
-
-// the unit whose factor f brings the ratio q to 1 (|q f - 1| <= kUnitMatch), else ""
-std::string unit_of(double q, const std::vector<std::pair<const char*, double>>& units) {
-  for (const auto& [name, f] : units)
-    if (std::abs(q * f - 1) <= kUnitMatch) return name;
-  return "";
-}
 
 // Least-squares slope of y on x; NaN where x spreads (sd) less than min_sd.
 double slope(const std::vector<double>& x, const std::vector<double>& y, double min_sd) {
@@ -43,6 +26,19 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, double 
 
 }  // namespace
 
+std::string range_unit_of(double q) {
+  for (const auto& [name, f] : std::vector<std::pair<const char*, double>>{
+           {"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852}, {"statute miles", 1609.344}, {"millimetres", 0.001}})
+    if (std::abs(q * f - 1) <= kUnitMatch) return name;
+  return "";
+}
+
+bool outside_radians_band(double b) { return b < -kDegToRad || b > kRadiansAsDegreesRad + kDegToRad; }
+
+bool bearings_look_like_radians(int n, int inside, int refs, int refs_outside) {
+  return n >= kMinUnitSamples && inside == n && 2 * refs_outside > refs;
+}
+
 void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_reference_deg, double radar_h_m) {
   if (plots.empty()) return;
   std::vector<double> q, dk, ek, ek_hat, eg, eg_hat;
@@ -56,11 +52,10 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
   // range: q = median(D / D^)
   const double qm = median(q);
   if (!(qm >= 1 / kMaxRangeScale && qm <= kMaxRangeScale)) {
-    const std::string u = unit_of(qm, {{"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852},
-                                       {"statute miles", 1609.344}, {"millimetres", 0.001}});
+    const std::string u = range_unit_of(qm);
     throw ConfigError("radar.csv range_m " + (u.empty() ? std::string("does not match the nav solution's geometry")
                                                         : "looks like " + u) +
-                      ": median ratio to the range from nav.csv " + num(qm) + n +
+                      ": median ratio to the range from nav.csv " + short_num(qm) + n +
                       " (expected 1; a range off by more than 25 % is no radar effect)");
   }
   // course: an azimuth reference read as radians, the offset, then the slope. A reference of r
@@ -70,12 +65,12 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
   const double r = azimuth_reference_deg;
   const double off = std::abs(wrap_pi((d - r * (1 - 180 / M_PI)) * kDegToRad)) / kDegToRad;
   if (r >= 0 && r <= 2 * M_PI && std::abs(d) > kMinRefOffsetDeg && off <= kRefMatchDeg)
-    throw ConfigError("site.json radar.azimuth_reference_deg looks like radians: " + num(r) + " rad is " +
-                      num(r * 180 / M_PI) + " deg, and the azimuths are off by the difference (median " + num(d) +
+    throw ConfigError("site.json radar.azimuth_reference_deg looks like radians: " + short_num(r) + " rad is " +
+                      short_num(r * 180 / M_PI) + " deg, and the azimuths are off by the difference (median " + short_num(d) +
                       " deg" + n + ")");
   if (std::abs(d) > kMaxAngleOffsetDeg)
-    throw ConfigError("radar.csv azimuth_deg is off the azimuth from nav.csv and site.json by a median " + num(d) +
-                      " deg" + n + " (more than " + num(kMaxAngleOffsetDeg) +
+    throw ConfigError("radar.csv azimuth_deg is off the azimuth from nav.csv and site.json by a median " + short_num(d) +
+                      " deg" + n + " (more than " + short_num(kMaxAngleOffsetDeg) +
                       " deg is no radar effect): check site.json radar.azimuth_reference_deg and the column's unit");
   // Heights: the aircraft's height H = D sin(Eg) + h_R + (D cos Eg)^2 / (2 R_E) (above the radar,
   // the radar's own, the Earth's drop over the horizontal distance), measured and from nav.csv:
@@ -90,7 +85,7 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
   if (hq.size() >= kMinHeightPlots) {
     const double qh = median(hq);
     if (std::abs(qh * 0.3048 - 1) <= kUnitMatch)
-      throw ConfigError("nav.csv h_m looks like feet: the aircraft's heights from nav.csv are a median " + num(qh) +
+      throw ConfigError("nav.csv h_m looks like feet: the aircraft's heights from nav.csv are a median " + short_num(qh) +
                         " times those from the radar's range and elevation over " + std::to_string(hq.size()) +
                         " plots (1 / 0.3048 = 3.281; expected 1)");
   }
@@ -99,14 +94,14 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
     const double b = slope(x, y, kMinSpreadDeg * kDegToRad);
     if (std::isnan(b)) continue;
     if (std::abs(b * 180 / M_PI - 1) <= kAngleUnitMatch)
-      throw ConfigError(std::string("radar.csv ") + col + " looks like radians: least-squares slope " + num(b) +
+      throw ConfigError(std::string("radar.csv ") + col + " looks like radians: least-squares slope " + short_num(b) +
                         " against the angle from nav.csv" + n + " (pi/180 = 0.01745; expected 1)");
     if (std::abs(b * M_PI / 180 - 1) <= kAngleUnitMatch)
       throw ConfigError(std::string("radar.csv ") + col + " looks like radians converted twice: least-squares slope " +
-                        num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
+                        short_num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
     if (b >= 1 / kMaxSlope && b <= kMaxSlope) continue;
     throw ConfigError(std::string("radar.csv ") + col + " does not scale with the angle from nav.csv: least-squares slope " +
-                      num(b) + n + " (expected 1): check its unit, and nav.csv's heights");
+                      short_num(b) + n + " (expected 1): check its unit, and nav.csv's heights");
   }
 }
 

@@ -22,6 +22,7 @@
 // glide slope of about 0.3048, nav heights in feet.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -44,6 +45,21 @@ constexpr std::size_t kMinHeightPlots = 30; ///< plots the height ratio needs
 constexpr double kEarthRadiusM = 6371000;   ///< [m] mean Earth radius: the drop d^2 / (2 R) over d
 constexpr double kRefMatchDeg = 5;          ///< [deg] a radians reference's offset matched within
 constexpr double kMinRefOffsetDeg = 2;      ///< [deg] ... and beyond (a real azimuth bias is well below)
+
+/// The length unit whose factor f brings a ratio q (measured / expected) to 1, |q f - 1| <=
+/// kUnitMatch: "kilometres", "feet", "nautical miles", "statute miles", "millimetres"; else "".
+std::string range_unit_of(double q);
+
+/// [rad] 2 pi read as degrees: a bearing column holding radians stays within +- this.
+constexpr double kRadiansAsDegreesRad = 2 * M_PI * M_PI / 180;
+constexpr int kMinUnitSamples = 10;  ///< bearings a radians check needs
+
+/// Whether a sensor's bearings hold radians in a degree column: all n of them (at least
+/// kMinUnitSamples) within +-kRadiansAsDegreesRad while most of the `refs` reference bearings
+/// (`refs_outside` of them outside [-1 deg, kRadiansAsDegreesRad + 1 deg]) are not.
+bool bearings_look_like_radians(int n, int inside, int refs, int refs_outside);
+/// Whether reference bearing b [rad] lies outside the band radians-as-degrees bearings fill.
+bool outside_radians_band(double b_rad);
 
 /// Throws ConfigError naming the file's column and the likely unit (files: radar.csv, nav.csv,
 /// site.json as read by PrlFlightData::read_folder). azimuth_reference_deg: site.json's value;

@@ -1,11 +1,12 @@
 #include "multi_association.hpp"
 
 #include "config.hpp"
+#include "gross_check.hpp"
 #include "plane_series.hpp"
+#include "stats.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 namespace rnav {
@@ -46,13 +47,6 @@ struct Scan {
   std::vector<Pred> preds;  // targets with a reference at t_s; empty without the observer's
 };
 
-double median(std::vector<double> v) {
-  const std::size_t n = v.size(), m = n / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(m), v.end());
-  const double hi = v[m];
-  if (n % 2) return hi;
-  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<long>(m)));
-}
 
 // Distance of detection dk from prediction p (metres for range sensors, radians for bearing-only;
 // its bearing turned into the frame).
@@ -106,21 +100,16 @@ double shift_of(const std::vector<double>& r, int min_pairs, double scale, doubl
 // mixed up passes every range check and either associates nothing or comes out as a wrong bias
 // (ranges in km on the Autoferry lidar: a range bias of -77 m). Per sensor, over its detections
 // in scans with a reference:
-//   bearings: every |bearing| within 2 pi degrees (0.1097 rad: the values were radians in the
-//             degree column) while most scans' nearest predicted bearings lie outside that band;
+//   bearings: bearings_look_like_radians (gross_check.hpp): every |bearing| within 2 pi degrees
+//             while most predicted bearings lie outside that band;
 //   ranges:   per scan and target, of the detections within kUnitsBearingDeg of its predicted
-//             bearing the ratio r / |d| nearest 1; their median outside [1 / kUnitsMaxScale,
-//             kUnitsMaxScale] is an error, the likely unit named where a factor brings it to 1
-//             within kUnitsMatch. (The detection nearest in bearing, as first written, took the
+//             bearing the ratio r / |d| nearest 1; their median outside [1 / kMaxRangeScale,
+//             kMaxRangeScale] is an error, the likely unit named (range_unit_of). (The detection nearest in bearing, as first written, took the
 //             real Autoferry radar's clutter on a boat's bearing: a median of 2.08.)
 namespace {
 
-constexpr int kUnitsMinDetections = 10;
 constexpr double kUnitsBearingDeg = 10;  // [deg] a detection compared with the target this near in bearing
-constexpr double kUnitsMaxScale = 1.25;  // a range 25 % off is no sensor effect
-constexpr double kUnitsMatch = 0.03;
 void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
-  const double band = 2 * M_PI * M_PI / 180;  // [rad]: 2 pi read as degrees
   struct Acc {
     int bearings = 0, inside = 0, preds_outside = 0, preds = 0;
     std::vector<double> ratio;
@@ -130,13 +119,12 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
     if (s.preds.empty() || s.rows.empty()) continue;
     Acc& a = acc[det[s.begin].sensor];
     for (const auto& pr : s.preds) {
-      const double b = wrap_pi(bearing_rad(pr.p - s.po) - s.gamma);
       ++a.preds;
-      if (b < -kDegToRad || b > band + kDegToRad) ++a.preds_outside;
+      a.preds_outside += outside_radians_band(wrap_pi(bearing_rad(pr.p - s.po) - s.gamma));
     }
     for (auto k : s.rows) {
       ++a.bearings;
-      if (std::abs(det[k].bearing_rad) <= band) ++a.inside;
+      if (std::abs(det[k].bearing_rad) <= kRadiansAsDegreesRad) ++a.inside;
     }
     if (!s.ranged) continue;
     // per target: of the detections within kUnitsBearingDeg of its bearing, the ratio nearest 1
@@ -154,22 +142,17 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
     }
   }
   for (auto& [sensor, a] : acc) {
-    if (a.bearings >= kUnitsMinDetections && a.inside == a.bearings && 2 * a.preds_outside > a.preds)
+    if (bearings_look_like_radians(a.bearings, a.inside, a.preds, a.preds_outside))
       throw ConfigError("detections.csv bearing_deg of sensor " + sensor + " looks like radians: all " +
                         std::to_string(a.bearings) + " values lie within [-6.28, 6.28] while the targets' reference "
                         "bearings mostly lie outside");
-    if (static_cast<int>(a.ratio.size()) < kUnitsMinDetections) continue;
+    if (static_cast<int>(a.ratio.size()) < kMinUnitSamples) continue;
     const double q = median(a.ratio);
-    if (q >= 1 / kUnitsMaxScale && q <= kUnitsMaxScale) continue;
-    std::string unit;
-    for (const auto& [name, f] : std::vector<std::pair<const char*, double>>{
-             {"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852}, {"statute miles", 1609.344}, {"millimetres", 0.001}})
-      if (unit.empty() && std::abs(q * f - 1) <= kUnitsMatch) unit = name;
-    char b[64];
-    std::snprintf(b, sizeof b, "%.4g", q);
+    if (q >= 1 / kMaxRangeScale && q <= kMaxRangeScale) continue;
+    const std::string unit = range_unit_of(q);
     throw ConfigError("detections.csv range_m of sensor " + sensor + " " +
                       (unit.empty() ? std::string("does not match the reference geometry") : "looks like " + unit) +
-                      ": median ratio to the range of a target on its bearing " + b + " over " +
+                      ": median ratio to the range of a target on its bearing " + short_num(q) + " over " +
                       std::to_string(a.ratio.size()) + " target scans (expected 1; a range off by more than 25 % is no sensor effect)");
   }
 }

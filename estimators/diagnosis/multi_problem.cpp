@@ -62,10 +62,10 @@ constexpr double kInterpolationFloor = 0.1;
 void add_interpolation_noise(Problem& p, const std::vector<double>& sd, const std::vector<double>& interval) {
   std::vector<double> gain(p.size(), 1.0);
   bool any = false;
+  std::vector<std::vector<std::size_t>> by_channel(p.channels.size());  // observations per channel, one pass
+  for (std::size_t i = 0; i < p.size(); ++i) by_channel[static_cast<std::size_t>(p.channel[i])].push_back(i);
   for (std::size_t c = 0; c < p.channels.size(); ++c) {
-    std::vector<std::size_t> obs;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.channel[i] == static_cast<int>(c)) obs.push_back(i);
+    const std::vector<std::size_t>& obs = by_channel[c];
     double s2 = 0;
     std::vector<double> iv;
     for (std::size_t i : obs) s2 += sd[i] * sd[i], iv.push_back(interval[i]);

@@ -2,6 +2,7 @@
 
 #include "bearing.hpp"
 #include "config.hpp"
+#include "gross_check.hpp"
 #include "plane_series.hpp"
 #include "stats.hpp"
 #include "target_model.hpp"
@@ -57,17 +58,15 @@ double wrapped_nearest(const std::vector<double>& bearings, double ref) {
 // leave nothing near the reference: named before any gate where every bearing lies within
 // +-2 pi degrees while most reference bearings (truth) lie outside that band.
 void check_bearing_units(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth) {
-  const double band = 2 * M_PI * kDegToRad;  // [rad]
   int n = 0, inside = 0, preds = 0, outside = 0;
   for (const auto& fr : data.frames) {
     Eigen::Vector2d po, pt;
     if (!observer.at(fr.t_s, po) || !truth.at(fr.t_s, pt)) continue;
-    const double b = bearing_rad(pt - po);
     ++preds;
-    if (b < -kDegToRad || b > band + kDegToRad) ++outside;
-    for (double x : fr.bearings_rad) ++n, inside += std::abs(x) <= band;
+    outside += outside_radians_band(bearing_rad(pt - po));
+    for (double x : fr.bearings_rad) ++n, inside += std::abs(x) <= kRadiansAsDegreesRad;
   }
-  if (n >= 10 && inside == n && 2 * outside > preds)
+  if (bearings_look_like_radians(n, inside, preds, outside))
     throw ConfigError("bearings.csv bearing_deg looks like radians: all " + std::to_string(n) +
                       " values lie within [-6.28, 6.28] while the reference bearings from truth.csv mostly lie outside");
 }

@@ -123,6 +123,15 @@ Interval clopper_pearson(int k, int n, double conf) {
   return iv;
 }
 
+double median(std::vector<double> v) {
+  if (v.empty()) throw std::invalid_argument("median of no values");
+  const std::size_t n = v.size(), m = n / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+  const double hi = v[m];
+  if (n % 2) return hi;
+  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
+}
+
 double median_abs(std::vector<double> v) {
   if (v.empty()) return 0.0;
   for (auto& x : v) x = std::abs(x);

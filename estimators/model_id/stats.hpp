@@ -29,6 +29,8 @@ struct Interval {
   double lo = 0, hi = 1;
 };
 Interval clopper_pearson(int k, int n, double conf);
+/// Median of v (the mean of the two middle values for an even count); v must not be empty.
+double median(std::vector<double> v);
 /// Median of |v| (robust sigma: 1.4826 * median_abs). Empty v gives 0.
 double median_abs(std::vector<double> v);
 /// Pearson correlation of x and y (0 when either has no spread).
