@@ -58,10 +58,23 @@ CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvCo
       throw ConfigError(file + b);
     }
   }
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(file + ": cannot open");
+  // A file cut while being written ends inside its last line, perhaps inside a number that
+  // would still read as a (shorter) valid one: a last line without its newline is refused.
+  in.seekg(0, std::ios::end);
+  const std::streamoff bytes = in.tellg();
+  if (bytes > 0) {
+    in.seekg(bytes - 1);
+    if (in.get() != '\n')
+      throw ConfigError(file + ": the last line has no newline: the file may have been cut while being written "
+                               "(if its last line is whole, end it with a newline)");
+  }
+  in.seekg(0);
   std::string line;
-  if (!std::getline(in, line) || trim(line).empty())
+  if (std::getline(in, line) && line.rfind("\xEF\xBB\xBF", 0) == 0)
+    throw ConfigError(file + ":1: starts with a byte-order mark (UTF-8 BOM): save the file as plain UTF-8 or ASCII");
+  if (!in || trim(line).empty())
     throw ConfigError(file + ":1: missing header line (expected columns: " + [&] {
       std::string s;
       for (const auto& c : columns) s += (s.empty() ? "" : ",") + c.name + (c.optional ? "?" : "");

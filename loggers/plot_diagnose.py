@@ -13,7 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from plot_gaps import broken  # noqa: E402  (lines break at data gaps)
-from effect_labels import legend  # noqa: E402  (the effects named, with their estimates)
+from rnav.effect_labels import legend  # noqa: E402  (the effects named, with their estimates)
 
 
 def main(argv):

@@ -28,6 +28,37 @@ std::string range_key(double r) {
   return b;
 }
 
+// The columns' building blocks, in the order the rows hold the values.
+struct Axis {
+  const char* name;  // the column name's suffix
+  const char* text;  // what it is
+};
+// A plot error's components as PlotErrors holds them (apoi, toi, ...): X, Z, Y of the landing frame.
+constexpr Axis kErrorAxes[3] = {{"x", "X (landing frame, along the runway axis)"},
+                                {"z", "Z (landing frame, lateral)"},
+                                {"y", "Y (landing frame, up)"}};
+// The true aircraft position's components (PlotErrors::p_true_L): x, y, z of the landing frame.
+constexpr Axis kPositionAxes[3] = {{"x", "X (landing frame, along the runway axis, from the threshold)"},
+                                   {"y", "Y (landing frame, up)"},
+                                   {"z", "Z (landing frame, lateral)"}};
+// The plot errors: raw (APOI) and compensated (TOI).
+constexpr Axis kErrorKinds[2] = {{"apoi", "APOI (raw plot) error"}, {"toi", "TOI (compensated plot) error"}};
+// The bias filter's polar channels as written: range in m, the angles converted to deg.
+struct Channel {
+  const char* name;
+  const char* unit;
+  const char* text;
+};
+constexpr Channel kChannels[3] = {{"range", "m", "range channel"},
+                                  {"course", "deg", "course (azimuth) channel"},
+                                  {"glide", "deg", "glide (elevation) channel"}};
+const std::string kBiasErr = "bias-estimate error (the filter's estimate minus the radar's systematic error)";
+
+// What logger.table_range_origin measures a Table 2 range from.
+std::string table_origin(const Scenario& sc) {
+  return sc.logger.table_range_origin == "radar" ? "the radar antenna (slant range)" : "the runway threshold";
+}
+
 }  // namespace
 
 bool PaperTable2::has(double r) { return r == 25000 || r == 4000; }
@@ -167,9 +198,63 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
   // Per realization (in order) and bin: "table" rows are Table 2's bins (true distance in the
   // sense of logger.table_range_origin within +-table_halfwidth_m of a table range), whose
   // ensemble means table2.json holds; "range" rows the 1 km slant-range bins of stats_range.csv.
-  write_file_atomic(dir, "realizations.csv",
-                    "realization,bin,lo_m,hi_m,plots,apoi_x_m,apoi_z_m,apoi_y_m,toi_x_m,toi_z_m,toi_y_m,"
-                    "biaserr_range_m,biaserr_course_deg,biaserr_glide_deg\n" + all_rows());
+  const auto columns = realizations_columns();
+  write_file_atomic(dir, "realizations.csv", csv_header(columns) + all_rows());
+  write_csv_units(dir, "realizations.csv", columns);
+}
+
+std::vector<CsvColumnDoc> PrlStats::realizations_columns() const {
+  const std::string of_bin = ", this realization's mean over the bin's plots";
+  const std::string edge = " (table bins: true distance from " + table_origin(sc_) +
+                           ", logger.table_range_origin; range bins: true slant range from the radar)";
+  std::vector<CsvColumnDoc> c{
+      {"realization", "", "realization index in the ensemble"},
+      {"bin", "", "bin kind: table (a Table 2 bin) or range (a slant-range bin of stats_range.csv)"},
+      {"lo_m", "m", "lower edge of the bin" + edge},
+      {"hi_m", "m", "upper edge of the bin" + edge},
+      {"plots", "", "this realization's plots in the bin"}};
+  for (const auto& k : kErrorKinds)
+    for (const auto& a : kErrorAxes) c.push_back({std::string(k.name) + "_" + a.name + "_m", "m", std::string(k.text) + " along " + a.text + of_bin});
+  for (const auto& ch : kChannels)
+    c.push_back({std::string("biaserr_") + ch.name + "_" + ch.unit, ch.unit, kBiasErr + ", " + ch.text + of_bin});
+  return c;
+}
+
+std::vector<CsvColumnDoc> PrlStats::stats_time_columns() const {
+  std::vector<CsvColumnDoc> c{
+      {"t_s", "s", "plot time since sim time 0 (runner.epoch_utime)"},
+      {"range_m", "m", "true slant range of the aircraft from the radar"},
+      {"range_table_m", "m", "true distance of the aircraft from " + table_origin(sc_) + " (logger.table_range_origin)"},
+      {"n", "", "realizations averaged (their plots at this time)"}};
+  for (const auto& k : kErrorKinds)
+    for (const char* s : {"mean", "rms"})
+      for (const auto& a : kErrorAxes)
+        c.push_back({std::string(k.name) + "_" + s + "_" + a.name + "_m", "m",
+                     std::string(k.text) + " along " + a.text + ", ensemble " + (s == std::string("mean") ? "mean" : "RMS")});
+  for (const char* s : {"mean", "rms"})
+    for (const auto& ch : kChannels)
+      c.push_back({std::string("biaserr_") + s + "_" + ch.name + "_" + ch.unit, ch.unit,
+                   kBiasErr + ", " + ch.text + ", ensemble " + (s == std::string("mean") ? "mean" : "RMS")});
+  for (const auto& ch : kChannels)
+    c.push_back({std::string("filter_sd_") + ch.name + "_" + ch.unit, ch.unit,
+                 std::string("the bias filter's own 1 sigma of its estimate, ") + ch.text +
+                     " (square root of its variance's ensemble mean)"});
+  for (const auto& a : kPositionAxes)
+    c.push_back({std::string("aircraft_") + a.name + "_m", "m", std::string("true aircraft position along ") + a.text});
+  return c;
+}
+
+std::vector<CsvColumnDoc> PrlStats::stats_range_columns() const {
+  std::vector<CsvColumnDoc> c{{"range_lo_m", "m", "lower edge of the bin of true slant range from the radar"},
+                              {"range_hi_m", "m", "upper edge of the bin of true slant range from the radar"},
+                              {"n", "", "plots in the bin, over all realizations"}};
+  for (const auto& k : kErrorKinds)
+    for (const char* s : {"mean", "rms"})
+      for (const auto& a : kErrorAxes)
+        c.push_back({std::string(k.name) + "_" + s + "_" + a.name + "_m", "m",
+                     std::string(k.text) + " along " + a.text + ", " + (s == std::string("mean") ? "mean" : "RMS") +
+                         " over the bin's plots of every realization"});
+  return c;
 }
 
 void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const {
@@ -219,15 +304,9 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
   write_file_atomic(dir, "table2_detail.json", detail.dump(2) + "\n");
   write_file_atomic(dir, "table2.txt", table2_text(seed));
 
+  const auto time_columns = stats_time_columns();
   std::ostringstream ts;
-  ts << "t_s,range_m,range_table_m,n";
-  for (const char* p : {"apoi", "toi"})
-    for (const char* s : {"mean", "rms"})
-      for (const char* c : {"x", "z", "y"}) ts << "," << p << "_" << s << "_" << c << "_m";
-  for (const char* s : {"mean", "rms"})
-    ts << ",biaserr_" << s << "_range_m,biaserr_" << s << "_course_deg,biaserr_" << s
-       << "_glide_deg";
-  ts << ",filter_sd_range_m,filter_sd_course_deg,filter_sd_glide_deg,aircraft_x_m,aircraft_y_m,aircraft_z_m\n";
+  ts << csv_header(time_columns);
   for (const auto& [utime, b] : by_time_) {
     ts << fixed((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(b.range_true_m, 2) << ","
        << fixed(b.range_table_m, 2) << "," << b.apoi.n;
@@ -243,13 +322,11 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
     ts << "\n";
   }
   write_file_atomic(dir, "stats_time.csv", ts.str());
+  write_csv_units(dir, "stats_time.csv", time_columns);
 
+  const auto range_columns = stats_range_columns();
   std::ostringstream rs;
-  rs << "range_lo_m,range_hi_m,n";
-  for (const char* p : {"apoi", "toi"})
-    for (const char* s : {"mean", "rms"})
-      for (const char* c : {"x", "z", "y"}) rs << "," << p << "_" << s << "_" << c << "_m";
-  rs << "\n";
+  rs << csv_header(range_columns);
   for (const auto& [bin, m] : by_range_) {
     rs << fixed(bin * sc_.logger.range_bin_m, 0) << "," << fixed((bin + 1) * sc_.logger.range_bin_m, 0)
        << "," << m.first.n;
@@ -260,6 +337,7 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
     rs << "\n";
   }
   write_file_atomic(dir, "stats_range.csv", rs.str());
+  write_csv_units(dir, "stats_range.csv", range_columns);
   write_file_atomic(dir, "ensemble_state.json", state(seed).dump() + "\n");
 }
 

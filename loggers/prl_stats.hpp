@@ -13,6 +13,7 @@
 // one run of the whole ensemble.
 #pragma once
 
+#include "csv_columns.hpp"
 #include "exact_sum.hpp"
 #include "scenario.hpp"
 
@@ -128,7 +129,7 @@ class PrlStats {
   void write(const std::string& dir, std::int64_t seed) const;
   /// Write stats_time.csv, stats_range.csv, table2.json, table2_detail.json, table2.txt and
   /// ensemble_state.json (state()): everything but the per-realization rows (which a merge of
-  /// shards takes from the shards' realizations.csv files).
+  /// shards takes from the shards' realizations.csv files). Each CSV with its NAME.units.json.
   void write_statistics(const std::string& dir, std::int64_t seed) const;
 
   /// The exact state (every sum as ExactSum text, the realizations held): what a merge needs.
@@ -141,6 +142,12 @@ class PrlStats {
   void merge_state(const nlohmann::json& state, std::int64_t seed, const std::string& what);
   /// Table 2 text (also written to table2.txt).
   std::string table2_text(std::int64_t seed) const;
+
+  /// The columns of realizations.csv, stats_time.csv and stats_range.csv (unit and meaning of
+  /// each; the files' headers and their NAME.units.json beside them come from these lists).
+  std::vector<CsvColumnDoc> realizations_columns() const;
+  std::vector<CsvColumnDoc> stats_time_columns() const;
+  std::vector<CsvColumnDoc> stats_range_columns() const;
 
   struct TimeBin {
     double range_true_m = 0, range_table_m = 0;

@@ -109,10 +109,13 @@ void UavLoggerNode::commit() {
     if (!rows_) {
       std::filesystem::create_directories(out_dir_);  // as the results at FINISH (a caller may not have made it)
       rows_ = std::make_unique<AtomicFileWriter>(out_dir_, "realizations.csv");
-      rows_->append(uav_realizations_header());
+      rows_->append(csv_header(uav_realizations_columns()));
     }
     rows_->append(uav_realization_rows(sc_, realization_, cur_));
-    if (tracking_) track_csv_ = track_.csv(sc_.runner.epoch_utime, realization_);
+    if (tracking_) {
+      track_csv_ = track_.csv(sc_.runner.epoch_utime, realization_);
+      track_columns_ = UavTrack::columns(track_.estimators());
+    }
   }
   cur_ = TmaRealization{};
   track_.clear();
@@ -124,7 +127,10 @@ void UavLoggerNode::finish(const sim_window_t& w) {
                              " complete realizations, the clock ran " + std::to_string(w.n_realizations));
   if (out_dir_.empty()) return;
   stats_.write(out_dir_, seed_);
-  if (rows_) rows_->commit();
+  if (rows_) {
+    rows_->commit();
+    write_csv_units(out_dir_, "realizations.csv", uav_realizations_columns());
+  }
   // This run holds realizations first ... w.realization (the last one run; FINISH carries it).
   const long first = static_cast<long>(w.realization) - w.n_realizations + 1;
   if (sc_.logger.track_realization >= first && sc_.logger.track_realization <= w.realization) {
@@ -132,6 +138,7 @@ void UavLoggerNode::finish(const sim_window_t& w) {
       throw std::runtime_error("track.csv: realization " + std::to_string(sc_.logger.track_realization) +
                                " (logger.track_realization) was never committed");
     write_file_atomic(out_dir_, "track.csv", track_csv_);
+    write_csv_units(out_dir_, "track.csv", track_columns_);
   }
   // The effective scenario, every default filled in and the overrides applied: `scripts/run
   // DIR/scenario.json` with the same seed and realizations repeats the run.

@@ -2,7 +2,7 @@
 // realization until the clock moves past it, adds it to UavStats and its rows to
 // realizations.csv (uav_realizations.hpp; written as it goes, renamed into place on FINISH);
 // keeps realization logger.track_realization's geometry for track.csv (uav_track.hpp);
-// writes the results and scenario.json on FINISH.
+// writes the results and scenario.json on FINISH, each CSV with its NAME.units.json.
 // An estimate without truth at its time, or an ensemble short of realizations, is an error.
 #pragma once
 
@@ -39,6 +39,7 @@ class UavLoggerNode : public LockstepNode {
   bool tracking_ = false;   // the realization being assembled is logger.track_realization
   UavTrack track_;          // its frames
   std::string track_csv_;   // track.csv's text once that realization is committed
+  std::vector<CsvColumnDoc> track_columns_;  // and its columns (track.units.json)
 };
 
 }  // namespace rnav

@@ -16,10 +16,38 @@ std::string g9(double x) { return significant(x, 9); }
 
 }  // namespace
 
-std::string uav_realizations_header() {
-  return "realization,estimator,t_s,at_eval,pos_err_north_m,pos_err_east_m,vel_err_north_mps,vel_err_east_mps,"
-         "pos_err_m,vel_err_mps,sigma_pos_north_m,sigma_pos_east_m,sigma_vel_north_mps,sigma_vel_east_mps,"
-         "nees,updated,nis\n";
+std::vector<CsvColumnDoc> uav_realizations_columns() {
+  // The state's components in TmaSample's order (err, sigma): north, east [m], v_north, v_east [m/s].
+  struct Component {
+    const char* quantity;  // pos, vel
+    const char* axis;      // north, east
+    const char* suffix;    // the name's unit suffix
+    const char* unit;
+    const char* text;
+  };
+  constexpr Component kState[4] = {{"pos", "north", "m", "m", "object position north"},
+                                   {"pos", "east", "m", "m", "object position east"},
+                                   {"vel", "north", "mps", "m/s", "object velocity north"},
+                                   {"vel", "east", "mps", "m/s", "object velocity east"}};
+  const std::string in_F = " (local level frame F at the scenario origin)";
+  const auto tail = [](const Component& k) { return std::string(k.axis) + "_" + k.suffix; };
+  std::vector<CsvColumnDoc> c{
+      {"realization", "", "realization index in the ensemble"},
+      {"estimator", "", "estimator name (UAV_TMA's estimator)"},
+      {"t_s", "s", "frame time since sim time 0 (runner.epoch_utime)"},
+      {"at_eval", "",
+       "1 on the row summary.json takes its figures from (the last frame at or before logger.eval_time_s), else 0"}};
+  for (const auto& k : kState)
+    c.push_back({std::string(k.quantity) + "_err_" + tail(k), k.unit, std::string("estimate minus truth, ") + k.text + in_F});
+  c.push_back({"pos_err_m", "m", "horizontal position error, norm of (north, east)"});
+  c.push_back({"vel_err_mps", "m/s", "horizontal velocity error, norm of (north, east)"});
+  for (const auto& k : kState)
+    c.push_back({std::string("sigma_") + k.quantity + "_" + tail(k), k.unit,
+                 std::string("the estimator's own 1 sigma (square root of its covariance's diagonal), ") + k.text + in_F});
+  c.push_back({"nees", "", "normalized estimation error squared (4 dof)"});
+  c.push_back({"updated", "", "1 if a bearing was used at this frame, else 0"});
+  c.push_back({"nis", "", "normalized innovation squared of the bearing (1 dof); 0 when not updated"});
+  return c;
 }
 
 std::string uav_realization_rows(const UavScenario& sc, long realization, const TmaRealization& r) {

@@ -10,14 +10,17 @@
 // finite); uav_stats_time.csv's RMSE at a time is the RMS over that time's rows (times on the step grid).
 #pragma once
 
+#include "csv_columns.hpp"
 #include "uav_stats.hpp"
 
 #include <string>
+#include <vector>
 
 namespace rnav {
 
-/// The header line (with its newline).
-std::string uav_realizations_header();
+/// The file's columns: unit and meaning of each; the header line is csv_header() of them and
+/// realizations.units.json describes them.
+std::vector<CsvColumnDoc> uav_realizations_columns();
 /// The rows of one realization, ordered by estimator and time, each ending in a newline.
 std::string uav_realization_rows(const UavScenario& sc, long realization, const TmaRealization& r);
 

@@ -133,6 +133,25 @@ struct Final {
 
 }  // namespace
 
+std::vector<CsvColumnDoc> UavStats::stats_time_columns() const {
+  std::vector<CsvColumnDoc> c{
+      {"t_s", "s", "frame time since sim time 0 (runner.epoch_utime)"},
+      {"pcrb_pos_m", "m", "posterior Cramer-Rao bound on the object's horizontal position RMSE"},
+      {"pcrb_vel_mps", "m/s", "posterior Cramer-Rao bound on the object's horizontal velocity RMSE"},
+      {"nees_band_lo", "", "lower edge of the 95 % band of the mean NEES (4 dof) over the realizations"},
+      {"nees_band_hi", "", "upper edge of the 95 % band of the mean NEES (4 dof) over the realizations"},
+      {"nis_band_lo", "", "lower edge of the 95 % band of the mean NIS (1 dof) over the realizations"},
+      {"nis_band_hi", "", "upper edge of the 95 % band of the mean NIS (1 dof) over the realizations"}};
+  for (const auto& [name, _] : by_time_) {
+    c.push_back({name + "_n", "", "realizations with an estimate of " + name + " at this time"});
+    c.push_back({name + "_rmse_pos_m", "m", name + "'s horizontal position error (north, east), RMS over the realizations"});
+    c.push_back({name + "_rmse_vel_mps", "m/s", name + "'s horizontal velocity error, RMS over the realizations"});
+    c.push_back({name + "_nees_mean", "", name + "'s NEES (4 dof), mean over the realizations"});
+    c.push_back({name + "_nis_mean", "", name + "'s NIS (1 dof), mean over the realizations whose estimate used a bearing at this time"});
+  }
+  return c;
+}
+
 void UavStats::write(const std::string& dir, std::int64_t seed) const {
   if (n_ == 0) throw std::runtime_error("no complete realization to write");
   std::filesystem::create_directories(dir);
@@ -140,12 +159,9 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
   pcrb(&pp, &pv);
   const auto nees_band = chi2_mean_band(n_, 4), nis_band = chi2_mean_band(n_, 1);
 
+  const auto columns = stats_time_columns();
   std::ostringstream ts;
-  ts << "t_s,pcrb_pos_m,pcrb_vel_mps,nees_band_lo,nees_band_hi,nis_band_lo,nis_band_hi";
-  for (const auto& [name, _] : by_time_)
-    ts << "," << name << "_n," << name << "_rmse_pos_m," << name << "_rmse_vel_mps," << name
-       << "_nees_mean," << name << "_nis_mean";
-  ts << "\n";
+  ts << csv_header(columns);
   for (std::int64_t t : frames_) {
     if (!pp.count(t)) continue;
     ts << fixed((t - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(pp.at(t)) << "," << fixed(pv.at(t))
@@ -162,6 +178,7 @@ void UavStats::write(const std::string& dir, std::int64_t seed) const {
     ts << "\n";
   }
   write_file_atomic(dir, "uav_stats_time.csv", ts.str());
+  write_csv_units(dir, "uav_stats_time.csv", columns);
 
   // The PCRB at the evaluation time: the last frame at or before it.
   const std::int64_t eval = sc_.utime(to_us(sc_.eval_time_s()));

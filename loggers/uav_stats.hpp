@@ -6,6 +6,7 @@
 // order realizations are added or shards (ensemble_state.json) are merged in.
 #pragma once
 
+#include "csv_columns.hpp"
 #include "exact_sum.hpp"
 
 #include "tma_pcrb.hpp"
@@ -68,11 +69,15 @@ class UavStats {
   /// once; -1: the next after the highest so far).
   void add_realization(const TmaRealization& r, long realization = -1);
   long realizations() const { return n_; }
-  /// Write uav_stats_time.csv, summary.json, summary.txt and ensemble_state.json (state()) into
-  /// dir (atomically renamed). realizations.csv is the logger's (streamed), not this class's.
+  /// Write uav_stats_time.csv (and uav_stats_time.units.json), summary.json, summary.txt and
+  /// ensemble_state.json (state()) into dir (atomically renamed). realizations.csv is the
+  /// logger's (streamed), not this class's.
   void write(const std::string& dir, std::int64_t seed) const;
   /// The same (the name PrlStats uses for "everything but realizations.csv").
   void write_statistics(const std::string& dir, std::int64_t seed) const { write(dir, seed); }
+  /// uav_stats_time.csv's columns (its header and uav_stats_time.units.json), per estimator
+  /// held (in name order).
+  std::vector<CsvColumnDoc> stats_time_columns() const;
   /// The PCRB position RMSE [m] per frame time (utime -> value), computed from the ensemble.
   std::map<std::int64_t, double> pcrb_pos() const;
   std::map<std::int64_t, double> pcrb_vel() const;

@@ -11,6 +11,9 @@ namespace {
 
 std::string g9(double x) { return significant(x, 9); }
 
+// The columns before the estimators' groups, and each group's size.
+constexpr std::size_t kFixedColumns = 10, kPerEstimator = 7;
+
 }  // namespace
 
 void UavTrack::add_object(std::int64_t utime, const tma::Vec4& x) {
@@ -41,17 +44,62 @@ void UavTrack::add_estimate(std::int64_t utime, const std::string& estimator, co
     throw std::runtime_error("UAV_TMA: two estimates of '" + estimator + "' at utime " + std::to_string(utime));
 }
 
-std::string UavTrack::csv(std::int64_t epoch_utime, long realization) const {
+std::vector<std::string> UavTrack::estimators() const {
   std::set<std::string> names;
   for (const auto& [t, f] : frames_)
     for (const auto& [name, e] : f.est) names.insert(name);
-  std::string out =
-      "realization,t_s,uav_north_m,uav_east_m,object_north_m,object_east_m,object_v_north_mps,object_v_east_mps,"
-      "n_bearings,bearing_rad";
-  for (const auto& n : names)
-    out += "," + n + "_north_m," + n + "_east_m," + n + "_v_north_mps," + n + "_v_east_mps," + n + "_P_nn_m2," + n +
-           "_P_ne_m2," + n + "_P_ee_m2";
-  out += "\n";
+  return {names.begin(), names.end()};
+}
+
+std::vector<CsvColumnDoc> UavTrack::columns(const std::vector<std::string>& estimators) {
+  const std::string in_F = " (local level frame F at the scenario origin)";
+  std::vector<CsvColumnDoc> c{
+      {"realization", "", "realization index (logger.track_realization)"},
+      {"t_s", "s", "frame time since sim time 0 (runner.epoch_utime)"},
+      {"uav_north_m", "m", "the UAV's true position north" + in_F},
+      {"uav_east_m", "m", "the UAV's true position east" + in_F},
+      {"object_north_m", "m", "the object's true position north" + in_F},
+      {"object_east_m", "m", "the object's true position east" + in_F},
+      {"object_v_north_mps", "m/s", "the object's true velocity north" + in_F},
+      {"object_v_east_mps", "m/s", "the object's true velocity east" + in_F},
+      {"n_bearings", "", "bearings measured at this frame"},
+      {"bearing_rad", "rad", "the frame's first measured bearing, clockwise from north; nan when n_bearings = 0"}};
+  for (const auto& n : estimators) {
+    const std::string none = "; nan before its first estimate";
+    c.push_back({n + "_north_m", "m", n + "'s estimate of the object's position north" + in_F + none});
+    c.push_back({n + "_east_m", "m", n + "'s estimate of the object's position east" + none});
+    c.push_back({n + "_v_north_mps", "m/s", n + "'s estimate of the object's velocity north" + none});
+    c.push_back({n + "_v_east_mps", "m/s", n + "'s estimate of the object's velocity east" + none});
+    c.push_back({n + "_P_nn_m2", "m^2", n + "'s position covariance, north-north" + none});
+    c.push_back({n + "_P_ne_m2", "m^2", n + "'s position covariance, north-east (mean of its two off-diagonal terms)" + none});
+    c.push_back({n + "_P_ee_m2", "m^2", n + "'s position covariance, east-east" + none});
+  }
+  return c;
+}
+
+std::vector<CsvColumnDoc> UavTrack::columns_of_header(const std::string& header, const std::string& what) {
+  const std::vector<std::string> names = csv_header_names(header);
+  std::vector<std::string> estimators;
+  const std::string tail = "_north_m";
+  for (std::size_t i = kFixedColumns; i < names.size(); i += kPerEstimator) {
+    const std::string& n = names[i];
+    if (n.size() > tail.size() && n.compare(n.size() - tail.size(), tail.size(), tail) == 0)
+      estimators.push_back(n.substr(0, n.size() - tail.size()));
+  }
+  std::vector<CsvColumnDoc> c;
+  try {
+    c = columns(estimators);
+    if (csv_header(c) != header.substr(0, header.find('\n') + 1)) c.clear();
+  } catch (const std::invalid_argument&) {
+    c.clear();
+  }
+  if (c.empty()) throw std::runtime_error(what + ": its header is not the one of a track.csv this build writes");
+  return c;
+}
+
+std::string UavTrack::csv(std::int64_t epoch_utime, long realization) const {
+  const std::vector<std::string> names = estimators();
+  std::string out = csv_header(columns(names));
   for (const auto& [t, f] : frames_) {
     if (!f.has_object)
       throw std::runtime_error("track.csv: no TRUTH_TARGET state at utime " + std::to_string(t) +

@@ -17,6 +17,7 @@
 // Everything comes from messages, so the file is the same whatever the transport.
 #pragma once
 
+#include "csv_columns.hpp"
 #include "tma_models.hpp"
 
 #include <Eigen/Dense>
@@ -26,6 +27,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace rnav {
 
@@ -44,6 +46,14 @@ class UavTrack {
   /// The file's text (header and rows). Throws if a frame lacks the object's or the UAV's truth
   /// (naming the utime and channel).
   std::string csv(std::int64_t epoch_utime, long realization) const;
+  /// The estimators seen so far, in name order (the file's estimator column groups).
+  std::vector<std::string> estimators() const;
+  /// The file's columns for these estimators (in this order): unit and meaning of each, the
+  /// header and track.units.json.
+  static std::vector<CsvColumnDoc> columns(const std::vector<std::string>& estimators);
+  /// The columns of a track.csv whose header line is `header` (the estimators read from it);
+  /// throws std::runtime_error naming `what` unless the header is exactly one this code writes.
+  static std::vector<CsvColumnDoc> columns_of_header(const std::string& header, const std::string& what);
 
  private:
   struct Estimate {

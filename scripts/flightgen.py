@@ -562,8 +562,37 @@ def radar_plots(P, seed, truth_ecef, radar, t_end):
     return plots
 
 
+# Each file's columns: (unit, meaning), written beside it as NAME.units.json (one column per line,
+# the project's format: {"column": {"unit": ..., "meaning": ...}}).
+_GEO = {"t_s": ("s", "time since the flight's start"), "lat_deg": ("deg", "WGS84 latitude"),
+        "lon_deg": ("deg", "WGS84 longitude"), "h_m": ("m", "height above the WGS84 ellipsoid")}
+COLUMN_DOCS = {
+    "radar.csv": {"t_s": ("s", "time stamp of the plot"), "range_m": ("m", "measured slant range from the radar"),
+                  "azimuth_deg": ("deg", "measured azimuth from the azimuth reference, clockwise"),
+                  "elevation_deg": ("deg", "measured elevation above the radar's horizontal")},
+    "nav.csv": dict(_GEO, t_s=("s", "time of validity of the nav solution")),
+    "truth.csv": dict(_GEO, t_s=("s", "time of the true position"), target=("", "target number")),
+    "observer.csv": dict(_GEO, t_s=("s", "time of the observer's nav sample"),
+                         heading_deg=("deg", "own ship's heading, clockwise from north")),
+    "bearings.csv": {"t_s": ("s", "time stamp of the bearing"),
+                     "bearing_deg": ("deg", "measured bearing from the observer, clockwise from north")},
+    "detections.csv": {"t_s": ("s", "time stamp of the detection"), "sensor": ("", "sensor name"),
+                       "range_m": ("m", "measured range from the sensor"),
+                       "bearing_deg": ("deg", "measured bearing, clockwise from north")},
+}
+
+
+def units_json(name, header):
+    """The text of NAME.units.json for a CSV of these columns."""
+    docs = COLUMN_DOCS[name]
+    lines = [" %s: %s" % (json.dumps(c), json.dumps({"unit": docs[c][0], "meaning": docs[c][1]}))
+             for c in header.split(",")]
+    return "{\n" + ",\n".join(lines) + "\n}\n"
+
+
 def save(outdir, tables, files=None):
-    """Write (name, header, rows, printf format) tables into outdir (created if missing); {name: path}."""
+    """Write (name, header, rows, printf format) tables into outdir (created if missing), each
+    with NAME.units.json beside it; {name: path}."""
     if os.path.exists(outdir) and not os.path.isdir(outdir):
         raise BadInput("OUTDIR '%s' exists and is not a folder" % outdir)
     os.makedirs(outdir, exist_ok=True)
@@ -573,6 +602,8 @@ def save(outdir, tables, files=None):
         with open(files[name], "w") as f:
             f.write(header + "\n")
             f.writelines(fmt % tuple(r) + "\n" for r in rows)
+        with open(files[name][:-4] + ".units.json", "w") as f:
+            f.write(units_json(name, header))
     return files
 
 

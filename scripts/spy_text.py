@@ -2,13 +2,14 @@
 """The live view of a run without a display (scripts/spy --text): every LCM channel heard on the
 URL, its message rate, its last decoded values with units, and losses and repeats, refreshed once
 a second. Pure Python (Debian's python3, no LCM C extension): it joins the UDP multicast group
-itself and decodes with the project's generated types (loggers/rnav_lcmlog.py), so every channel
+itself and decodes with the project's generated types (loggers/rnav/lcmlog.py), so every channel
 of the project is shown by field, and a foreign one by its size.
 
   scripts/spy --text [--lcm-url URL] [--netns-pid PID] [--duration S] [--json FILE]
 
-Per channel: type, messages, rate [1/s] over the last second and over the whole view, bytes of
-the last message, and its scalar fields with their units from lcmtypes/*.lcm (a batch: its
+Per channel: type, messages, rate [1/s] over the last second and mean/s, the rate between the
+channel's first and last message (repeats not counted: the rate the run publishes at, however
+late it started), bytes of the last message, and its scalar fields with their units from lcmtypes/*.lcm (a batch: its
 element count and its last element's fields). Losses: gaps in each sender's LCM sequence numbers
 (every message an lcm instance publishes, on any channel, carries the next number), per sender.
 Repeats: a message whose bytes equal an earlier one's on the same channel (a lock-step resend),
@@ -32,7 +33,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "loggers"))
 import cli_args  # noqa: E402
-import rnav_lcmlog  # noqa: E402
+from rnav import lcmlog as rnav_lcmlog  # noqa: E402
 
 PROG = "spy_text.py"
 SHORT, FRAGMENT = 0x4C433032, 0x4C433033   # 'LC02', 'LC03'
@@ -68,6 +69,14 @@ class Channel:
         self.type, self.count, self.last_bytes, self.values = "?", 0, 0, ""
         self.times = collections.deque()
         self.repeats, self.seen = 0, set()
+        self.first = self.last = None            # monotonic time of the first and last message [s]
+        self.first_unix = self.last_unix = None  # the same, wall clock [s since the Unix epoch]
+
+    def active_rate(self):
+        """Messages other than repeats per second between this channel's first and last message
+        (the rate the run publishes at, whenever it started), 0 with fewer than two."""
+        n = self.count - self.repeats
+        return (n - 1) / (self.last - self.first) if n >= 2 and self.last > self.first else 0.0
 
 
 class View:
@@ -78,6 +87,7 @@ class View:
         self.fragments = {}          # (sender, seqno) -> [channel, size, {offset: bytes}, n]
         self.resend_commands = 0
         self.start = time.monotonic()
+        self.start_unix = time.time()
 
     def packet(self, data, sender, now):
         if len(data) < 8:
@@ -110,6 +120,10 @@ class View:
         ch.count += 1
         ch.last_bytes = len(payload)
         ch.times.append(now)
+        wall = time.time()
+        if ch.first is None:
+            ch.first, ch.first_unix = now, wall
+        ch.last, ch.last_unix = now, wall
         digest = hashlib.blake2b(payload, digest_size=16).digest()
         if digest in ch.seen:
             ch.repeats += 1
@@ -159,7 +173,8 @@ class View:
                 ch.times.popleft()
             total = ch.count / max(now - self.start, 1e-9)
             out.append({"channel": name, "type": ch.type, "messages": ch.count, "rate_hz": len(ch.times),
-                        "mean_rate_hz": total, "last_bytes": ch.last_bytes, "repeats": ch.repeats,
+                        "mean_rate_hz": total, "active_rate_hz": ch.active_rate(), "first_unix_s": ch.first_unix,
+                        "last_unix_s": ch.last_unix, "last_bytes": ch.last_bytes, "repeats": ch.repeats,
                         "last": ch.values})
         return out
 
@@ -172,11 +187,12 @@ class View:
                                                            "last values")]
         for r in rows:
             lines.append("%-22s %-26s %8d %7d %7.1f %7d  %s" % (r["channel"][:22], r["type"][:26], r["messages"],
-                                                               r["rate_hz"], r["mean_rate_hz"], r["repeats"], r["last"]))
+                                                               r["rate_hz"], r["active_rate_hz"], r["repeats"], r["last"]))
         return "\n".join(lines)
 
     def json(self, now):
-        return {"seconds": now - self.start, "channels": self.rows(now), "resend_commands": self.resend_commands,
+        return {"seconds": now - self.start, "start_unix_s": self.start_unix, "channels": self.rows(now),
+                "resend_commands": self.resend_commands,
                 "senders": [{"sender": "%s:%d" % k, "messages": v[1], "lost": v[2]} for k, v in self.senders.items()]}
 
 

@@ -24,6 +24,11 @@ The job's folder holds job.log (every step's stderr) and, written last and atomi
 missing, failed, or of other steps is emptied and the job run again; nothing outside OUT/NAME is
 touched.
 
+Progress, through run()'s log callback: 'job NAME' as a job starts on this host, and of the M
+jobs this call runs (kept ones are not counted), first '0 of M done; ETA unknown', then as each
+job finishes 'N of M done (K failed) — last NAME ok in 3.2 s; ETA 1 min 20 s' (class Progress;
+under MPI a job counts as finished when its job.json appears).
+
 Under MPI (ranks=K) rank r of K runs jobs floor(rN/K) ... floor((r+1)N/K)-1 of the N in order,
 one at a time; OUT must be on a file system every rank sees (one host, or a shared one on a
 cluster). Rank failures are named by scripts/mpi.bash (rank, host, the rank's jobs).
@@ -31,12 +36,14 @@ cluster). Rank failures are named by scripts/mpi.bash (rank, host, the rank's jo
 import fnmatch
 import hashlib
 import json
+import math
 import os
 import re
 import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
@@ -46,6 +53,7 @@ LOG = "job.log"
 KEPT = ("ok", "invalid")
 INVALID_INPUT_STATUS = 2     # the exit status every project program uses for refused input
 NAME_RE = re.compile(r"[A-Za-z0-9_.+=-]+")
+MPI_POLL_S = 0.5            # how often a run over MPI looks for the jobs finished
 
 
 class StudyError(Exception):
@@ -198,8 +206,78 @@ def shard(n, k, r):
     return range(n * r // k, n * (r + 1) // k)
 
 
-def _run_mpi(jobs, todo, out, ranks, log):
-    """The jobs `todo` (indices into jobs) over `ranks` MPI ranks; returns '' or the failure."""
+def eta_text(seconds):
+    """A time left as it prints in a progress line: 'unknown' (None), '45 s', '1 min 20 s',
+    '2 h 5 min'; whole seconds rounded up, so a time left above 0 never reads 0 s."""
+    if seconds is None:
+        return "unknown"
+    s = int(math.ceil(seconds - 1e-9)) if seconds > 0 else 0
+    if s < 60:
+        return "%d s" % s
+    if s < 3600:
+        return "%d min %d s" % divmod(s, 60)
+    return "%d h %d min" % (s // 3600, s % 3600 // 60)
+
+
+class Progress:
+    """The progress lines of one run() call, through its log callback. Counts are of the jobs
+    this call runs (M); a job kept from an earlier run is neither counted nor timed. As each
+    job finishes:
+        N of M done (K failed) — last NAME STATUS in 3.2 s; ETA 1 min 20 s
+    ETA = the jobs left x the mean wall time of the jobs finished in this call / the jobs run
+    at once (parallel, or MPI ranks; at most the jobs left), rounded up to whole seconds: above
+    0 s until the last job is done, 0 s after it. Before any job finished it is 'unknown'
+    (the first line, '0 of M done ...; ETA unknown')."""
+
+    def __init__(self, log, total, kept_n, width):
+        self.log, self.total, self.width = log, total, max(1, width)
+        self.done, self.failed, self.walls = 0, 0, []
+        kept_text = (", %d kept from an earlier run" % kept_n) if kept_n else ""
+        self.log("0 of %d done%s; ETA unknown" % (total, kept_text))
+
+    def eta(self):
+        left = self.total - self.done
+        if left == 0:
+            return 0.0
+        if not self.walls:
+            return None
+        mean = sum(self.walls) / len(self.walls)
+        return max(left * mean / min(self.width, left), 1e-3)   # never 0 before the end
+
+    def finished(self, result):
+        self.done += 1
+        self.failed += result.status == "failed"
+        self.walls.append(max(0.0, float(result.wall_s or 0.0)))
+        self.log("%d of %d done (%d failed) \u2014 last %s %s in %.1f s; ETA %s"
+                 % (self.done, self.total, self.failed, result.name, result.status, result.wall_s or 0.0,
+                    eta_text(self.eta())))
+
+
+def _mpi_result(job, out, failure):
+    """A job's Result once its MPI rank is done with it (None while it has no marker)."""
+    r = kept(job, out)
+    if r is not None:
+        r.reused = False
+        return r
+    m = _read_marker(os.path.join(out, job.name))
+    if m is None and failure is None:
+        return None
+    m = m or {}
+    return Result(job.name, "failed", os.path.join(out, job.name),
+                  m.get("message") or "no result: " + (failure or "its rank ended without one"),
+                  m.get("wall_s", 0.0), False, m.get("exit_code"), m.get("error", ""))
+
+
+def _run_mpi(jobs, todo, out, ranks, log, progress, results):
+    """The jobs `todo` (indices into jobs) over `ranks` MPI ranks, filling results[i] and
+    reporting each job to progress as its marker appears; returns '' or the failure."""
+    # A todo job's old marker (failed, or of other steps) goes first, so that a marker seen
+    # while the ranks run is this run's (run_one empties the folder anyway).
+    for i in todo:
+        try:
+            os.remove(os.path.join(out, jobs[i].name, MARKER))
+        except OSError:
+            pass
     plan = os.path.join(out, ".study_plan.json")
     with open(plan, "w") as f:
         json.dump({"out": out, "jobs": [jobs[i].to_dict() for i in todo]}, f)
@@ -214,17 +292,40 @@ def _run_mpi(jobs, todo, out, ranks, log):
     script = ('source "$1/mpi.bash"; describe() { sed -n "$(($1 + 1))p" "$DESCRIBE"; }; '
               'mpi_run "$2" "$3" describe bash -c \'source "$0"; mpi_rank_exec "$@"\' "$1/mpi.bash" '
               '"$4" "$5" --worker "$6" && exit 0; echo "$MPI_FAILURE" >&2; exit 1')
-    p = subprocess.run(["bash", "-c", script, "study_runner", SCRIPTS, str(ranks), os.path.join(out, ".study_mpi.log"),
-                        sys.executable, os.path.abspath(__file__), plan],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                       env=dict(os.environ, DESCRIBE=describe))
-    return "" if p.returncode == 0 else (p.stderr.strip() or "mpirun failed (exit %d)" % p.returncode)
+    pending = list(todo)
+
+    def collect(failure=None):
+        for i in list(pending):
+            r = _mpi_result(jobs[i], out, failure)
+            if r is not None:
+                results[i] = r
+                pending.remove(i)
+                progress.finished(r)
+
+    with tempfile.TemporaryFile("w+") as err:
+        p = subprocess.Popen(["bash", "-c", script, "study_runner", SCRIPTS, str(ranks), os.path.join(out, ".study_mpi.log"),
+                              sys.executable, os.path.abspath(__file__), plan],
+                             stdout=subprocess.DEVNULL, stderr=err, text=True,
+                             env=dict(os.environ, DESCRIBE=describe))
+        while True:
+            try:
+                p.wait(timeout=MPI_POLL_S)
+                break
+            except subprocess.TimeoutExpired:
+                collect()
+        err.seek(0)
+        text = err.read()
+    failure = "" if p.returncode == 0 else (text.strip() or "mpirun failed (exit %d)" % p.returncode)
+    collect(failure)
+    return failure
 
 
 def run(jobs, out, parallel=1, ranks=0, log=None):
     """Run the jobs not kept from an earlier run into OUT/NAME; returns a Result per job, in the
     order given. parallel: jobs at once on this host (>= 1); ranks: > 0 shards the jobs over
-    that many MPI ranks instead. Raises StudyError on bad use; failed jobs are Results."""
+    that many MPI ranks instead. Raises StudyError on bad use; failed jobs are Results.
+    log(text) hears 'job NAME' as a job starts on this host, and the progress lines (Progress):
+    '0 of M done; ETA unknown' first, then one as each job finishes."""
     log = log or (lambda msg: None)
     _check_jobs(jobs)
     if not (isinstance(parallel, int) and parallel >= 1):
@@ -235,25 +336,24 @@ def run(jobs, out, parallel=1, ranks=0, log=None):
     os.makedirs(out, exist_ok=True)
     results = [kept(j, out) for j in jobs]
     todo = [i for i, r in enumerate(results) if r is None]
-    if todo and ranks > 0:
-        failure = _run_mpi(jobs, todo, out, ranks, log)
-        for i in todo:
-            r = kept(jobs[i], out)
-            if r is not None:
-                r.reused = False
-            else:
-                m = _read_marker(os.path.join(out, jobs[i].name)) or {}
-                r = Result(jobs[i].name, "failed", os.path.join(out, jobs[i].name),
-                           m.get("message") or "no result: " + (failure or "its rank ended without one"),
-                           m.get("wall_s", 0.0), False, m.get("exit_code"), m.get("error", ""))
-            results[i] = r
-    elif todo:
+    if not todo:
+        return results
+    progress = Progress(log, len(todo), len(jobs) - len(todo), ranks if ranks > 0 else parallel)
+    if ranks > 0:
+        _run_mpi(jobs, todo, out, ranks, log, progress, results)
+    else:
+        lock = threading.Lock()   # one job's lines at a time, its end before the next one's start
+
         def one(i):
-            log("job %s" % jobs[i].name)
-            return run_one(jobs[i], out)
-        with ThreadPoolExecutor(max_workers=parallel) as ex:
-            for i, r in zip(todo, ex.map(one, todo)):
+            with lock:
+                log("job %s" % jobs[i].name)
+            r = run_one(jobs[i], out)
+            with lock:
                 results[i] = r
+                progress.finished(r)
+        with ThreadPoolExecutor(max_workers=parallel) as ex:
+            for fut in [ex.submit(one, i) for i in todo]:
+                fut.result()
     return results
 
 

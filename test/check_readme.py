@@ -310,9 +310,26 @@ def ex_python(tmp):
     import numpy
     a = numpy.genfromtxt(tmp + "/run_csv/PRL_BIAS.csv", delimiter=",", names=True)
     units = json.load(open(tmp + "/run_csv/PRL_BIAS.units.json"))
-    if a.shape != (rows,) or "eta_0" not in a.dtype.names or units.get("eta_0") != "m" or list(units) != list(a.dtype.names):
+    if a.shape != (rows,) or "eta_0" not in a.dtype.names or units.get("eta_0", {}).get("unit") != "m" \
+            or list(units) != list(a.dtype.names):
         fail("Python example: numpy.genfromtxt(names=True) reads PRL_BIAS.csv as %s rows, columns %s; units %s"
              % (a.shape, a.dtype.names[:4], list(units.items())[:4]))
+
+
+def ex_python_run(tmp):
+    """The run folder through rnav.read_run, and python3 -m rnav show: what the page quotes."""
+    lines, _ = block_after("scripts/run paper --realizations 2 --seed 1 --lcm-log /tmp/run.lcmlog")
+    run_ok(commands(lines)[0], tmp, "the Python run example")
+    lines, after = block_after("/usr/bin/python3 -c \"import rnav; r = rnav.read_run('/tmp/run2')")
+    printed = run_ok(commands(lines)[0], tmp, "the read_run example").strip()
+    quoted = find(r"prints `([^`]*)`", after, "the read_run example's output").group(1)
+    if printed != quoted:
+        fail("read_run example: %s quotes '%s', it prints '%s'" % (WHERE, quoted, printed))
+    lines, after = block_after("/usr/bin/python3 -m rnav show /tmp/run2")
+    printed = run_ok(commands(lines)[0], tmp, "the rnav show example").strip().splitlines()
+    quoted_lines, _ = block_after(printed[0] if printed else "(nothing printed)")
+    if printed != quoted_lines:
+        fail("rnav show example: %s quotes %s, it prints %s" % (WHERE, quoted_lines, printed))
 
 
 def ex_shards(tmp):
@@ -363,7 +380,7 @@ def ex_uav_pf(tmp):
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
             "autoferry_pooled": ex_autoferry_pooled,
-            "replay": ex_replay, "python": ex_python, "uav_ml": ex_uav_ml,
+            "replay": ex_replay, "python": ex_python, "python_run": ex_python_run, "uav_ml": ex_uav_ml,
             "uav_pf": ex_uav_pf, "shards": ex_shards}
 
 for name, f in EXAMPLES.items():

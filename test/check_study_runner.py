@@ -2,10 +2,14 @@
 """ctest python.study_runner: scripts/study_runner.py, the runner under scripts/sweep and every
 study, on small shell jobs whose outcome is known: each job's result in its own folder, kept
 results not run again (counted by a file each run appends to), a job of other steps run again,
-exit status 2 kept as 'invalid', any other failure named and rerun, the same results on 1 and 3
-MPI ranks, and a rank killed outright named with its jobs. Usage: check_study_runner.py SOURCE_DIR
+exit status 2 kept as 'invalid', any other failure named and rerun, the progress lines (counts,
+an ETA 'unknown' before the first job ends and above 0 until the last, kept jobs neither counted
+nor timed), the same results and progress on 1 and 3 MPI ranks, and a rank killed outright named
+with its jobs. Usage: check_study_runner.py SOURCE_DIR
 """
+import json
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -94,6 +98,69 @@ check(r.ok and left == ["job.json", "job.log", "run/a.json"], "keep left %s" % l
 check(not sr.run([sr.Job("kept", kj.steps, keep=["run/*.csv"])], os.path.join(T, "keep"))[0].reused,
       "a job keeping other files was not run again")
 
+# Progress through log: '0 of M done; ETA unknown' before any job has finished, then one line
+# per finished job with its count, failures, name, status and time, an ETA above 0 until the
+# last, 0 s after it; jobs kept from an earlier run are neither counted nor timed.
+PROGRESS = re.compile(r"^(\d+) of (\d+) done \((\d+) failed\) \u2014 last (\S+) (ok|invalid|failed) in "
+                      r"(\d+\.\d) s; ETA (\d+ s|\d+ min \d+ s|\d+ h \d+ min)$")
+
+
+def eta_s(text):
+    parts = text.split()
+    unit = {"s": 1, "min": 60, "h": 3600}
+    return sum(int(parts[i]) * unit[parts[i + 1]] for i in range(0, len(parts), 2))
+
+
+def progress_run(jobs, out, **kw):
+    """run() and its log lines, each with whether no job had finished (no marker come or gone) when it came."""
+    def markers():
+        return sorted(j.name for j in jobs if os.path.exists(os.path.join(out, j.name, sr.MARKER)))
+    before, lines = markers(), []
+
+    def log(msg):
+        lines.append((msg, markers() == before))
+    return sr.run(jobs, out, log=log, **kw), lines
+
+
+def check_progress(lines, total, kept_n, failed_names, what):
+    prog = [(m, seen) for m, seen in lines if not m.startswith("job ") and "MPI ranks" not in m]
+    first = "0 of %d done%s; ETA unknown" % (total, ", %d kept from an earlier run" % kept_n if kept_n else "")
+    check(prog and prog[0][0] == first, "%s: first progress line %r, expected %r" % (what, prog[:1], first))
+    check(prog[0][1], "%s: 'ETA unknown' came after a job had finished" % what)
+    done = [PROGRESS.match(m) for m, _ in prog[1:]]
+    check(len(done) == total and all(done), "%s: expected %d progress lines, got %s" % (what, total, [m for m, _ in prog[1:]]))
+    names, failed = [], 0
+    for k, g in enumerate(done, 1):
+        failed += g.group(4) in failed_names
+        names.append(g.group(4))
+        check((int(g.group(1)), int(g.group(2)), int(g.group(3))) == (k, total, failed), "%s: counts in %r" % (what, g.group(0)))
+        check(g.group(5) == ("failed" if g.group(4) in failed_names else "ok"), "%s: status in %r" % (what, g.group(0)))
+        check((eta_s(g.group(7)) > 0) == (k < total), "%s: ETA in %r" % (what, g.group(0)))
+    return names, [eta_s(g.group(7)) for g in done]
+
+
+pj = [sr.Job("p%d" % i, [["sh", "-c", "sleep 0.2" + ("; exit 3" if i == 2 else "")]]) for i in range(4)]
+pout = os.path.join(T, "progress")
+res, lines = progress_run(pj, pout)
+names, _ = check_progress(lines, 4, 0, {"p2"}, "4 jobs, one failing")
+check(sorted(names) == ["p0", "p1", "p2", "p3"], "progress names %s" % names)
+check(lines[1][0] == "job p0", "no 'job NAME' line as the first job starts: %s" % lines[:3])
+# The ok ones kept, as if each had taken 1000 s: the rerun counts and times only p2 and two new jobs.
+for n in ("p0", "p1", "p3"):
+    mp = os.path.join(pout, n, sr.MARKER)
+    m = json.load(open(mp))
+    json.dump(dict(m, wall_s=1000.0), open(mp, "w"))
+pj[2] = sr.Job("p2", [["sleep", "0.2"]])
+pj += [sr.Job("p%d" % i, [["sleep", "0.2"]]) for i in (4, 5)]
+res, lines = progress_run(pj, pout, parallel=2)
+names, etas = check_progress(lines, 3, 3, set(), "a rerun with 3 kept, 2 at once")
+check(sorted(names) == ["p2", "p4", "p5"], "rerun progress names %s" % names)
+check(etas[0] <= 5, "a kept job's 1000 s counted toward the ETA: %s" % etas)
+res, lines = progress_run(pj, pout)
+check(lines == [], "all kept: progress lines %s" % lines)
+check(sr.eta_text(None) == "unknown" and sr.eta_text(0.01) == "1 s" and sr.eta_text(80) == "1 min 20 s"
+      and sr.eta_text(7500) == "2 h 5 min" and sr.eta_text(0) == "0 s", "eta_text")
+
 # Bad use is refused naming the culprit.
 for jobs_bad, want in (([sr.Job("a", [["true"]]), sr.Job("a", [["true"]])], "job name a given twice"),):
     try:
@@ -112,8 +179,10 @@ for name, steps, want in (("a/b", [["true"]], "job name 'a/b'"), ("a", [], "step
 if shutil.which("mpirun"):
     os.remove(COUNT)
     jobs = [job(i) for i in range(7)]
-    res = sr.run(jobs, os.path.join(T, "mpi"), ranks=3)
+    res, lines = progress_run(jobs, os.path.join(T, "mpi"), ranks=3)
     check(values(res) == [str(i * i) for i in range(7)], "3 ranks: %s" % values(res))
+    names, _ = check_progress(lines, 7, 0, set(), "3 MPI ranks")
+    check(sorted(names) == ["j%02d" % i for i in range(7)], "MPI progress names %s" % names)
     check(sorted(runs()) == ["j%02d" % i for i in range(7)], "3 ranks, each job once: %s" % runs())
     # Rank 1 of 3 holds jobs floor(7/3)=2 ... floor(14/3)-1=3: its job j02 kills its rank, once
     # the other ranks' last jobs (j01, j06) are done: mpirun ends every rank when one dies, so a

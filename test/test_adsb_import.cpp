@@ -1,6 +1,7 @@
 // Tests of the ADS-B importer (sim/trajectory/adsb_*.hpp): a synthetic flight written by the
 // test with known approaches and injected glitches, input errors, and the real Vienna file.
 #include "adsb_approaches.hpp"
+#include "csv_units.hpp"
 #include "replay_trajectory.hpp"
 
 #include <catch2/catch.hpp>
@@ -182,7 +183,9 @@ TEST_CASE("gzip and plain files read the same and the export replays", "[adsb]")
   e.lead_s = 60;
   e.end_x_m = 3000;
   const std::string csv = (d / "a.csv").string();
+  fs::remove(d / "a.units.json");
   const std::size_t rows = write_replay_csv(csv, kept, a[1], kRunway, e);
+  CHECK(rnav_test::csv_units_problem(csv) == "");  // a.units.json beside it, keys = the header's columns
   // 60 s of lead = 12 samples before the start (x = 11625 m); then x = 11625 - 375 k >= 3000:
   // 24 samples.
   CHECK(rows == 12 + 24);

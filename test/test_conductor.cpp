@@ -260,3 +260,47 @@ TEST_CASE("conductor: in real time a RESEND waits half a window's wall time, not
   bus.run_until_idle();
   CHECK(rec.count(kResend) == 1);
 }
+
+TEST_CASE("conductor: another clock's SIM_WINDOW or an ack from a node not in the run fails it at once, naming it",
+          "[conductor][foreign]") {
+  // Another run (or a replayed log) on the same LCM network: before, the run failed 18 s later
+  // with "no ack" and never said that foreign traffic had arrived.
+  for (const bool from_clock : {true, false}) {
+    rnav::InprocBus bus;
+    Recorder rec(bus);
+    rnav::RunnerOptions runner;
+    runner.window_s = 10;
+    rnav::ConductorOptions o;
+    o.nodes = {"prl_bias", "logger"};
+    o.seed = 7;
+    Conductor c(bus, runner, 0.25, o, 30.0);
+    ack(bus, "prl_bias", node_ack_t::HELLO, -1);
+    ack(bus, "logger", node_ack_t::HELLO, -1);
+    c.poll(0.0);
+    bus.run_until_idle();
+    REQUIRE(rec.count(kStart) == 1);
+    CHECK(!c.done());  // its own START, heard back, is not foreign
+    if (from_clock) {
+      rnav::sim_window_t w = rec.sent.back();
+      w.seed = 99;
+      bus.publish(rnav::ch::kWindow, w);
+      bus.run_until_idle();
+    } else {
+      ack(bus, "prl", node_ack_t::OK, 0);
+    }
+    c.poll(0.01);
+    bus.run_until_idle();
+    REQUIRE(c.done());
+    CHECK(c.exit_code() == 4);
+    INFO(c.failure());
+    if (from_clock) {
+      CHECK(c.failure().find("foreign traffic on SIM_WINDOW: a message this clock did not send (command 1, seed 99") !=
+            std::string::npos);
+      CHECK(c.failure().find("this run: seed 7") != std::string::npos);
+    } else {
+      CHECK(c.failure().find("foreign traffic on SIM_ACK: node 'prl' is not one of this run's nodes (prl_bias, logger)") !=
+            std::string::npos);
+    }
+    CHECK(rec.count(kAbort) >= 1);
+  }
+}

@@ -2,6 +2,7 @@
 // on is what snsins sent minus the lost messages, the number lost matches the configured
 // p_loss of each message's range, the same seed drops the same messages whatever the windowing,
 // and a link that loses nothing leaves the paper run's results byte-identical.
+#include "csv_units.hpp"
 #include "datalink_node.hpp"
 #include "inproc_ensemble.hpp"
 #include "scenario.hpp"
@@ -166,6 +167,15 @@ TEST_CASE("datalink node: a link that loses nothing leaves the paper run byte-id
     CHECK(slurp(base / "off" / f) == slurp(base / "on" / f));
   CHECK_FALSE(fs::exists(base / "off" / "datalink.csv"));
   CHECK(slurp(base / "on" / "datalink.csv") == "realization,sent,lost\n0,997,0\n1,997,0\n2,997,0\n3,997,0\n");
+  // Every CSV of both runs has its units.json (keys = its header's columns); the link's own
+  // description only with the link.
+  int n_off = 0, n_on = 0;
+  CHECK(rnav_test::csv_folder_units_problems(base / "off", &n_off) == "");
+  CHECK(rnav_test::csv_folder_units_problems(base / "on", &n_on) == "");
+  CHECK(n_on == n_off + 1);
+  CHECK(slurp(base / "off" / "stats_time.units.json") == slurp(base / "on" / "stats_time.units.json"));
+  CHECK_FALSE(fs::exists(base / "off" / "datalink.units.json"));
+  CHECK(slurp(base / "on" / "datalink.units.json").find("\"lost\": {\"unit\": \"\", \"meaning\": ") != std::string::npos);
   fs::remove_all(base);
 }
 

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "coloured_noise.hpp"
+#include "csv_units.hpp"
 #include "config.hpp"
 #include "csv_table.hpp"
 #include "prl_diagnose.hpp"
@@ -271,6 +272,12 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   const fs::path d = fs::temp_directory_path() / "rnav_test_diag_bad";
   fs::remove_all(d);
   REQUIRE(export_prl_flight(Scenario::load(kPaper), 1, 0, d.string()) == 0);
+  // The exported folder: radar.csv, nav.csv, truth.csv, each with its units.json, which the
+  // reader passes over.
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(d, &n_csv) == "");
+  CHECK(n_csv == 3);
+  CHECK(fs::exists(d / "radar.units.json"));
   REQUIRE_NOTHROW(PrlFlightData::read_folder(d.string()));
   auto expect_error = [&](const std::string& file, const std::string& content, const std::string& needle) {
     const std::string orig = [&] {
@@ -321,4 +328,33 @@ TEST_CASE("the text report shows angles in degrees and every gain with its unit,
   const auto j = rep.to_json();
   CHECK(j["effects"][0]["estimate"].get<double>() == Approx(M_PI / 180 * 0.5));
   CHECK(j["gain"]["course"]["nominal_rms"].get<double>() == Approx(M_PI / 180 * 0.3));
+}
+
+TEST_CASE("the residuals CSV (rnav_diagnose --residuals, scripts/diagnose --plots) has its units.json", "[diagnose][csv]") {
+  const fs::path d = fs::temp_directory_path() / "rnav_test_diag_residuals";
+  fs::remove_all(d);
+  fs::create_directories(d);
+  DiagnoseReport rep;
+  rep.rows = {{1.0, {10, 0.001, 0.002}, {9, 0.0005, 0.001}, {9.5, 0.0008, 0.0015}, false},
+              {2.0, {11, 0.002, 0.001}, {9, 0.0005, 0.001}, {9.7, 0.0009, 0.0016}, true}};
+  for (const char* kind : {"prl", "uav"}) {
+    INFO(kind);
+    rep.kind = kind;
+    const fs::path csv = d / (std::string(kind) + "_residuals.csv");
+    rep.write_residuals_csv(csv.string());
+    CHECK(rnav_test::csv_units_problem(csv) == "");
+    std::ifstream f(csv);
+    int lines = 0;
+    for (std::string l; std::getline(f, l);) ++lines;
+    CHECK(lines == 3);
+  }
+  std::ifstream u(d / "prl_residuals.units.json");
+  const auto j = nlohmann::json::parse(u);
+  CHECK(j["course_nominal_rad"]["unit"] == "rad");
+  CHECK(j["range_extended_m"]["unit"] == "m");
+  CHECK(j["outlier"]["unit"] == "");
+  // A file name without .csv gets NAME.units.json.
+  rep.write_residuals_csv((d / "plain").string());
+  CHECK(fs::exists(d / "plain.units.json"));
+  fs::remove_all(d);
 }

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "approach_trajectory.hpp"
+#include "csv_units.hpp"
 #include "inproc_ensemble.hpp"
 #include "scenario.hpp"
 
@@ -88,6 +89,10 @@ TEST_CASE("ensemble: APOI systematic error equals the bias propagated through th
   const fs::path d = scratch("table2");
   const auto r = run_inproc_ensemble(sc, N, 17, d.string());
   REQUIRE(r.exit_code == 0);
+  // The logger's CSVs (stats_time, stats_range, realizations), each with its units.json.
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(d, &n_csv) == "");
+  CHECK(n_csv == 3);
   const auto det = read_json(d / "table2_detail.json");
   // Noise enters the mean only at second order: E[cos(E + n)] = cos(E) exp(-s^2/2), so the
   // mean error may differ from the noise-free prediction by at most about

@@ -3,6 +3,7 @@
 // missed detections and coloured bearing noise (two cascaded low-pass filters, not a
 // Gauss-Markov process). Hidden effects must be named with their scope, within 3 SE, with a
 // positive held-out gain; nominal data must name no mean effect; the turn must be named.
+#include "csv_units.hpp"
 #include "multi_diagnose.hpp"
 #include "scan_stamp.hpp"
 #include "search_json.hpp"
@@ -457,7 +458,12 @@ TEST_CASE("multi diagnosis, recordings together: a radar clock is hardware, a re
   std::set<std::string> seen;
   while (std::getline(in, line)) seen.insert(line.substr(line.rfind(',') + 1));
   CHECK(seen == std::set<std::string>{"a", "b", "c", "d"});
+  // and their units.json beside them (keys = the header's columns, in order)
+  CHECK(rnav_test::csv_units_problem(csv) == "");
+  const std::string units = csv.substr(0, csv.size() - 4) + ".units.json";
+  CHECK(std::filesystem::exists(units));
   std::filesystem::remove(csv);
+  std::filesystem::remove(units);
   const nlohmann::ordered_json j = r.to_json();
   REQUIRE(j.contains("leave_one_out"));
   REQUIRE(!j["leave_one_out"].empty());

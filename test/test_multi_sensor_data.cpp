@@ -7,6 +7,7 @@
 
 #include "config.hpp"
 #include "csv_table.hpp"
+#include "csv_units.hpp"
 #include "multi_sensor_data.hpp"
 
 #include <sys/wait.h>
@@ -140,6 +141,11 @@ TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
     std::string header;
     std::getline(in, header);
     CHECK(header == "t_s,lat_deg,lon_deg,h_m");
+    // observer, detections, truth: each with its units.json (keys = the header, optional
+    // columns only where written), which the reader passes over
+    int n_csv = 0;
+    CHECK(rnav_test::csv_folder_units_problems(dir, &n_csv) == "");
+    CHECK(n_csv == 3);
     const auto r = MultiSensorData::read_folder(dir.string());
     check_equal(d, r);
     CHECK(r.sensors() == std::vector<std::string>{"eo", "ir_2", "lidar", "radar"});
@@ -148,13 +154,21 @@ TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
   SECTION("heading column, some cells empty") {
     d.observer_heading_deg = {0.0, kNaN, 359.5};
     d.write_folder(dir.string());
+    CHECK(rnav_test::csv_folder_units_problems(dir) == "");
+    std::ifstream u(dir / "observer.units.json");
+    std::stringstream units;
+    units << u.rdbuf();
+    CHECK(units.str().find("\"heading_deg\": {\"unit\": \"deg\"") != std::string::npos);
     check_equal(d, MultiSensorData::read_folder(dir.string()));
   }
   SECTION("without truth: no truth.csv (a stale one removed), empty map") {
     d.write_folder(dir.string());
+    REQUIRE(fs::exists(dir / "truth.units.json"));
     d.truth.clear();
     d.write_folder(dir.string());
     CHECK(!fs::exists(dir / "truth.csv"));
+    CHECK(!fs::exists(dir / "truth.units.json"));
+    CHECK(rnav_test::csv_folder_units_problems(dir) == "");
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
   }
   SECTION("a link in place of a file is replaced, never written through; a failed write names the file") {
@@ -195,6 +209,14 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
   SECTION("a header separated by ';' is named as such") {
     std::ofstream(dir / "detections.csv") << "t_s;sensor;range_m;bearing_deg\n1;radar;10;20\n";
     expect("detections.csv:1: the header is separated by ';'", "");
+  }
+  SECTION("a file cut inside its last number (no final newline) is refused, not read as a shorter number") {
+    det("1,radar,10,20\n2,radar,10,2");  // "2" may be the start of "20.5"
+    expect("detections.csv: the last line has no newline: the file may have been cut", "");
+  }
+  SECTION("a byte-order mark before the header is named, not read as a column 't_s' missing") {
+    std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << det_head << "1,radar,10,20\n";
+    expect("detections.csv:1: starts with a byte-order mark", "");
   }
   SECTION("a raw Autoferry folder is answered with the command that imports it") {
     const fs::path raw = temp_dir("scenario9");
@@ -329,6 +351,9 @@ TEST_CASE("Autoferry import: counts of the README, radar and lidar on the GNSS t
     std::string err;
     REQUIRE(run(kImport + " " + data + "/scenario" + std::to_string(sc) + " --out " + out.string(), tmp, err) == 0);
     CHECK(err.find("sensor radar: " + std::to_string(exp.at("radar").scans) + " scans") != std::string::npos);
+    int n_csv = 0;
+    CHECK(rnav_test::csv_folder_units_problems(out, &n_csv) == "");
+    CHECK(n_csv == 3);
     const auto d = MultiSensorData::read_folder(out.string());
     CHECK(d.sensors() == std::vector<std::string>{"eo", "ir", "lidar", "radar"});
     for (const auto& [s, c] : exp) {

@@ -1,4 +1,4 @@
-// The Python reader of LCM logs (loggers/rnav_lcmlog.py, through scripts/rnav_log2csv) against
+// The Python reader of LCM logs (loggers/rnav/lcmlog.py, through scripts/rnav_log2csv) against
 // the C++ reader (LcmLogStreams, loggers/diagnose: the checked batches of each realization's last
 // attempt): every value of every sample of every data channel, in order, exactly (full double
 // precision: the CSV holds Python's shortest round-trip text); a sample-wire log gives the same
@@ -85,7 +85,7 @@ std::vector<std::string> cells(const std::string& line) {
 }
 
 // A CSV of rnav_log2csv: column names (the header: plain names, letters, digits and '_' only),
-// units (from CHANNEL.units.json beside it, one per column), rows of cells.
+// units (from CHANNEL.units.json beside it, {unit, meaning} per column), rows of cells.
 struct Csv {
   std::vector<std::string> names, units;
   std::vector<std::vector<std::string>> rows;
@@ -114,7 +114,11 @@ Csv read_csv(const fs::path& f) {
   REQUIRE(uin.good());
   const nlohmann::json units = nlohmann::json::parse(uin);
   REQUIRE(units.size() == c.names.size());
-  for (const auto& n : c.names) c.units.push_back(units.at(n).get<std::string>());
+  for (const auto& n : c.names) {
+    INFO(up.string() << ": column '" << n << "'");
+    c.units.push_back(units.at(n).at("unit").get<std::string>());
+    CHECK(!units.at(n).at("meaning").get<std::string>().empty());
+  }
   while (std::getline(in, line)) {
     c.rows.push_back(cells(line));
     REQUIRE(c.rows.back().size() == c.names.size());
@@ -344,7 +348,7 @@ TEST_CASE("sample_wire", "[python][lcm_log]") {
 }
 
 TEST_CASE("numpy_tables", "[python][lcm_log]") {
-  // rnav_lcmlog.tables(): numpy columns holding exactly the CSV's values, numbers as numbers;
+  // rnav.lcmlog.tables(): numpy columns holding exactly the CSV's values, numbers as numbers;
   // with LCM's Python module made unimportable.
   const fs::path d = scratch("numpy");
   const std::string log = (d / "run.lcmlog").string();
@@ -352,9 +356,10 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
   log2csv(log, d / "csv");
   const fs::path script = d / "check.py";
   std::ofstream(script) << "import csv, sys\n"
+                           "from urllib.parse import unquote  # text cells are percent-encoded (loggers/rnav/csvio.py)\n"
                            "sys.modules['lcm'] = None  # the generated types must not need LCM's module\n"
                            "sys.path.insert(0, '" << RNAV_SOURCE_DIR << "/loggers')\n"
-                           "import rnav_lcmlog\n"
+                           "from rnav import lcmlog as rnav_lcmlog\n"
                            "t = rnav_lcmlog.tables(sys.argv[1])\n"
                            "n = 0\n"
                            "for ch, cols in t.items():\n"
@@ -368,7 +373,7 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
                            "        elif a.dtype.kind in 'ib':\n"
                            "            ok = [int(x) for x in text] == a.astype('int64').tolist()\n"
                            "        else:\n"
-                           "            ok = a.dtype.kind == 'U' and text == a.tolist()\n"
+                           "            ok = a.dtype.kind == 'U' and [unquote(x) for x in text] == a.tolist()\n"
                            "        assert ok, (ch, name, a.dtype)\n"
                            "        n += len(text)\n"
                            "print(t['UAV_TMA']['P_3_3'].dtype, t['UAV_TMA']['updated'].dtype, "

@@ -4,6 +4,7 @@
 // naming the culprit.
 #include <catch2/catch.hpp>
 
+#include "csv_units.hpp"
 #include "inproc_ensemble.hpp"
 #include "scenario.hpp"
 #include "folder_pack.hpp"
@@ -54,6 +55,11 @@ void require_same_files(const fs::path& ref, const fs::path& got) {
   for (const auto& e : fs::directory_iterator(got)) m += e.path().filename().string().front() != '.';
   CHECK(m == n);
   CHECK(n >= 7);  // the statistics files, realizations.csv, ensemble_state.json, scenario.json
+  // Every CSV of the merge has its units.json beside it (keys = its header's columns, in order).
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(got, &n_csv) == "");
+  CHECK(n_csv >= 3);
+  CHECK(fs::exists(got / "realizations.units.json"));
 }
 
 template <class Sc> void run(const Sc& sc, const fs::path& dir, int first, int n, std::int64_t seed) {
@@ -189,6 +195,36 @@ TEST_CASE("shards that are not one ensemble are refused naming the culprit", "[m
   }
   // Nothing was written by a refused merge.
   CHECK_FALSE(fs::exists(d / "o1" / "table2.json"));
+}
+
+TEST_CASE("a shard's CSV whose header is not the one this build writes is refused naming it", "[merge]") {
+  // The merged file's header and units.json come from this build's column lists: rows under
+  // another header would be described wrongly, so they are refused, not joined.
+  const auto d = scratch("header");
+  const UavScenario sc = UavScenario::load(kUav, {"logger.track_realization=1"});
+  run(sc, d / "a", 0, 2, 2);
+  run(sc, d / "b", 2, 2, 2);
+  REQUIRE(merge_error({d / "a", d / "b"}, d / "ok") == "(no error)");
+  CHECK(rnav_test::csv_folder_units_problems(d / "ok") == "");
+  CHECK(slurp(d / "ok" / "track.units.json") == slurp(d / "a" / "track.units.json"));
+  // A shard without units.json files (they are written from the code, not copied) still joins.
+  fs::remove(d / "b" / "realizations.units.json");
+  CHECK(merge_error({d / "a", d / "b"}, d / "ok2") == "(no error)");
+  CHECK(slurp(d / "ok2" / "realizations.units.json") == slurp(d / "ok" / "realizations.units.json"));
+  const auto edit = [&](const fs::path& f, const std::string& from, const std::string& to) {
+    std::string t = slurp(f);
+    const auto at = t.find(from);
+    REQUIRE(at != std::string::npos);
+    t.replace(at, from.size(), to);
+    std::ofstream(f, std::ios::binary) << t;
+  };
+  edit(d / "b" / "realizations.csv", "pos_err_north_m", "pos_err_n_m");
+  CHECK_THAT(merge_error({d / "a", d / "b"}, d / "o1"),
+             Catch::Contains((d / "b").string() + "/realizations.csv") && Catch::Contains("header is not the one this build writes"));
+  edit(d / "b" / "realizations.csv", "pos_err_n_m", "pos_err_north_m");
+  edit(d / "a" / "track.csv", "rpekf_P_ne_m2", "rpekf_P_en_m2");
+  CHECK_THAT(merge_error({d / "a", d / "b"}, d / "o2"),
+             Catch::Contains((d / "a").string() + "/track.csv") && Catch::Contains("header is not the one"));
 }
 
 TEST_CASE("folder packs carry a shard's files between ranks and refuse damaged packs", "[merge]") {

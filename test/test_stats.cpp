@@ -3,6 +3,8 @@
 #include "prl_stats.hpp"
 #include "random.hpp"
 
+#include "csv_units.hpp"
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -187,6 +189,18 @@ TEST_CASE("PrlStats: Table 2 = ensemble mean of per-realization bin means and ta
   int rlines = 0;
   for (std::string l; std::getline(rcsv, l);) ++rlines;
   CHECK(rlines == 1 + static_cast<int>(bins.size()));
+  // every CSV (stats_time, stats_range, realizations) has its units.json, keys = the header's columns
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(dir.path, &n_csv) == "");
+  CHECK(n_csv == 3);
+  {
+    std::ifstream u(dir.path / "stats_time.units.json");
+    const auto units = nlohmann::json::parse(u);
+    CHECK(units["apoi_mean_z_m"]["unit"] == "m");
+    CHECK(units["biaserr_rms_course_deg"]["unit"] == "deg");
+    CHECK(units["n"]["unit"] == "");
+    CHECK(units["aircraft_y_m"]["meaning"].get<std::string>().find("up") != std::string::npos);
+  }
   // no temporary files left behind
   for (const auto& e : std::filesystem::directory_iterator(dir.path))
     CHECK(e.path().filename().string().find(".partial") == std::string::npos);

@@ -4,6 +4,7 @@
 
 #include "azimuth_data.hpp"
 #include "config.hpp"
+#include "csv_units.hpp"
 #include "random.hpp"
 
 #include <cmath>
@@ -125,6 +126,9 @@ TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nomin
   const std::string cmd = std::string(RNAV_BINARY_DIR) + "/bin/rnav_import_autoferry " + sc +
                           " --sensor eo --target 1 --out " + out.string() + " 2>/dev/null";
   REQUIRE(std::system(cmd.c_str()) == 0);
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(out, &n_csv) == "");  // observer, bearings, truth
+  CHECK(n_csv == 3);
   const auto r = diagnose_uav(AzimuthData::read_folder(out.string()), {});
   INFO(r.text());
   const auto* ns = find(r, "noise_scale");
@@ -140,7 +144,12 @@ TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nomin
 
 TEST_CASE("azimuth CSV: bad input names file and line", "[diagnose][uav][input]") {
   const fs::path d = fs::temp_directory_path() / "rnav_az_bad";
+  fs::remove_all(d);
   synthetic(0, 0, 1).write_folder(d.string());
+  // observer.csv, bearings.csv, truth.csv, each with its units.json (which the reader passes over)
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(d, &n_csv) == "");
+  CHECK(n_csv == 3);
   REQUIRE_NOTHROW(AzimuthData::read_folder(d.string()));
   std::ofstream(d / "bearings.csv") << "t_s,bearing_deg\n0,10\n0.2,abc\n";
   try {

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "csv_units.hpp"
 #include "inproc_ensemble.hpp"
 #include "stat_bands.hpp"
 #include "uav_scenario.hpp"
@@ -19,6 +20,10 @@ nlohmann::json run(const UavScenario& sc, int n, std::int64_t seed, const std::s
   fs::remove_all(d);
   const auto r = run_inproc_ensemble(sc, n, seed, d.string());
   REQUIRE(r.exit_code == 0);
+  // The logger's CSVs (realizations, uav_stats_time, track), each with its units.json.
+  int n_csv = 0;
+  CHECK(rnav_test::csv_folder_units_problems(d, &n_csv) == "");
+  CHECK(n_csv == 3);
   std::ifstream f(d / "summary.json");
   REQUIRE(f.good());
   return nlohmann::json::parse(f);

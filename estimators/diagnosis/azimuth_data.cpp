@@ -1,6 +1,7 @@
 #include "azimuth_data.hpp"
 
 #include "atomic_file.hpp"
+#include "csv_columns.hpp"
 
 #include "config.hpp"
 #include "csv_table.hpp"
@@ -58,33 +59,51 @@ void AzimuthData::validate(const std::string& source) const {
   pl::track(source + ": truth sample", truth, first, "the observer's first position", pl::Heights::kNone);
 }
 
+std::vector<CsvColumnDoc> AzimuthData::observer_columns() {
+  return geo_track_columns("time of validity, the data set's time scale (one for every file of the folder)",
+                           "the observer's navigation solution's");
+}
+
+std::vector<CsvColumnDoc> AzimuthData::bearings_columns() {
+  return {{"t_s", "s", "frame time (rows of one time: the detections of one frame)"},
+          {"bearing_deg", "deg", "true bearing from the observer to the detection, clockwise from north"}};
+}
+
+std::vector<CsvColumnDoc> AzimuthData::truth_columns() {
+  return geo_track_columns("time of validity, the data set's time scale", "the object's true", /*with_height=*/false);
+}
+
 void AzimuthData::write_folder(const std::string& dir) const {
   std::filesystem::create_directories(dir);
   char b[200];
+  const auto write = [&](const std::string& name, const std::vector<CsvColumnDoc>& columns, const std::string& rows) {
+    write_file_atomic(dir, name, csv_header(columns) + rows);
+    write_csv_units(dir, name, columns);
+  };
   {
-    std::string f = "t_s,lat_deg,lon_deg,h_m\n";
+    std::string f;
     for (const auto& s : observer) {
       std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
       f += b;
     }
-    write_file_atomic(dir, "observer.csv", f);
+    write("observer.csv", observer_columns(), f);
   }
   {
-    std::string f = "t_s,bearing_deg\n";
+    std::string f;
     for (const auto& fr : frames)
       for (double x : fr.bearings_rad) {
         std::snprintf(b, sizeof b, "%.6f,%.6f\n", fr.t_s, x / kDegToRad);
         f += b;
       }
-    write_file_atomic(dir, "bearings.csv", f);
+    write("bearings.csv", bearings_columns(), f);
   }
   if (!truth.empty()) {
-    std::string f = "t_s,lat_deg,lon_deg\n";
+    std::string f;
     for (const auto& s : truth) {
       std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f\n", s.t_s, s.g.lat_deg, s.g.lon_deg);
       f += b;
     }
-    write_file_atomic(dir, "truth.csv", f);
+    write("truth.csv", truth_columns(), f);
   }
 }
 

@@ -30,7 +30,13 @@ struct AzimuthData {
   /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
   /// and LCM-log readers both call it.
   void validate(const std::string& source) const;
+  /// Write the folder (created if needed): observer.csv, bearings.csv and truth.csv (with
+  /// truth), each with its NAME.units.json (csv_columns.hpp).
   void write_folder(const std::string& dir) const;
+  /// The files' columns (unit and meaning of each).
+  static std::vector<CsvColumnDoc> observer_columns();
+  static std::vector<CsvColumnDoc> bearings_columns();
+  static std::vector<CsvColumnDoc> truth_columns();
 };
 
 }  // namespace rnav

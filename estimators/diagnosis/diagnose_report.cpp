@@ -135,19 +135,45 @@ std::vector<char> outlier_flags(const Problem& pb, const SearchResult& r) {
   return out;
 }
 
+std::vector<CsvColumnDoc> DiagnoseReport::residuals_columns() const {
+  if (kind == "uav") {
+    const std::string ref = "the object's reference (truth, or the track fitted to the bearings)";
+    return {{"t_s", "s", "frame time, the data set's time scale"},
+            {"bearing_residual_rad", "rad", "measured bearing (the frame's detection nearest the prediction) minus the bearing to " + ref},
+            {"bearing_extended_rad", "rad", "the extended model's fit to the bearing residual (the named effects)"},
+            {"bearing_rate_radps", "rad/s", "rate of change of the bearing from the observer to " + ref},
+            {"range_m", "m", "horizontal range from the observer to " + ref},
+            {"outlier", "", "1 if the noise identification flags the frame an outlier, else 0"}};
+  }
+  struct Ch {
+    const char* name;
+    const char* unit;
+    const char* text;
+  };
+  const Ch channels[3] = {{"range", "m", "slant range"}, {"course", "rad", "course (azimuth)"}, {"glide", "rad", "glide (elevation)"}};
+  std::vector<CsvColumnDoc> c{{"t_s", "s", "plot time, the flight's time scale"}};
+  for (const Ch& ch : channels) {
+    const std::string unit = ch.unit, text = ch.text, base = std::string(ch.name) + "_";
+    c.push_back({base + unit, unit, text + " residual: the radar's minus the nav solution's (interpolated to the plot)"});
+    c.push_back({base + "nominal_" + unit, unit, "the nominal model's fit to the " + text + " residual (constant bias)"});
+    c.push_back({base + "extended_" + unit, unit, "the extended model's fit to the " + text + " residual (bias and the named effects)"});
+  }
+  c.push_back({"outlier", "", "1 if the noise identification flags the plot an outlier (in any channel), else 0"});
+  return c;
+}
+
 void DiagnoseReport::write_residuals_csv(const std::string& file) const {
+  const auto columns = residuals_columns();
   std::ostringstream f;
+  f << csv_header(columns);
   char b[512];
   if (kind == "uav") {
-    f << "t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier\n";
     for (const auto& r : rows) {
       std::snprintf(b, sizeof b, "%.3f,%.9f,%.9f,%.9f,%.3f,%d\n", r.t_s, r.y[0], r.extended[0], r.y[1], r.y[2],
                     r.outlier ? 1 : 0);
       f << b;
     }
   } else {
-    f << "t_s,range_m,range_nominal_m,range_extended_m,course_rad,course_nominal_rad,course_extended_rad,"
-         "glide_rad,glide_nominal_rad,glide_extended_rad,outlier\n";
     for (const auto& r : rows) {
       std::snprintf(b, sizeof b, "%.3f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%d\n", r.t_s, r.y[0], r.nominal[0],
                     r.extended[0], r.y[1], r.nominal[1], r.extended[1], r.y[2], r.nominal[2], r.extended[2],
@@ -157,6 +183,7 @@ void DiagnoseReport::write_residuals_csv(const std::string& file) const {
   }
   if (!f.flush()) throw ConfigError("cannot write " + file + " (disk full?)");
   write_file_atomic(file, f.str());
+  write_csv_units(file, columns);
 }
 
 nlohmann::ordered_json DiagnoseReport::to_json() const {

@@ -4,6 +4,7 @@
 // what is sensor-specific (nominal parameters, the gain against truth, plot rows) is theirs.
 #pragma once
 
+#include "csv_columns.hpp"
 #include "effect_search.hpp"
 
 #include <nlohmann/json.hpp>
@@ -66,9 +67,12 @@ struct DiagnoseReport {
     bool outlier;
   };
   std::vector<Row> rows;
-  /// Write rows as CSV. prl: t_s, then per channel residual, nominal, extended; outlier flag.
-  /// uav: t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier.
+  /// Write rows as CSV, and the description of its columns beside it (FILE without .csv +
+  /// ".units.json", csv_columns.hpp). prl: t_s, then per channel residual, nominal, extended;
+  /// outlier flag. uav: t_s,bearing_residual_rad,bearing_extended_rad,bearing_rate_radps,range_m,outlier.
   void write_residuals_csv(const std::string& file) const;
+  /// The columns write_residuals_csv writes for this report's kind (unit and meaning of each).
+  std::vector<CsvColumnDoc> residuals_columns() const;
   nlohmann::ordered_json to_json() const;
   std::string text() const;
 };

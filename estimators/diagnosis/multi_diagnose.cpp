@@ -335,9 +335,22 @@ std::string MultiReport::text() const {
   return o.str();
 }
 
+std::vector<CsvColumnDoc> MultiReport::residuals_columns() {
+  return {{"t_s", "s", "detection time, the recording's time scale"},
+          {"sensor", "", "sensor name"},
+          {"target", "", "target name (the reference track the detection is associated with)"},
+          {"quantity", "", "what the residual is of: range or bearing"},
+          {"residual", "m or rad", "measured minus predicted from the reference (m for a range, rad for a bearing)"},
+          {"extended_fit", "m or rad", "the extended model's fit to the residual (the named effects), in the residual's unit"},
+          {"estimation", "", "1 if in the gain's estimation window (fitted), 0 if in the scored window"},
+          {"outlier", "", "1 if the noise identification flags the detection an outlier, else 0"},
+          {"recording", "", "recording name (several recordings diagnosed together); empty for one recording"}};
+}
+
 void MultiReport::write_residuals_csv(const std::string& file) const {
+  const auto columns = residuals_columns();
   std::ostringstream f;
-  f << "t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier,recording\n";
+  f << csv_header(columns);
   std::vector<std::size_t> pos(problem.channels.size(), 0);
   char b[256];
   for (std::size_t i = 0; i < problem.size(); ++i) {
@@ -356,6 +369,7 @@ void MultiReport::write_residuals_csv(const std::string& file) const {
   }
   if (!f.flush()) throw ConfigError("cannot write " + file + " (disk full?)");
   write_file_atomic(file, f.str());
+  write_csv_units(file, columns);
 }
 
 }  // namespace rnav

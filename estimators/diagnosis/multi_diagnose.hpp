@@ -37,6 +37,7 @@
 // sensors: bearing error [deg].
 #pragma once
 
+#include "csv_columns.hpp"
 #include "effect_search.hpp"
 #include "multi_association.hpp"
 #include "multi_sensor_data.hpp"
@@ -45,6 +46,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace rnav {
 
@@ -101,8 +103,10 @@ struct MultiReport {
   nlohmann::ordered_json to_json() const;
   std::string text() const;
   /// t_s,sensor,target,quantity,residual,extended_fit,estimation,outlier,recording (bearings in
-  /// rad; recording empty for one recording)
+  /// rad; recording empty for one recording), and the description of its columns beside it
+  /// (FILE without .csv + ".units.json", csv_columns.hpp: residuals_columns()).
   void write_residuals_csv(const std::string& file) const;
+  static std::vector<CsvColumnDoc> residuals_columns();
 };
 
 MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o);

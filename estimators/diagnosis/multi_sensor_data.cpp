@@ -126,16 +126,23 @@ void read_truth(const std::string& file, MultiSensorData& d) {
   }
 }
 
-/// A file's text, built in memory; close() writes it with write_file_atomic (exclusive partial
-/// file, every byte checked, renamed into place), throwing naming the file on any failure.
+/// A CSV file's text, built in memory from the header of `columns`; close() writes it with
+/// write_file_atomic (exclusive partial file, every byte checked, renamed into place), then its
+/// description beside it (NAME.units.json), throwing naming the file on any failure.
 class CheckedFile {
  public:
-  explicit CheckedFile(std::string file) : file_(std::move(file)) {}
+  CheckedFile(std::string file, std::vector<CsvColumnDoc> columns) : file_(std::move(file)), columns_(std::move(columns)) {
+    f_ << csv_header(columns_);
+  }
   std::ostringstream& out() { return f_; }
-  void close() { write_file_atomic(file_, f_.str()); }
+  void close() {
+    write_file_atomic(file_, f_.str());
+    write_csv_units(file_, columns_);
+  }
 
  private:
   std::string file_;
+  std::vector<CsvColumnDoc> columns_;
   std::ostringstream f_;
 };
 
@@ -224,6 +231,30 @@ void MultiSensorData::validate(const std::string& source) const {
               pl::Heights::kWhereKnown);
 }
 
+std::vector<CsvColumnDoc> MultiSensorData::observer_columns(bool heading) {
+  auto c = geo_track_columns("time of validity, the recording's time scale (one for every file of the folder)",
+                             "the observer's (ownship's) navigation solution's");
+  if (heading) c.push_back({"heading_deg", "deg", "the observer's heading, clockwise from true north, [0, 360); empty where unknown"});
+  return c;
+}
+
+std::vector<CsvColumnDoc> MultiSensorData::detections_columns(bool elevation) {
+  std::vector<CsvColumnDoc> c{
+      {"t_s", "s", "time of the sensor's scan, the recording's time scale"},
+      {"sensor", "", "sensor name"},
+      {"range_m", "m", "range from the observer to the detection; empty for a bearing-only sensor and an empty scan"},
+      {"bearing_deg", "deg", "true bearing from the observer to the detection, clockwise from north; empty for an empty scan"}};
+  if (elevation) c.push_back({"elevation_deg", "deg", "elevation of the detection above the observer's horizontal; empty if none"});
+  return c;
+}
+
+std::vector<CsvColumnDoc> MultiSensorData::truth_columns(bool height) {
+  auto c = geo_track_columns("time of validity, the recording's time scale", "the target's reference (true)", height);
+  c.insert(c.begin() + 1, {"target", "", "target name"});
+  if (height) c.back().meaning += "; empty where unknown";
+  return c;
+}
+
 void MultiSensorData::write_folder(const std::string& dir) const {
   if (!observer_heading_deg.empty() && observer_heading_deg.size() != observer.size())
     throw std::invalid_argument("MultiSensorData: observer_heading_deg has " +
@@ -236,8 +267,7 @@ void MultiSensorData::write_folder(const std::string& dir) const {
   std::filesystem::create_directories(dir);
   {
     const bool hdg = any_finite(observer_heading_deg);
-    CheckedFile f(dir + "/observer.csv");
-    f.out() << "t_s,lat_deg,lon_deg,h_m" << (hdg ? ",heading_deg" : "") << "\n";
+    CheckedFile f(dir + "/observer.csv", observer_columns(hdg));
     for (std::size_t i = 0; i < observer.size(); ++i) {
       const auto& s = observer[i];
       f.out() << cell(s.t_s, 6) << ',' << cell(s.g.lat_deg, 10) << ',' << cell(s.g.lon_deg, 10) << ','
@@ -250,8 +280,7 @@ void MultiSensorData::write_folder(const std::string& dir) const {
   {
     const bool elev = std::any_of(detections.begin(), detections.end(),
                                   [](const Detection& x) { return !std::isnan(x.elevation_rad); });
-    CheckedFile f(dir + "/detections.csv");
-    f.out() << "t_s,sensor,range_m,bearing_deg" << (elev ? ",elevation_deg" : "") << "\n";
+    CheckedFile f(dir + "/detections.csv", detections_columns(elev));
     for (const auto& x : detections) {
       f.out() << cell(x.t_s, 6) << ',' << x.sensor << ',' << cell(x.range_m, 3) << ','
               << cell(x.bearing_rad / kDegToRad, 6);
@@ -263,13 +292,13 @@ void MultiSensorData::write_folder(const std::string& dir) const {
   const std::string truth_file = dir + "/truth.csv";
   if (truth.empty()) {
     std::filesystem::remove(truth_file);  // no stale truth from an earlier write
+    std::filesystem::remove(csv_units_name(truth_file));
     return;
   }
   bool h = false;
   for (const auto& [name, v] : truth)
     for (const auto& s : v) h = h || !std::isnan(s.g.h_m);
-  CheckedFile f(truth_file);
-  f.out() << "t_s,target,lat_deg,lon_deg" << (h ? ",h_m" : "") << "\n";
+  CheckedFile f(truth_file, truth_columns(h));
   for (const auto& [name, v] : truth)
     for (const auto& s : v) {
       f.out() << cell(s.t_s, 6) << ',' << name << ',' << cell(s.g.lat_deg, 10) << ',' << cell(s.g.lon_deg, 10);

@@ -2,6 +2,7 @@
 
 #include "config.hpp"
 #include "atomic_file.hpp"
+#include "csv_columns.hpp"
 #include "csv_table.hpp"
 #include "plausible.hpp"
 
@@ -25,16 +26,27 @@ std::vector<GeoSample> read_geo(const std::string& file) {
   return out;
 }
 
-std::string geo_csv(const std::vector<GeoSample>& v) {
-  std::string f = "t_s,lat_deg,lon_deg,h_m\n";
+// dir/name: the geodetic track v of `whose` position (nav.csv, truth.csv), and its description.
+void write_geo(const std::string& dir, const std::string& name, const std::vector<GeoSample>& v, const std::string& whose) {
+  const auto columns = geo_track_columns("time of validity, the flight's time scale", whose);
+  std::string f = csv_header(columns);
   char b[160];
   for (const auto& s : v) {
     std::snprintf(b, sizeof b, "%.6f,%.10f,%.10f,%.4f\n", s.t_s, s.g.lat_deg, s.g.lon_deg, s.g.h_m);
     f += b;
   }
-  return f;
+  write_file_atomic(dir, name, f);
+  write_csv_units(dir, name, columns);
 }
 }  // namespace
+
+std::vector<CsvColumnDoc> PrlFlightData::radar_columns() {
+  return {{"t_s", "s", "plot time, the flight's time scale (one for every file of the folder)"},
+          {"range_m", "m", "slant range from the radar antenna"},
+          {"azimuth_deg", "deg",
+           "azimuth in the radar's horizontal plane from the true bearing azimuth_reference_deg (site.json), clockwise positive"},
+          {"elevation_deg", "deg", "elevation above the radar's local horizontal"}};
+}
 
 PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   PrlFlightData d;
@@ -112,7 +124,8 @@ void PrlFlightData::write_folder(const std::string& dir) const {
   j["runway"] = {{"threshold_lat_deg", threshold.lat_deg}, {"threshold_lon_deg", threshold.lon_deg},
                  {"threshold_h_m", threshold.h_m}, {"heading_deg", heading_deg}};
   write_file_atomic(dir, "site.json", j.dump(2) + "\n");
-  std::string f = "t_s,range_m,azimuth_deg,elevation_deg\n";
+  const auto columns = radar_columns();
+  std::string f = csv_header(columns);
   char b[160];
   for (std::size_t i = 0; i < plots.size(); ++i) {
     std::snprintf(b, sizeof b, "%.6f,%.4f,%.8f,%.8f\n", t_s[i], plots[i].range_m,
@@ -120,8 +133,9 @@ void PrlFlightData::write_folder(const std::string& dir) const {
     f += b;
   }
   write_file_atomic(dir, "radar.csv", f);
-  write_file_atomic(dir, "nav.csv", geo_csv(nav));
-  if (!truth.empty()) write_file_atomic(dir, "truth.csv", geo_csv(truth));
+  write_csv_units(dir, "radar.csv", columns);
+  write_geo(dir, "nav.csv", nav, "the navigation solution's");
+  if (!truth.empty()) write_geo(dir, "truth.csv", truth, "the aircraft's true");
 }
 
 }  // namespace rnav

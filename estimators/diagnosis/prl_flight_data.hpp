@@ -10,6 +10,7 @@
 // naming file, line and column.
 #pragma once
 
+#include "csv_columns.hpp"
 #include "frames.hpp"
 
 #include <string>
@@ -32,7 +33,11 @@ struct PrlFlightData {
   /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
   /// and LCM-log readers both call it.
   void validate(const std::string& source) const;
+  /// Write the folder (created if needed): site.json, radar.csv, nav.csv and truth.csv (with
+  /// truth), each CSV with its NAME.units.json (csv_columns.hpp).
   void write_folder(const std::string& dir) const;
+  /// radar.csv's columns; nav.csv's and truth.csv's are geo_track_columns (csv_columns.hpp).
+  static std::vector<CsvColumnDoc> radar_columns();
   LocalLevelFrame radar_frame() const { return LocalLevelFrame(radar_site, azimuth_reference_deg); }
 };
 

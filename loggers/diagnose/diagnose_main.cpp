@@ -83,7 +83,9 @@ int main(int argc, char** argv) {
                  const double mb = rnav::cli::number("--max-input-mb", v, 1e-6, 1e6);
                  rnav::set_max_csv_bytes(static_cast<std::uint64_t>(mb * 1e6));
                })
-        .value("--residuals", "FILE", "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE",
+        .value("--residuals", "FILE",
+               "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE, and each column's "
+               "unit and meaning beside it (FILE without .csv + .units.json)",
                "none", residuals)
         .value("--alpha", "A", "familywise false-alarm level, (0, 0.5)", "0.01",
                num_all("--alpha", o.search.alpha, uo.search.alpha, mo.search.alpha))

@@ -19,7 +19,8 @@ int main(int argc, char** argv) {
     rnav::cli::Parser p("rnav_export_prl", "--scenario FILE [--set key=value]... [--seed S] [--realization R] --out DIR [--force]",
                         "Simulates one landing-approach realization (with any hidden effects set by --set prl_effects.*) "
                         "and writes it as a flight-test CSV folder for scripts/diagnose prl: site.json, radar.csv "
-                        "(t_s, range_m, azimuth_deg, elevation_deg), nav.csv and truth.csv (t_s, lat_deg, lon_deg, h_m).");
+                        "(t_s, range_m, azimuth_deg, elevation_deg), nav.csv and truth.csv (t_s, lat_deg, lon_deg, h_m), each CSV "
+                        "with NAME.units.json beside it (each column's unit and meaning).");
     p.value("--scenario", "FILE", "landing-radar scenario JSON file (e.g. sim/scenarios/paper.json)", "required", file)
         .repeated("--set", "key=value", "override a scenario key, e.g. --set prl_effects.time_offset_s=0.4", overrides)
         .value("--seed", "S", "ensemble seed (an integer)", "1",

@@ -2,10 +2,14 @@
 
 #include "atomic_file.hpp"
 #include "config.hpp"
+#include "csv_columns.hpp"
+#include "datalink_node.hpp"
 #include "prl_stats.hpp"
 #include "realization_set.hpp"
 #include "uav_scenario.hpp"
+#include "uav_realizations.hpp"
 #include "uav_stats.hpp"
+#include "uav_track.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -54,14 +58,28 @@ void check_complete(const std::set<long>& all) {
                               std::to_string(top) + " each once: missing " + gaps);
 }
 
-// The body of a CSV file (after its header line), checking the header.
-std::string body_of(const std::string& path, const std::string& text, std::string& header) {
+// The body of a CSV file (after its header line), whose header must be `header`.
+std::string body_of(const std::string& path, const std::string& text, const std::string& header) {
   const auto nl = text.find('\n');
   if (nl == std::string::npos) throw std::runtime_error(path + ": no header line");
-  const std::string h = text.substr(0, nl + 1);
-  if (header.empty()) header = h;
-  else if (h != header) throw std::runtime_error(path + ": its header differs from the other shards'");
+  if (text.compare(0, nl + 1, header) != 0)
+    throw std::runtime_error(path + ": its header is not the one this build writes (" + header.substr(0, header.size() - 1) + ")");
   return text.substr(nl + 1);
+}
+
+// out_dir/name: the header of `columns`, then each shard's rows in the shards' order; and the
+// columns' description beside it (NAME.units.json, as one run writes it).
+void join_rows(const std::vector<Shard>& shards, const std::string& name, const std::vector<CsvColumnDoc>& columns,
+               const std::string& out_dir) {
+  const std::string header = csv_header(columns);
+  AtomicFileWriter rows(out_dir, name);
+  rows.append(header);
+  for (const auto& s : shards) {
+    const std::string path = s.dir + "/" + name;
+    rows.append(body_of(path, read_text(path), header));
+  }
+  rows.commit();
+  write_csv_units(out_dir, name, columns);
 }
 
 }  // namespace
@@ -124,48 +142,38 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
                                     ": shards must be realization ranges that do not interleave");
     st.write_statistics(out_dir, res.seed);
   };
+  std::vector<CsvColumnDoc> row_columns;  // realizations.csv's, as one run of the kind writes them
   if (res.kind == "landing") {
     PrlStats st(Scenario::load(sc_file, {}));
     merge_all(st);
+    row_columns = st.realizations_columns();
   } else if (res.kind == "uav") {
     const UavScenario sc = UavScenario::load(sc_file, {});
     UavStats st(sc);
     merge_all(st);
     track_realization = sc.logger.track_realization;
+    row_columns = uav_realizations_columns();
   } else {
     throw std::invalid_argument(shard_dirs.front() + "/ensemble_state.json: unknown kind '" + res.kind + "'");
   }
-  {
-    std::string header;
-    AtomicFileWriter rows(out_dir, "realizations.csv");
-    for (const auto& s : shards) {
-      const std::string path = s.dir + "/realizations.csv";
-      const std::string body = body_of(path, read_text(path), header);
-      if (&s == &shards.front()) rows.append(header);
-      rows.append(body);
-    }
-    rows.commit();
-  }
+  join_rows(shards, "realizations.csv", row_columns, out_dir);
   // datalink.csv (a landing run with datalink.enabled): per realization, joined the same way.
   // The shards ran one scenario (checked above), so either all have one or none.
-  if (std::filesystem::exists(shards.front().dir + "/datalink.csv")) {
-    std::string header;
-    AtomicFileWriter rows(out_dir, "datalink.csv");
-    for (const auto& s : shards) {
-      const std::string path = s.dir + "/datalink.csv";
-      const std::string body = body_of(path, read_text(path), header);
-      if (&s == &shards.front()) rows.append(header);
-      rows.append(body);
-    }
-    rows.commit();
-  }
-  // track.csv (azimuth-only): from the shard that ran logger.track_realization.
+  if (std::filesystem::exists(shards.front().dir + "/datalink.csv"))
+    join_rows(shards, "datalink.csv", DatalinkNode::csv_columns(), out_dir);
+  // track.csv (azimuth-only): from the shard that ran logger.track_realization, with the
+  // description of its columns (which depend on the estimators it holds).
   if (track_realization >= 0) {
     if (track_realization >= res.realizations)
       throw std::invalid_argument("logger.track_realization " + std::to_string(track_realization) +
                                   " names no realization of the merged ensemble (0 ... " + std::to_string(res.realizations - 1) + ")");
     for (const auto& s : shards)
-      if (s.held.count(track_realization)) write_file_atomic(out_dir, "track.csv", read_text(s.dir + "/track.csv"));
+      if (s.held.count(track_realization)) {
+        const std::string path = s.dir + "/track.csv", text = read_text(path);
+        const auto columns = UavTrack::columns_of_header(text, path);
+        write_file_atomic(out_dir, "track.csv", text);
+        write_csv_units(out_dir, "track.csv", columns);
+      }
   }
   // The scenario as the shard holding realization 0 ran it (whatever order the shards came in).
   write_file_atomic(out_dir, "scenario.json", shards.front().scenario_text);

@@ -22,8 +22,10 @@ struct MergeResult {
 };
 
 /// Merge `shard_dirs` into out_dir (written atomically file by file: the statistics files of
-/// the scenario's kind, realizations.csv, track.csv where the scenario asks for it, and
-/// scenario.json). Throws std::runtime_error / std::invalid_argument naming the shard folder.
+/// the scenario's kind, realizations.csv, datalink.csv where the shards have one, track.csv
+/// where the scenario asks for it, each CSV with its NAME.units.json as one run writes it, and
+/// scenario.json). A shard's CSV whose header is not the one this build writes is refused.
+/// Throws std::runtime_error / std::invalid_argument naming the shard folder.
 MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
 
 }  // namespace rnav

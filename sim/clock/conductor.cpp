@@ -30,6 +30,31 @@ Conductor::Conductor(Bus& bus, const RunnerOptions& runner, double step_s,
   if (window_us_ <= 0) throw ConfigError("the clock needs a realization longer than 0 s (runner.window_s, flush_s)");
   n_windows_ = static_cast<int>((end_us_ + window_us_ - 1) / window_us_);
   bus_.subscribe<node_ack_t>(ch::kAck, [this](const node_ack_t& a) { on_ack(a); });
+  bus_.subscribe_raw(ch::kWindow, [this](const std::string&, const void* data, int size) { on_window_heard(data, size); });
+}
+
+namespace {
+// FNV-1a over a message's bytes (a digest to recognise the clock's own messages, not security).
+std::uint64_t digest(const void* data, int size) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (int i = 0; i < size; ++i) h = (h ^ static_cast<const std::uint8_t*>(data)[i]) * 1099511628211ULL;
+  return h;
+}
+}  // namespace
+
+void Conductor::on_window_heard(const void* data, int size) {
+  if (state_ == State::kDone || sent_.count(digest(data, size))) return;
+  sim_window_t w;
+  const bool decoded = w.decode(data, 0, size) == size;
+  abort("foreign traffic on " + std::string(ch::kWindow) + ": a message this clock did not send" +
+            (decoded ? " (command " + std::to_string(w.command) + ", seed " + std::to_string(w.seed) + ", " +
+                           std::to_string(w.n_realizations) + " realization(s), realization " + std::to_string(w.realization) +
+                           ", window " + std::to_string(w.window) + "; this run: seed " + std::to_string(o_.seed) + ", " +
+                           std::to_string(o_.n_realizations) + ")"
+                     : " (" + std::to_string(size) + " bytes that do not decode as sim_window_t)") +
+            ": another run or a replayed log shares this LCM network; give each run its own "
+            "(scripts/run --net netns) or another --lcm-url",
+        4);
 }
 
 void Conductor::send(std::int8_t command, const std::string& reason) {
@@ -45,7 +70,10 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
   w.utime_begin = (runner_.epoch_utime + b);
   w.utime_end = (runner_.epoch_utime + std::min(b + window_us_, end_us_));
   w.reason = reason;
-  bus_.publish(ch::kWindow, w);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w.getEncodedSize()));
+  w.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  sent_.insert(digest(bytes.data(), static_cast<int>(bytes.size())));  // before it can come back
+  bus_.publish_raw(ch::kWindow, bytes.data(), static_cast<int>(bytes.size()));
   last_sent_s_ = now_s_;
 }
 
@@ -213,6 +241,16 @@ void Conductor::abort(const std::string& reason, int code) {
 
 void Conductor::on_ack(const node_ack_t& a) {
   if (state_ == State::kDone) return;
+  if (std::find(o_.nodes.begin(), o_.nodes.end(), a.node) == o_.nodes.end()) {
+    // an ack counted toward a window it does not belong to would close it early
+    std::string ours;
+    for (const auto& n : o_.nodes) ours += (ours.empty() ? "" : ", ") + n;
+    abort("foreign traffic on " + std::string(ch::kAck) + ": node '" + a.node + "' is not one of this run's nodes (" + ours +
+              "): another run or a replayed log shares this LCM network; give each run its own "
+              "(scripts/run --net netns) or another --lcm-url",
+          4);
+    return;
+  }
   last_heard_[a.node] = now_s_;
   unanswered_[a.node] = 0;
   if (a.status == node_ack_t::HELLO) {

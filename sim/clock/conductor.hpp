@@ -13,6 +13,8 @@
 
 #include <rnav/node_ack_t.hpp>
 
+#include <unordered_set>
+
 #include <functional>
 #include <map>
 #include <set>
@@ -92,6 +94,7 @@ class Conductor {
   void resend();
   std::string overdue() const;
   void check_silent_nodes();
+  void on_window_heard(const void* data, int size);
 
   Bus& bus_;
   RunnerOptions runner_;
@@ -108,6 +111,11 @@ class Conductor {
   /// below it, each reporting its own missing input after its stall timeout; the retry waits
   /// half a stall timeout after the first report so the upstream cause is named with them.
   std::string loss_reasons_;
+  /// Hashes of every SIM_WINDOW message this clock sent (their bytes). LCM delivers a clock's
+  /// own messages back to it; one it did not send comes from another clock on the same network
+  /// (another run, a replayed log) and fails the run at once, naming it, instead of as a
+  /// missing ack 18 s later.
+  std::unordered_set<std::uint64_t> sent_;
   double loss_deadline_s_ = -1;  ///< [s wall] when the collected losses are acted on (< 0: none)
   std::vector<RetryEvent> retries_;
   std::vector<ResendEvent> resends_;

@@ -49,7 +49,14 @@ void DatalinkNode::commit() {
 void DatalinkNode::finish(const sim_window_t&) {
   if (out_dir_.empty()) return;
   std::filesystem::create_directories(out_dir_);
-  write_file_atomic(out_dir_, "datalink.csv", "realization,sent,lost\n" + rows_);
+  write_file_atomic(out_dir_, "datalink.csv", csv_header(csv_columns()) + rows_);
+  write_csv_units(out_dir_, "datalink.csv", csv_columns());
+}
+
+std::vector<CsvColumnDoc> DatalinkNode::csv_columns() {
+  return {{"realization", "", "realization index in the ensemble"},
+          {"sent", "", "navigation messages the aircraft sent over the data link (NAV_SOLUTION_TX)"},
+          {"lost", "", "of those, the messages the link lost"}};
 }
 
 }  // namespace rnav

@@ -5,20 +5,24 @@
 // uniform draw per message from the stream (seed, realization, Stream::kDatalink) in message
 // order, so the same seed drops the same messages whatever the scheduling or windowing.
 // With an output folder it writes DIR/datalink.csv on FINISH: per realization (in order) the
-// messages sent and lost, `realization,sent,lost`.
+// messages sent and lost, `realization,sent,lost`, and datalink.units.json beside it (csv_columns()).
 #pragma once
 
+#include "csv_columns.hpp"
 #include "lockstep_node.hpp"
 #include "nav_link.hpp"
 #include "random.hpp"
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rnav {
 
 class DatalinkNode : public LockstepNode {
  public:
+  /// datalink.csv's columns (its header and datalink.units.json).
+  static std::vector<CsvColumnDoc> csv_columns();
   /// @param out_dir  where FINISH writes datalink.csv; "" writes nothing
   DatalinkNode(Bus& bus, const Scenario& sc, std::string out_dir = "");
   const datalink::NavLink& link() const { return link_; }

@@ -134,6 +134,12 @@ void print_approach_table(std::ostream& os, const std::vector<Approach>& as) {
   }
 }
 
+std::vector<CsvColumnDoc> replay_csv_columns() {
+  auto c = geo_track_columns("time since the first written ADS-B point", "the aircraft's ADS-B");
+  c.back().meaning += ": its altitude (ft * 0.3048) plus the approach's height offset";
+  return c;
+}
+
 std::size_t write_replay_csv(const std::string& file, const std::vector<AdsbRecord>& kept,
                              const Approach& a, const ApproachSearchOptions& so,
                              const ReplayExportOptions& e) {
@@ -154,8 +160,9 @@ std::size_t write_replay_csv(const std::string& file, const std::vector<AdsbReco
     ++last;
   if (last - first + 1 < 3)
     throw ConfigError("fewer than 3 points of the approach lie before --end-x-m");
+  const auto columns = replay_csv_columns();
   std::ostringstream o;
-  o << "t_s,lat_deg,lon_deg,h_m\n" << std::fixed;
+  o << csv_header(columns) << std::fixed;
   for (std::size_t k = first; k <= last; ++k)
     o << std::setprecision(3) << kept[k].t_s - kept[first].t_s << "," << std::setprecision(9)
       << kept[k].lat_deg << "," << kept[k].lon_deg << "," << std::setprecision(3)
@@ -163,6 +170,7 @@ std::size_t write_replay_csv(const std::string& file, const std::vector<AdsbReco
   const std::filesystem::path f(file);
   try {
     write_file_atomic(f.has_parent_path() ? f.parent_path().string() : ".", f.filename().string(), o.str());
+    write_csv_units(file, columns);
   } catch (const std::exception& e) {
     throw ConfigError(file + ": cannot write: " + e.what());
   }

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "adsb_glitches.hpp"
+#include "csv_columns.hpp"
 #include "frames.hpp"
 
 #include <limits>
@@ -70,8 +71,12 @@ struct ReplayExportOptions {
   double end_x_m = -std::numeric_limits<double>::infinity();
 };
 
+/// The replay CSV's columns (unit and meaning of each).
+std::vector<CsvColumnDoc> replay_csv_columns();
+
 /// Write approach `a` as a replay CSV (t_s,lat_deg,lon_deg,h_m; t_s from the first written
-/// row; h_m = height_ft * 0.3048 + a.offset_m). Returns the number of rows. Throws ConfigError
+/// row; h_m = height_ft * 0.3048 + a.offset_m) and its description beside it (FILE without .csv
+/// + ".units.json", csv_columns.hpp). Returns the number of rows. Throws ConfigError
 /// if the file cannot be written, no height offset is available or fewer than 3 rows remain.
 std::size_t write_replay_csv(const std::string& file, const std::vector<AdsbRecord>& kept,
                              const Approach& a, const ApproachSearchOptions& o,

@@ -58,7 +58,9 @@ int main(int argc, char** argv) {
     p.flag("--list", "print the approaches found and exit", list)
         .value("--approach", "N", "export the N-th approach of --list, N >= 1", "none",
                [&](const std::string& v) { approach = static_cast<long>(rnav::parse_integer("--approach", v, 1, 1000000)); })
-        .value("--out", "FILE.csv", "with --approach: the replay CSV to write", "required with --approach", out)
+        .value("--out", "FILE.csv",
+               "with --approach: the replay CSV to write, and FILE.units.json beside it (each column's unit and meaning)",
+               "required with --approach", out)
         .flag("--force", "replace an existing --out file (without it, an existing file is an error)", force)
         .value("--lead-s", "S", "also write the S seconds [s] of flight before the approach, >= 0", "0 s", num("--lead-s", ex.lead_s))
         .value("--end-x-m", "X",

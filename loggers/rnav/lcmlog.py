@@ -1,14 +1,14 @@
 """The project's LCM event logs in Python: Debian's python3 (numpy for arrays), no LCM C extension.
 
-    import sys; sys.path.insert(0, "loggers")
-    import rnav_lcmlog
-    t = rnav_lcmlog.tables("/tmp/run.lcmlog")      # {channel: {column: numpy array}}
+    from rnav import lcmlog                          # (rnav.read_log wraps this module)
+    t = lcmlog.tables("/tmp/run.lcmlog")             # {channel: {column: numpy array}}
     plots = t["PRL_APOI"]                            # one row per radar plot
     plots["range_m"], plots["utime"], plots["realization"]
 
 Messages are decoded with the types `lcm-gen --python` writes into build/python/rnav at every
 build (RNAV_BUILD names another build folder, RNAV_PYTHON_TYPES another folder holding the rnav
-package), chosen by the fingerprint in each message's first 8 bytes.
+package), chosen by the fingerprint in each message's first 8 bytes. The generated modules join
+this package (rnav.prl_plot_t ...): their folder is added to its search path.
 
 Tables. A data channel gives one row per sample: a batch message (runner.wire=batch) a row per
 element, carrying its header's window fields (realization, attempt, window, window_utime_begin,
@@ -53,7 +53,7 @@ MAX_CHANNEL_BYTES = 256            # LCM's limit is 63 (as loggers/diagnose/lcm_
 CONTROL_CHANNELS = ("SIM_WINDOW", "SIM_ACK", "SIM_SCENARIO")
 LOG_COLUMNS = ("log_event", "log_utime")
 WINDOW_COLUMNS = ("realization", "attempt", "window", "window_utime_begin", "window_utime_end")
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 _START, _FINISH, _ABORT, _RESEND = 1, 2, 3, 4  # sim_window_t commands
 _ACK_OK = 1                         # node_ack_t status
 
@@ -78,13 +78,17 @@ def message_types():
     d = types_dir()
     if not os.path.isfile(os.path.join(d, "rnav", "__init__.py")):
         raise LogError("no generated Python types in %s (build the project: scripts/setup)" % d)
-    if d not in sys.path:
-        sys.path.insert(0, d)
-    out = {}
-    for m in pkgutil.iter_modules([os.path.join(d, "rnav")]):
-        cls = getattr(importlib.import_module("rnav." + m.name), m.name)
-        out[cls._get_packed_fingerprint()] = cls
-    return out
+    # The generated modules import each other as rnav.NAME: they join this package.
+    import rnav
+    gen = os.path.join(d, "rnav")
+    if gen not in rnav.__path__:
+        rnav.__path__.append(gen)
+    # As the generated __init__.py does: rnav.NAME is the class (their hashes call
+    # rnav.batch_header_t._get_hash_recursive), set before any fingerprint is computed.
+    classes = [getattr(importlib.import_module("rnav." + m.name), m.name) for m in pkgutil.iter_modules([gen])]
+    for cls in classes:
+        setattr(rnav, cls.__name__, cls)
+    return {cls._get_packed_fingerprint(): cls for cls in classes}
 
 
 def events(path):
@@ -377,11 +381,13 @@ def tables(path, channels=None, all_attempts=False):
     return {ch: x.arrays() for ch, x in t.items()}
 
 
-def units(lcm_dir=None):
-    """{type name: {field: unit text}} from the comments of lcmtypes/*.lcm ('[m] slant range')."""
+def units(lcm_dir=None, meanings=None):
+    """{type name: {field: unit text}} from the comments of lcmtypes/*.lcm ('[m] slant range');
+    with a dict `meanings`, it is filled as {type name: {field: the comment's text}}."""
     lcm_dir = lcm_dir or os.path.join(_ROOT, "lcmtypes")
     out = {}
     field = re.compile(r"^\s*\w+\s+(\w+)\s*(?:\[[^\]]*\]\s*)*;\s*//.*?\[([^\]]*)\]")
+    comment = re.compile(r"^\s*\w+\s+(\w+)\s*(?:\[[^\]]*\]\s*)*;\s*//\s*(?:\[[^\]]*\])?\s*(.*\S)")
     for name in sorted(os.listdir(lcm_dir)) if os.path.isdir(lcm_dir) else []:
         if not name.endswith(".lcm"):
             continue
@@ -391,6 +397,11 @@ def units(lcm_dir=None):
                 m = re.match(r"^\s*struct\s+(\w+)", line)
                 if m:
                     cur = out.setdefault(m.group(1), {})
+                    if meanings is not None:
+                        curm = meanings.setdefault(m.group(1), {})
+                m = comment.match(line)
+                if m and cur is not None and meanings is not None:
+                    curm[m.group(1)] = m.group(2).strip()
                 m = field.match(line)
                 if m and cur is not None:
                     cur[m.group(1)] = m.group(2).strip()
@@ -425,22 +436,49 @@ def column_units(table, unit_map=None):
     return out
 
 
-def write_csv(table, path, unit_map=None):
+_FIXED_MEANINGS = {
+    "log_event": "event number in the log file",
+    "log_utime": "when the recorder received the message",
+    "realization": "Monte Carlo realization (flight) number",
+    "attempt": "attempt of the realization (a realization that lost a message is run again)",
+    "window": "lock-step window number within the realization",
+    "window_utime_begin": "start of the window the sample belongs to",
+    "window_utime_end": "end of the window the sample belongs to",
+}
+
+
+def column_meanings(table, meaning_map=None):
+    """{column: meaning}: the .lcm comment of the column's field (an array element's with its
+    index), the log and window columns' own, else 'FIELD of TYPE'."""
+    if meaning_map is None:
+        meaning_map = {}
+        units(meanings=meaning_map)
+    out = {c: m for c, m in _FIXED_MEANINGS.items() if c in table.columns}
+    if table.type is None:
+        return out
+    for name, owner, f, index, _ in _columns(table.type):
+        text = meaning_map.get(owner, {}).get(f) or "%s of %s" % (f, owner)
+        out[name] = text if index is None else "%s (element %s)" % (text, ", ".join(str(i) for i in index))
+    return out
+
+
+def write_csv(table, path, unit_map=None, meaning_map=None):
     """One table as CSV: a header of plain column names (letters, digits and '_': numpy's
     genfromtxt(names=True) and pandas read them as they are), then the rows (numbers in Python's
-    shortest round-trip form, booleans 1/0); beside it PATH without '.csv' + '.units.json',
-    {column: unit} for every column (the unit where the .lcm comments give one, else "")."""
+    shortest round-trip form, booleans 1/0, text percent-encoded); beside it PATH without '.csv'
+    + '.units.json' (csvio.py): every column's unit where the .lcm comments give one (else "")
+    and meaning."""
+    from . import csvio
     u = column_units(table, unit_map)
+    m = column_meanings(table, meaning_map)
+    # text columns (strings, variable-length arrays joined by ';') are percent-encoded
+    text = [any(isinstance(r[j], str) for r in table.rows) for j in range(len(table.columns))]
     with open(path, "w", newline="", encoding="utf-8") as f:
         w = csv.writer(f, lineterminator="\n")
         w.writerow(table.columns)
         for r in table.rows:
-            w.writerow([_text(x) for x in r])
+            w.writerow([csvio.percent_encode(x) if t and isinstance(x, str) else _text(x) for x, t in zip(r, text)])
         f.flush()
         os.fsync(f.fileno())
-    units_path = (path[:-4] if path.endswith(".csv") else path) + ".units.json"
-    with open(units_path, "w", encoding="utf-8") as f:
-        json.dump({c: u.get(c, "") for c in table.columns}, f, indent=1)
-        f.write("\n")
-        f.flush()
-        os.fsync(f.fileno())
+    csvio.write_units(path, [(c, u.get(c, ""), m.get(c) or c, "percent" if t else None)
+                             for c, t in zip(table.columns, text)])
