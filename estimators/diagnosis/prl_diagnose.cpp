@@ -3,6 +3,7 @@
 #include "gross_check.hpp"
 
 #include "config.hpp"
+#include "prl_effect_columns.hpp"
 #include "stats.hpp"
 
 #include <algorithm>
@@ -13,7 +14,7 @@ namespace rnav {
 
 namespace {
 
-enum PrlChannel { kRange = 0, kCourse = 1, kGlide = 2, kChannels = 3 };
+using prl_effect::kChannels;
 const char* const kChannelName[kChannels] = {"range", "course", "glide"};
 const char* const kChannelUnit[kChannels] = {"m", "rad", "rad"};
 const char* const kStepParam[kChannels] = {"range_m", "course_rad", "glide_rad"};
@@ -27,6 +28,12 @@ struct Plot {
   double D = 0, Ek = 0, Eg = 0;    // nav polar
   Eigen::Matrix3d J;               // d(D, Ek, Eg)/dp at the nav position
   Eigen::Vector3d rate;            // d(D, Ek, Eg)/dt from the nav velocity
+  /// What the catalogue's columns need (prl_effect_columns.hpp).
+  prl_effect::PlotGeometry geometry() const {
+    prl_effect::PlotGeometry g;
+    g.t_s = t, g.range_m = D, g.glide_rad = Eg, g.J = J, g.rate = rate;
+    return g;
+  }
 };
 using Plots = std::shared_ptr<const std::vector<Plot>>;
 
@@ -43,13 +50,6 @@ std::function<Eigen::MatrixXd(std::size_t)> columns(const Plots& p, int k, F f) 
     }
     return C;
   };
-}
-
-// A 3 x 1 block with x in channel c.
-Eigen::MatrixXd in_channel(int c, double x) {
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(kChannels, 1);
-  m(c, 0) = x;
-  return m;
 }
 
 // The nav velocity at time t: the slope of a straight line fitted by least squares to the nav
@@ -147,42 +147,36 @@ Problem prl_problem(const Plots& P, const PrlFlightData& data, const DiagnoseOpt
       pb.nuisance(c * n + k, c) = 1;
     }
   const double t_lo = pl.front().t, t_hi = pl.back().t, span = t_hi - t_lo;
-  // R_R_ENU: (east, north, up) -> the radar frame R (x along the azimuth reference, y up, z right)
-  const double b = data.azimuth_reference_deg * kDegToRad;
-  Eigen::Matrix3d R_R_ENU;
-  R_R_ENU << std::sin(b), std::cos(b), 0, 0, 0, 1, std::cos(b), -std::sin(b), 0;
+  // The deterministic entries' columns are the simulator's own (common/prl_effect_columns.hpp).
+  namespace fx = prl_effect;
+  const Eigen::Matrix3d R_R_ENU = fx::R_R_ENU(data.azimuth_reference_deg);
   using V = std::size_t;
-  auto col3 = [](double a, double bb, double c) { return Eigen::Vector3d(a, bb, c); };
+  using M = Eigen::MatrixXd;
   const std::string rate = "the measurement rates (range rate, azimuth and elevation rates)";
   pb.catalogue.push_back({"range_gain", {}, {"g"}, "the slant range", "", {},
-                          columns(P, 1, [col3](const Plot& x, V) -> Eigen::MatrixXd { return col3(x.D, 0, 0); })});
+                          columns(P, 1, [](const Plot& x, V) -> M { return fx::range_gain(x.geometry()); })});
   pb.catalogue.push_back({"time_offset", {}, {"tau_s"}, rate, "", {},
-                          columns(P, 1, [](const Plot& x, V) -> Eigen::MatrixXd { return -x.rate; })});
+                          columns(P, 1, [](const Plot& x, V) -> M { return fx::time_offset(x.geometry()); })});
   pb.catalogue.push_back({"elevation_refraction", {}, {"k_rad"}, "cot(elevation)", "", {},
-                          columns(P, 1, [](const Plot& x, V) { return in_channel(kGlide, 1.0 / std::tan(x.Eg)); })});
+                          columns(P, 1, [](const Plot& x, V) -> M { return fx::elevation_refraction(x.geometry()); })});
   pb.catalogue.push_back({"azimuth_elevation_coupling", {}, {"c_rad"}, "tan(elevation) on the azimuth", "", {},
-                          columns(P, 1, [](const Plot& x, V) { return in_channel(kCourse, std::tan(x.Eg)); })});
+                          columns(P, 1, [](const Plot& x, V) -> M { return fx::azimuth_elevation_coupling(x.geometry()); })});
   pb.catalogue.push_back({"site_offset", {}, {"east_m", "north_m", "up_m"}, "the geometry's Jacobian (a shifted site)", "", {},
-                          columns(P, 3, [R_R_ENU](const Plot& x, V) -> Eigen::MatrixXd { return x.J * R_R_ENU; })});
+                          columns(P, 3, [R_R_ENU](const Plot& x, V) -> M { return fx::site_offset(x.geometry(), R_R_ENU); })});
   for (int c = 0; c < kChannels; ++c)
     pb.catalogue.push_back({"bias_drift", {}, {kDriftParam[c]}, std::string("time on the ") + kChannelName[c], "", {},
-                            columns(P, 1, [c, t_lo](const Plot& x, V) { return in_channel(c, x.t - t_lo); })});
+                            columns(P, 1, [c, t_lo](const Plot& x, V) -> M { return fx::bias_drift(x.geometry(), c, t_lo); })});
   std::vector<double> steps, periods;
   for (int k = 0; k < o.step_grid; ++k) steps.push_back(t_lo + span * (0.1 + 0.8 * k / (o.step_grid - 1)));
   for (double T = 4; T <= span / 3; T *= 1.05) periods.push_back(T);
   for (int c = 0; c < kChannels; ++c) {
     pb.catalogue.push_back({"bias_step", {}, {kStepParam[c]}, std::string("a jump in the ") + kChannelName[c], "t_s", steps,
-                            columns(P, 1, [c, steps](const Plot& x, V v) { return in_channel(c, x.t >= steps[v] ? 1.0 : 0.0); })});
+                            columns(P, 1, [c, steps](const Plot& x, V v) -> M { return fx::bias_step(x.geometry(), c, steps[v]); })});
     if (periods.empty()) continue;
     pb.catalogue.push_back(
         {"periodic", {}, {std::string("sin_") + kStepParam[c], std::string("cos_") + kStepParam[c]},
          std::string("an oscillation in the ") + kChannelName[c], "period_s", periods,
-         columns(P, 2, [c, periods](const Plot& x, V v) -> Eigen::MatrixXd {
-           Eigen::MatrixXd m = Eigen::MatrixXd::Zero(kChannels, 2);
-           m(c, 0) = std::sin(2 * M_PI * x.t / periods[v]);
-           m(c, 1) = std::cos(2 * M_PI * x.t / periods[v]);
-           return m;
-         })});
+         columns(P, 2, [c, periods](const Plot& x, V v) -> M { return fx::periodic(x.geometry(), c, periods[v]); })});
   }
   // covariates for what stays unexplained (the same per channel)
   const char* const names[] = {"time", "slant range", "elevation", "azimuth", "range rate", "cot(elevation)"};

@@ -1,5 +1,7 @@
 #include "prl_error_model.hpp"
 
+#include "prl_effect_columns.hpp"
+
 #include <cmath>
 
 namespace rnav {
@@ -31,41 +33,39 @@ void Outliers::apply(const PlotTruth&, Rng& rng, PolarError&, PolarError& fl) {
   if (hit) fl += n;
 }
 
-GeometricEffects::GeometricEffects(const PrlEffectsOptions& fx, double az_deg) : fx_(fx) {
-  const double b = az_deg * kDegToRad;
-  // R's axes in ENU (frames.hpp): x = (sin b, cos b, 0), y = up, z = (cos b, -sin b, 0)
-  const Eigen::Vector3d enu(fx.site_offset_east_m, fx.site_offset_north_m, fx.site_offset_up_m);
-  site_offset_R_ = {std::sin(b) * enu.x() + std::cos(b) * enu.y(), enu.z(),
-                    std::cos(b) * enu.x() - std::sin(b) * enu.y()};
-}
+GeometricEffects::GeometricEffects(const PrlEffectsOptions& fx, double az_deg)
+    : fx_(fx), R_R_ENU_(prl_effect::R_R_ENU(az_deg)) {}
 
+namespace {
+void add(PolarError& e, const Eigen::Vector3d& d) { e += PolarError{d[0], d[1], d[2]}; }
+}  // namespace
+
+// d zeta = sum over the catalogue's deterministic entries of C(plot) theta, with the columns the
+// diagnosis fits (prl_effect_columns.hpp); an entry whose parameters are 0 adds nothing.
 void GeometricEffects::apply(const PlotTruth& t, Rng&, PolarError& sys, PolarError&) {
-  const Eigen::Matrix3d J = polar_jacobian(t.p_RA_R);
-  const double D = t.polar.range_m, Eg = t.polar.glide_rad;
-  // range_gain: dD = g D
-  sys.range_m += fx_.range_gain * D;
-  // time_offset: a plot stamped t was taken at t - tau: dzeta = -zeta_dot tau, zeta_dot = J v
-  const Eigen::Vector3d rate = J * t.v_A_R;
-  sys += PolarError{-rate[0] * fx_.time_offset_s, -rate[1] * fx_.time_offset_s,
-                    -rate[2] * fx_.time_offset_s};
-  // elevation_refraction: dEg = k cot(Eg)
-  if (fx_.elevation_refraction_rad != 0) sys.glide_rad += fx_.elevation_refraction_rad / std::tan(Eg);
-  // azimuth_elevation_coupling: dEk = c tan(Eg)
-  sys.course_rad += fx_.azimuth_elevation_coupling_rad * std::tan(Eg);
-  // site_offset: the radar measures from the true site = surveyed - delta, so
-  // p_meas = p_RA + delta and dzeta = J delta (first order; delta << D)
-  const Eigen::Vector3d ds = J * site_offset_R_;
-  sys += PolarError{ds[0], ds[1], ds[2]};
-  // bias_drift: dzeta = rate t
-  sys += PolarError{fx_.drift_range_mps * t.t_s, fx_.drift_course_radps * t.t_s,
-                    fx_.drift_glide_radps * t.t_s};
-  // bias_step: dzeta = m 1[t >= t_step]
-  if (fx_.step_time_s >= 0 && t.t_s >= fx_.step_time_s)
-    sys += PolarError{fx_.step_range_m, fx_.step_course_rad, fx_.step_glide_rad};
-  // periodic: dzeta = A sin(2 pi t / P)
-  if (fx_.periodic_period_s > 0) {
-    const double s = std::sin(2 * M_PI * t.t_s / fx_.periodic_period_s);
-    sys += PolarError{fx_.periodic_range_m * s, fx_.periodic_course_rad * s, fx_.periodic_glide_rad * s};
+  namespace fx = prl_effect;
+  fx::PlotGeometry g;
+  g.t_s = t.t_s;
+  g.range_m = t.polar.range_m;
+  g.glide_rad = t.polar.glide_rad;
+  g.J = polar_jacobian(t.p_RA_R);
+  g.rate = g.J * t.v_A_R;
+  if (fx_.range_gain != 0) add(sys, fx::range_gain(g) * fx_.range_gain);
+  if (fx_.time_offset_s != 0) add(sys, fx::time_offset(g) * fx_.time_offset_s);
+  if (fx_.elevation_refraction_rad != 0) add(sys, fx::elevation_refraction(g) * fx_.elevation_refraction_rad);
+  if (fx_.azimuth_elevation_coupling_rad != 0)
+    add(sys, fx::azimuth_elevation_coupling(g) * fx_.azimuth_elevation_coupling_rad);
+  const Eigen::Vector3d site_enu(fx_.site_offset_east_m, fx_.site_offset_north_m, fx_.site_offset_up_m);
+  if (site_enu != Eigen::Vector3d::Zero()) add(sys, fx::site_offset(g, R_R_ENU_) * site_enu);
+  const double drift[fx::kChannels] = {fx_.drift_range_mps, fx_.drift_course_radps, fx_.drift_glide_radps};
+  const double step[fx::kChannels] = {fx_.step_range_m, fx_.step_course_rad, fx_.step_glide_rad};
+  const double periodic[fx::kChannels] = {fx_.periodic_range_m, fx_.periodic_course_rad, fx_.periodic_glide_rad};
+  for (int c = 0; c < fx::kChannels; ++c) {
+    if (drift[c] != 0) add(sys, fx::bias_drift(g, c, 0.0) * drift[c]);
+    if (fx_.step_time_s >= 0 && step[c] != 0) add(sys, fx::bias_step(g, c, fx_.step_time_s) * step[c]);
+    // the simulator's oscillation has phase 0: (a_sin, a_cos) = (A, 0)
+    if (fx_.periodic_period_s > 0 && periodic[c] != 0)
+      add(sys, fx::periodic(g, c, fx_.periodic_period_s) * Eigen::Vector2d(periodic[c], 0));
   }
 }
 

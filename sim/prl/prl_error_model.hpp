@@ -98,7 +98,8 @@ class Outliers : public PrlErrorEffect {
 
 /// Deterministic systematic effects of the diagnosis catalogue (see PrlEffectsOptions):
 /// range_gain, time_offset, elevation_refraction, azimuth_elevation_coupling, site_offset,
-/// bias_drift, bias_step, periodic. Each term is written above its line in the .cpp.
+/// bias_drift, bias_step, periodic: C(plot) theta with the columns the diagnosis fits
+/// (common/prl_effect_columns.hpp, where each term's equation is written).
 class GeometricEffects : public PrlErrorEffect {
  public:
   GeometricEffects(const PrlEffectsOptions& fx, double azimuth_reference_deg);
@@ -107,7 +108,7 @@ class GeometricEffects : public PrlErrorEffect {
 
  private:
   PrlEffectsOptions fx_;
-  Eigen::Vector3d site_offset_R_;  // surveyed minus true site, frame R
+  Eigen::Matrix3d R_R_ENU_;  // (east, north, up) -> radar frame R (prl_effect::R_R_ENU)
 };
 
 class PrlErrorModel {
