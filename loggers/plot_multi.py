@@ -66,7 +66,7 @@ def plot(rows, out_png, title, report=None, recording=None):
                 label="outlier")
         # the fit, broken across data gaps (plot_gaps: over 3x the median step)
         sensor, _, target = k.partition(":")
-        ax.plot(*broken(t, fit), "-", color="tab:blue", lw=1.2, label=legend(report, sensor, target, recording))
+        ax.plot(*broken(t, fit), "-", color="tab:blue", lw=1.2, label=legend(report, sensor, target, recording, quantity="bearing"))
         split = [a for a, r in zip(t, rr) if r["estimation"] == "0"]
         if split:
             ax.axvline(min(split), color="k", ls=":", lw=0.8)
@@ -80,7 +80,7 @@ def plot(rows, out_png, title, report=None, recording=None):
         ax.set_xlabel("time since first detection [s]")
     if report:
         for ax in axes.flat[:len(keys)]:
-            ax.legend(fontsize=6, loc="upper right")
+            ax.legend(fontsize=6, loc="best")
     else:
         axes.flat[0].legend(fontsize=7, loc="upper right")
     fig.suptitle(title, fontsize=10)

@@ -45,6 +45,14 @@ expect(L.legend({"effects": report["effects"][4:]}, "eo", "havfruen"), "extended
 expect(L.legend({"effects": report["effects"][2:3]}, "eo", "havfruen"), "extended model (no effect named acts here)",
        "effects elsewhere")
 expect(L.legend(None), "extended model", "no report")
+# a range gain moves no bearing: the bearing panel of its sensor does not list it, its range panel does
+gain = {"effects": [{"name": "range_gain", "scope": {"sensor": "lidar", "target": None}, "params": ["1"],
+                     "estimate": -0.0163, "stderr": 0.00099}]}
+expect(L.legend(gain, "lidar", "gunnerus", quantity="bearing"), "extended model (no effect named acts here)",
+       "a range gain on a bearing panel")
+expect("range_gain" in L.legend(gain, "lidar", "gunnerus", quantity="range"), True, "a range gain on a range panel")
+expect("antenna_offset" in L.legend(report, "radar", "gunnerus", quantity="bearing"), True,
+       "a lever arm moves bearings too")
 for f in fails:
     print("FAIL: " + f)
 print("%d failure(s)" % len(fails))

@@ -61,19 +61,26 @@ def mean_effects(report):
     return [e for e in report.get("effects", []) if not e.get("nominal") and e.get("name") not in NOT_MEAN]
 
 
-def applies(e, sensor=None, target=None, recording=None):
-    """Whether effect e acts on a sensor:target (of a recording): its scope is empty there or
-    names them."""
+# Multi-sensor entries that move one measured quantity only (estimators/diagnosis/multi_problem.cpp;
+# bias_step is a jump in the bearings); the others (clocks, lever arms, scan stamps) move both.
+ONE_QUANTITY = {"range_gain": "range", "range_bias": "range", "bearing_bias": "bearing", "bias_step": "bearing"}
+
+
+def applies(e, sensor=None, target=None, recording=None, quantity=None):
+    """Whether effect e acts on a sensor:target (of a recording) and, if given, on the measured
+    quantity ("range" or "bearing"): its scope is empty there or names them."""
     s = e.get("scope") or {}
+    if quantity is not None and ONE_QUANTITY.get(e.get("name"), quantity) != quantity:
+        return False
     return ((not s.get("sensor") or sensor is None or s["sensor"] == sensor) and
             (not s.get("target") or target is None or s["target"] == target) and
             (not s.get("recording") or recording is None or s["recording"] == recording))
 
 
-def legend(report, sensor=None, target=None, recording=None, limit=6):
+def legend(report, sensor=None, target=None, recording=None, limit=6, quantity=None):
     """'extended model' and, one per line, the effects that act here (at most `limit`)."""
     named = mean_effects(report) if report else []
-    es = [label(e) for e in named if applies(e, sensor, target, recording)]
+    es = [label(e) for e in named if applies(e, sensor, target, recording, quantity)]
     if not es:
         return "extended model" + ("" if not report else " (no mean effect named)" if not named else
                                    " (no effect named acts here)")
