@@ -11,7 +11,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <random>
 #include <set>
 
@@ -697,4 +699,35 @@ TEST_CASE("effect search: a family size below the problem's own is refused, a la
   REQUIRE(!big.effects.empty());
   // the same evidence, ten times the tests: log10 p adjusted up by exactly one
   CHECK(big.effects[0].log10_p == Approx(own.effects[0].log10_p + 1).margin(1e-9));
+}
+
+TEST_CASE("effect search: progress names each round, candidate and the report, and the searches inside injections are quiet",
+          "[model_id][progress]") {
+  // A real step (the search tests candidates until it enters) with 5 injections of range_gain:
+  // the injections run whole searches of their own, which must not report (their lines would
+  // drown the search's own); the lines may come from several threads, so they are collected
+  // under a lock.
+  const Synthetic s = make(7, 0, 3.0, 8.0, 0, 0.5);
+  SearchOptions o;
+  o.injection.injections = 5;
+  o.injection.entries = {"range_gain"};
+  o.injection.threads = 2;
+  std::mutex m;
+  std::vector<std::string> lines;
+  o.progress = [&](const std::string& line) {
+    const std::lock_guard<std::mutex> lock(m);
+    lines.push_back(line);
+  };
+  const SearchResult r = search_effects(s.pb, o);
+  REQUIRE(!r.effects.empty());
+  REQUIRE(!lines.empty());
+  auto count = [&](const std::string& part) {
+    return std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(part) != std::string::npos; });
+  };
+  CHECK(lines.front().rfind("round 1 of at most 3, noise identification of", 0) == 0);
+  CHECK(count("round 1 of at most 3, selection step 1: testing bias_step") >= 1);
+  CHECK(count("report: ") == 1);
+  CHECK(lines.back().rfind("report: ", 0) == 0);  // nothing from the injections after it
+  // one noise identification line per round run, none from the injections' own searches
+  CHECK(count("noise identification") <= 3);
 }

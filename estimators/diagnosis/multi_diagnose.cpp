@@ -196,6 +196,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   if (pooled && o.leave_one_out) {
     SearchOptions so = o.search;
     so.injection.injections = 0;
+    so.progress = nullptr;  // one line per recording left out instead (below)
     const std::size_t R = recs.size();
     std::vector<std::vector<LeaveOneOutRow>> rows(R);
     std::vector<std::vector<std::string>> carried(R);
@@ -206,6 +207,9 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
           std::vector<RecordingDetections> rest;
           for (std::size_t j = 0; j < R; ++j)
             if (j != k) rest.push_back(recs[j]);
+          if (o.search.progress)
+            o.search.progress("leave one out: the others without recording " + std::to_string(k + 1) + " of " +
+                              std::to_string(R));
           const MultiProblem fp = build_multi_problem(rest, po);
           const SearchResult fr = search_effects(fp.problem, so);
           rows[k] = score_left_out(recs[k], fp, fr, o, carried[k]);

@@ -109,6 +109,7 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
   }
   if (searched.empty()) return res;
   SearchOptions so = o.search;
+  so.progress = nullptr;  // one line per target instead (below)
   so.max_effects = o.max_maneuvers;
   // the family: every target's entries and three noise tests on each of its two channels
   so.family_size = static_cast<double>(searched.size()) * (o.max_maneuvers + 3 * 2);
@@ -118,6 +119,9 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
   auto work = [&] {
     for (std::size_t i; (i = next++) < searched.size();) {
       try {
+        if (o.search.progress)
+          o.search.progress("reference track of target " + searched[i].first + " (" + std::to_string(i + 1) + " of " +
+                            std::to_string(searched.size()) + ") searched for manoeuvres");
         out[i] = search_effects(target_problem(searched[i].first, searched[i].second, o), so);
       } catch (const std::exception& e) {
         errors[i] = "target model of " + searched[i].first + ": " + e.what();

@@ -112,7 +112,12 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     }
     std::stable_sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) { return a.lp < b.lp; });
     bool any = false;
+    std::size_t tried = 0;
     for (const Candidate& c : ranked) {
+      if (o.progress)
+        o.progress("selection step " + std::to_string(step + 1) + ": testing " + p.catalogue[c.e].name +
+                   (p.catalogue[c.e].scope.label() == "common" ? "" : " [" + p.catalogue[c.e].scope.label() + "]") +
+                   " (candidate " + std::to_string(++tried) + " of " + std::to_string(ranked.size()) + ")");
       const double lr = p.catalogue[c.e].scanned() ? tests.scanned(c.e, c.v) : tests.fixed(c.e);
       if (lr > 0 && adjusted_log_p(c.e, lr) < log_alpha && replicates_agree(d, chosen, c.e, c.v, o.alpha)) {
         chosen.push_back({c.e, c.v});
@@ -139,6 +144,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     return std::max(0.0, p.catalogue[e].scanned() ? tests.scanned(e, v) : tests.fixed(e));
   };
   std::vector<double> lr(chosen.size());
+  if (o.progress && !chosen.empty()) o.progress("backward and noise checks of " + std::to_string(chosen.size()) + " chosen");
   while (!chosen.empty()) {
     double worst = -INFINITY;
     std::size_t wi = 0;
@@ -229,7 +235,16 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
   Chosen chosen;
   std::vector<double> kept_lr;
   std::vector<NoiseFit> fits;
+  const auto progress = o.progress;
   for (int round = 0; round < o.max_rounds; ++round) {
+    // every line of this round says which round it is in (the selection's own lines, too)
+    if (progress)
+      o.progress = [progress, round, rounds = o.max_rounds](const std::string& line) {
+        progress("round " + std::to_string(round + 1) + " of at most " + std::to_string(rounds) + ", " + line);
+      };
+    if (o.progress)
+      o.progress("noise identification of " + std::to_string(pb.channels.size()) + " channel(s), " +
+                 std::to_string(pb.size()) + " observations");
     fits = identify_all(d, chosen, o.noise);
     std::vector<NoiseParams> np;
     std::vector<std::vector<char>> sk;
@@ -246,6 +261,8 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
     kept_lr = std::move(next.kept_lr);
     if (settled && round > 0) break;
   }
+  o.progress = progress;
+  if (o.progress) o.progress("report: estimates, confounding, limits and held-out gain");
   search_detail::report(d, o, chosen, kept_lr, fits, res);
   if (o.injection.injections > 0) res.injected = measure_injected_limits(pb, res, o, o.injection);
   return res;

@@ -192,6 +192,11 @@ struct SearchOptions {
   /// Detection and naming limits measured by injection into the data's own fitted model and
   /// noise (injected_limits.hpp); injection.injections = 0 gives the Fisher limits alone.
   InjectionOptions injection;
+  /// Called at each stage of the search (each round's noise identification, each candidate
+  /// tested, the checks, the report) with a line saying where it is, e.g. to show progress on
+  /// stderr on a large input; may be empty. May be called from several threads at once (the
+  /// diagnoses run searches in parallel); the searches run inside one (injections) do not call it.
+  std::function<void(const std::string&)> progress;
 };
 
 /// The replication check of an entry with replicates (replication.hpp).

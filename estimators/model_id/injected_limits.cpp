@@ -299,6 +299,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   if (np.size() != pb.channels.size()) throw std::invalid_argument("injected limits: the result has no noise fit per channel");
   d.set_noise(np, skip);
   SearchOptions inner = o;
+  inner.progress = nullptr;  // the searches inside: their own lines would drown the limits'
   inner.injection.injections = 0;
   inner.score_holdout = false;
   Bootstrap b{pb, res, inner, d, {}};

@@ -14,11 +14,15 @@
 #include "prl_diagnose.hpp"
 #include "uav_diagnose.hpp"
 
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <cmath>
 #include <iostream>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <sstream>
 
 namespace {
@@ -53,6 +57,24 @@ int main(int argc, char** argv) {
     o.search.injection.injections = uo.search.injection.injections = kReportInjections;
     o.search.injection.progress = uo.search.injection.progress = mo.search.injection.progress = [](const std::string& line) {
       std::cerr << "diagnose: limit by injection: " << line << std::endl;
+    };
+    // Where a long search is: a line at most every 2 s once it has run 3 s (a 20 Hz flight of
+    // 12 000 plots takes about a minute), with the wall time since the start.
+    struct Progress {
+      std::mutex m;
+      std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
+    };
+    auto progress = std::make_shared<Progress>();
+    o.search.progress = uo.search.progress = mo.search.progress = [progress](const std::string& line) {
+      constexpr double kQuietS = 3, kEveryS = 2;
+      const std::lock_guard<std::mutex> lock(progress->m);
+      const auto now = std::chrono::steady_clock::now();
+      const double since_start = std::chrono::duration<double>(now - progress->start).count();
+      if (since_start < kQuietS || std::chrono::duration<double>(now - progress->last).count() < kEveryS) return;
+      progress->last = now;
+      char t[32];
+      std::snprintf(t, sizeof t, "%.0f s", since_start);
+      std::cerr << "diagnose: " << t << ": " << line << std::endl;
     };
     constexpr double kBig = std::numeric_limits<double>::max();
     auto num = [](const char* opt, double& a) {
