@@ -35,6 +35,9 @@ unshare -n bash -c '
 rc=$?
 ((rc != 9)) || fail "cannot set up the private network namespace (needs root: unshare -n, ip)"
 [[ -s $T/spy.json ]] || { cat "$T/spy.txt" "$T/run.log"; fail "no spy.json"; }
+# --net host: the run warns that its traffic is on the host's network
+grep -q "^run: warning: the run's LCM traffic is on this host's network" "$T/run.log" ||
+  { cat "$T/run.log"; fail "--net host gave no warning that other users can see the run"; }
 /usr/bin/python3 - "$T/spy.json" "$T/rec.lcmlog" "$SRC/loggers" <<'PY' || { tail -15 "$T/spy.txt"; exit 1; }
 import json, sys
 sys.path.insert(0, sys.argv[3])
