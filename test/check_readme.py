@@ -99,7 +99,8 @@ def localize(cmd, tmp):
 
 
 def run(cmd, tmp, what):
-    env = dict(os.environ, RNAV_BUILD=BUILD)
+    # the package of this checkout (scripts/setup's rnav.pth names the last checkout set up)
+    env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(os.path.abspath(SRC), "loggers"))
     r = subprocess.run(["bash", "-c", localize(cmd, tmp)], cwd=SRC, env=env,
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     return r
