@@ -1,4 +1,4 @@
-// Measured-data diagnosis (loggers/diagnose): effects hidden in simulated flight tests must be
+// Measured-data diagnosis (estimators/diagnosis): effects hidden in simulated flight tests must be
 // found, named, estimated within 3 standard errors and give an out-of-sample gain; nominal data
 // must raise no more false alarms than the stated level; bad CSV input names file, line, column.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// LCM event logs as diagnose input (loggers/diagnose/lcm_log_*): a log of an in-process run
+// LCM event logs as diagnose input (estimators/diagnosis/io/lcm_log_*): a log of an in-process run
 // gives exactly the flight the CSV exporter writes (and the same diagnosis), uses the attempt
 // the clock accepted and ignores earlier ones, and every kind of damage to a log is an error
 // naming channel, realization, attempt, window and file.

@@ -1,5 +1,5 @@
 // The Python reader of LCM logs (loggers/rnav/lcmlog.py, through scripts/rnav_log2csv) against
-// the C++ reader (LcmLogStreams, loggers/diagnose: the checked batches of each realization's last
+// the C++ reader (LcmLogStreams, estimators/diagnosis/io: the checked batches of each realization's last
 // attempt): every value of every sample of every data channel, in order, exactly (full double
 // precision: the CSV holds Python's shortest round-trip text); a sample-wire log gives the same
 // tables as the batch-wire log of the same run; the numpy tables hold the CSV's values; a

@@ -20,7 +20,7 @@ recorder received it [us since the Unix epoch]; `utime` is the sample's time of 
 control channels SIM_WINDOW, SIM_ACK and SIM_SCENARIO give one row per message, as logged. Units:
 units() reads them from the comments of lcmtypes/*.lcm.
 
-What is kept, as the C++ reader (loggers/diagnose/lcm_log_streams) keeps it: of each realization
+What is kept, as the C++ reader (estimators/diagnosis/io/lcm_log_streams) keeps it: of each realization
 the last attempt (the clock repeats a realization that lost a message; all_attempts=True keeps
 every attempt); of a message sent again (a lock-step resend) the first copy: a batch with the same
 channel and window and the same bytes, a sample message with the same bytes in the same grant
@@ -49,7 +49,7 @@ from collections import namedtuple
 
 SYNC = 0xEDA1DA01
 _HEADER = struct.Struct(">Iqqii")  # sync, event number, receive utime [us], channel length, data length
-MAX_CHANNEL_BYTES = 256            # LCM's limit is 63 (as loggers/diagnose/lcm_event_reader.hpp)
+MAX_CHANNEL_BYTES = 256            # LCM's limit is 63 (as estimators/diagnosis/io/lcm_event_reader.hpp)
 CONTROL_CHANNELS = ("SIM_WINDOW", "SIM_ACK", "SIM_SCENARIO")
 LOG_COLUMNS = ("log_event", "log_utime")
 WINDOW_COLUMNS = ("realization", "attempt", "window", "window_utime_begin", "window_utime_end")

@@ -1,4 +1,4 @@
-// The Autoferry importer (loggers/diagnose/autoferry_import.hpp): the input is a scenario's
+// The Autoferry importer (estimators/diagnosis/io/autoferry_import.hpp): the input is a scenario's
 // detections JSON and ground-truth JSON separated by a NUL byte; both importer modes run on it
 // (multi-sensor, and the azimuth-only mode for each camera and target).
 #include "autoferry_import.hpp"
