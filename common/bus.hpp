@@ -22,6 +22,13 @@ class Bus {
   virtual void publish_raw(const std::string& channel, const void* data, int size) = 0;
   virtual void subscribe_raw(const std::string& channel, RawHandler handler) = 0;
 
+  /// The run this process belongs to: every lock-step message carries it, and a message of
+  /// another run on the same network is ignored and counted. LcmBus takes it from the
+  /// environment (RNAV_RUN_ID, drawn by scripts/run; 0 when unset, so processes started by hand
+  /// agree); one process's buses (InprocBus) use 0.
+  std::int64_t run_id() const { return run_id_; }
+  void set_run_id(std::int64_t id) { run_id_ = id; }
+
   template <class T> void publish(const std::string& channel, const T& msg) {
     const int n = msg.getEncodedSize();
     buf_.resize(static_cast<std::size_t>(n));
@@ -42,6 +49,7 @@ class Bus {
 
  private:
   std::vector<std::uint8_t> buf_;
+  std::int64_t run_id_ = 0;
 };
 
 /// All subscribers in one process: publish() queues, run_until_idle() delivers in FIFO order.

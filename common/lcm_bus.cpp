@@ -30,6 +30,15 @@ long LcmBus::granted_receive_buffer(long requested) {
 }
 
 LcmBus::LcmBus(const std::string& url) {
+  // RNAV_RUN_ID: the run's id, drawn by scripts/run for all its processes (0 when unset)
+  if (const char* id = std::getenv("RNAV_RUN_ID")) {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(id, &end, 10);
+    if (*id == '\0' || *end != '\0' || errno != 0 || v < 0)
+      throw std::runtime_error(std::string("RNAV_RUN_ID must be an integer in 0 ... 2^63-1, got '") + id + "'");
+    set_run_id(v);
+  }
   // recv_buf_size=B in the URL: LCM asks for B with SO_RCVBUF, which the kernel silently caps at
   // net.core.rmem_max. Ask the same of a probe socket and refuse to run on less.
   const std::string effective = url.empty() ? (std::getenv("LCM_DEFAULT_URL") ? std::getenv("LCM_DEFAULT_URL") : "") : url;

@@ -102,6 +102,8 @@ void LockstepNode::report(std::int8_t status, const std::string& detail, const s
     }
   ack.n_published_channels = static_cast<std::int16_t>(ack.published.size());
   ack.n_sample_digests = static_cast<std::int32_t>(ack.sample_digests.size());
+  ack.run_id = bus_.run_id();
+  ack.n_foreign = foreign_;
   bus_.publish(ch::kAck, ack);
 }
 
@@ -182,6 +184,10 @@ void LockstepNode::accept_grant(const sim_window_t& w) {
 
 void LockstepNode::on_grant(const sim_window_t& w) {
   if (done_) return;
+  if (w.run_id != bus_.run_id()) {  // another run's clock on this network
+    ++foreign_;
+    return;
+  }
   clock_heard_ = true;  // timed at the next poll()
   if (finished_ && w.command == sim_window_t::CLOSE) {
     stop(0, "");  // every node has finished: no FINISH will be repeated
@@ -275,6 +281,10 @@ void LockstepNode::report_waiting(const std::vector<std::string>& missing) {
 
 void LockstepNode::on_peer_ack(const node_ack_t& a) {
   if (done_ || a.node == name_) return;
+  if (a.run_id != bus_.run_id()) {  // another run's node
+    ++foreign_;
+    return;
+  }
   const WindowKey key{a.realization, a.attempt, a.window};
   if (a.status == node_ack_t::WAITING && key == last_out_key_) {
     // A consumer misses a batch of the last window this node processed: publish it again.

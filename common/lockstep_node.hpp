@@ -98,6 +98,9 @@ class LockstepNode {
   /// Resent batches received and ignored (identical to the first copy), and batches published
   /// again on a consumer's WAITING.
   int duplicates_ignored() const { return duplicates_ignored_; }
+  /// Messages of another run (another run id: Bus::run_id) heard and ignored: grants, acks and
+  /// batches (reported to the clock with FINISHED).
+  int foreign_ignored() const { return foreign_; }
   int republished() const { return republished_; }
   const std::string& name() const { return name_; }
   void add_drop(const DropSpec& d) { drops_.push_back(d); }
@@ -199,7 +202,7 @@ class LockstepNode {
   bool done_ = false;
   int exit_code_ = 0;
   std::string failure_;
-  int published_ = 0, duplicates_ignored_ = 0, republished_ = 0;
+  int published_ = 0, duplicates_ignored_ = 0, republished_ = 0, foreign_ = 0;
 };
 
 /// A 64-bit digest of a message's bytes (FNV-1a over words; tells a resend from a different batch).
@@ -236,6 +239,10 @@ template <class B> void LockstepNode::add_input(const std::string& channel) {
     if (!decode_batch(data, size, *b))
       throw std::runtime_error(name_ + ": cannot decode a message on channel " + ch + " as a " + B::getTypeName() +
                                " (wrong type or corrupt; runner.wire = batch: every process of the run must use it)");
+    if (b->header.run_id != bus_.run_id()) {  // another run's batch on this network
+      ++foreign_;
+      return;
+    }
     on_batch(*in, b->header, b, message_digest(data, size));
   });
 }
@@ -267,6 +274,7 @@ template <class B> void LockstepNode::publish_batch(const std::string& channel, 
   batch.header.window = grant_.window;
   batch.header.utime_begin = grant_.utime_begin;
   batch.header.utime_end = grant_.utime_end;
+  batch.header.run_id = bus_.run_id();
   published_ += batch.n;
   Output out{channel, {}, batch.n};
   auto encode = [&](const auto& m) {

@@ -37,8 +37,13 @@ void after(const std::string& where, double t_s, double prev_t_s) {
 }
 
 void angle(const std::string& where, const std::string& name, double rad) {
-  if (!std::isfinite(rad) || std::abs(rad) > kMaxAbsAngleRad)
-    throw ConfigError(where + ": " + name + " " + num(rad) + " rad is not finite or beyond two turns");
+  if (!std::isfinite(rad) || std::abs(rad) > kMaxAbsAngleRad) {
+    // a degree column holding milliradians (up to 6283, 17.5 turns read as degrees)
+    const double as_deg = std::abs(rad) * 180 / 3.14159265358979323846;
+    const bool mrad = std::isfinite(rad) && as_deg <= 2000 * 3.14159265358979323846 + 1;
+    throw ConfigError(where + ": " + name + " " + num(rad) + " rad is not finite or beyond two turns" +
+                      (mrad ? " (" + num(as_deg) + " in a degree column: milliradians?)" : ""));
+  }
 }
 
 void near(const std::string& where, const Geodetic& g, const Geodetic& c, const std::string& centre_name) {

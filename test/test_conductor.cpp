@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <vector>
 
@@ -261,12 +262,16 @@ TEST_CASE("conductor: in real time a RESEND waits half a window's wall time, not
   CHECK(rec.count(kResend) == 1);
 }
 
-TEST_CASE("conductor: another clock's SIM_WINDOW or an ack from a node not in the run fails it at once, naming it",
+TEST_CASE("conductor: another run's SIM_WINDOW and acks are ignored and counted, a stranger of this run fails it, named",
           "[conductor][foreign]") {
-  // Another run (or a replayed log) on the same LCM network: before, the run failed 18 s later
-  // with "no ack" and never said that foreign traffic had arrived.
-  for (const bool from_clock : {true, false}) {
+  // Another run (or a replayed log) on the same LCM network carries another run id: ignored and
+  // counted. Before, the run failed 18 s later with "no ack" and never said foreign traffic had
+  // arrived. A message of this run's id that this clock did not send, or an ack from a node that
+  // is not one of the run's, fails it at once, named.
+  enum class Case { kOtherRunClock, kOtherRunAck, kSameRunClock, kStranger };
+  for (const Case k : {Case::kOtherRunClock, Case::kOtherRunAck, Case::kSameRunClock, Case::kStranger}) {
     rnav::InprocBus bus;
+    bus.set_run_id(5);
     Recorder rec(bus);
     rnav::RunnerOptions runner;
     runner.window_s = 10;
@@ -274,26 +279,52 @@ TEST_CASE("conductor: another clock's SIM_WINDOW or an ack from a node not in th
     o.nodes = {"prl_bias", "logger"};
     o.seed = 7;
     Conductor c(bus, runner, 0.25, o, 30.0);
-    ack(bus, "prl_bias", node_ack_t::HELLO, -1);
-    ack(bus, "logger", node_ack_t::HELLO, -1);
+    auto ack_run = [&](const std::string& node, std::int8_t status, int window, std::int64_t run) {
+      node_ack_t a{};
+      a.node = node;
+      a.status = status;
+      a.realization = node_ack_t::HELLO == status ? -1 : 0;
+      a.window = window;
+      a.run_id = run;
+      bus.publish(rnav::ch::kAck, a);
+      bus.run_until_idle();
+    };
+    ack_run("prl_bias", node_ack_t::HELLO, -1, 5);
+    ack_run("logger", node_ack_t::HELLO, -1, 5);
     c.poll(0.0);
     bus.run_until_idle();
     REQUIRE(rec.count(kStart) == 1);
+    CHECK(rec.sent.back().run_id == 5);
     CHECK(!c.done());  // its own START, heard back, is not foreign
-    if (from_clock) {
-      rnav::sim_window_t w = rec.sent.back();
-      w.seed = 99;
-      bus.publish(rnav::ch::kWindow, w);
-      bus.run_until_idle();
-    } else {
-      ack(bus, "prl", node_ack_t::OK, 0);
+    rnav::sim_window_t w = rec.sent.back();
+    w.seed = 99;
+    switch (k) {
+      case Case::kOtherRunClock: w.run_id = 6; bus.publish(rnav::ch::kWindow, w); break;
+      case Case::kSameRunClock: bus.publish(rnav::ch::kWindow, w); break;
+      case Case::kOtherRunAck: ack_run("prl_bias", node_ack_t::OK, 0, 6); ack_run("logger", node_ack_t::OK, 0, 6); break;
+      case Case::kStranger: ack_run("prl", node_ack_t::OK, 0, 5); break;
     }
+    bus.run_until_idle();
     c.poll(0.01);
     bus.run_until_idle();
+    INFO(c.failure());
+    if (k == Case::kOtherRunClock || k == Case::kOtherRunAck) {
+      CHECK(!c.done());
+      CHECK(c.foreign_ignored() == (k == Case::kOtherRunAck ? 2 : 1));
+      auto starts = [&] {  // this run's STARTs (the recorder also hears the other run's clock)
+        return std::count_if(rec.sent.begin(), rec.sent.end(), [](const auto& x) { return x.command == kStart && x.run_id == 5; });
+      };
+      CHECK(starts() == 1);  // the other run's acks closed no window
+      ack_run("prl_bias", node_ack_t::OK, 0, 5);
+      ack_run("logger", node_ack_t::OK, 0, 5);
+      c.poll(0.02);
+      bus.run_until_idle();
+      CHECK(starts() == 2);  // this run's acks did
+      continue;
+    }
     REQUIRE(c.done());
     CHECK(c.exit_code() == 4);
-    INFO(c.failure());
-    if (from_clock) {
+    if (k == Case::kSameRunClock) {
       CHECK(c.failure().find("foreign traffic on SIM_WINDOW: a message this clock did not send (command 1, seed 99") !=
             std::string::npos);
       CHECK(c.failure().find("this run: seed 7") != std::string::npos);

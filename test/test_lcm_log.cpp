@@ -4,6 +4,7 @@
 // naming channel, realization, attempt, window and file.
 #include <catch2/catch.hpp>
 
+#include "batch_decode.hpp"
 #include "channels.hpp"
 #include "config.hpp"
 #include "inproc_ensemble.hpp"
@@ -322,8 +323,9 @@ TEST_CASE("lcm log: damage is an error naming channel, realization, attempt, win
   SECTION("a batch whose count claims 2^31 - 1 elements (found by fuzzing: it asked for ~100 GB)") {
     auto v = ev;
     const std::size_t i = find_batch<prl_plot_batch_t>(v, ch::kApoi, 1, 1, 2);
-    REQUIRE(v[i].data.size() > 48);
-    v[i].data[44] = 0x7f, v[i].data[45] = 0xff, v[i].data[46] = 0xff, v[i].data[47] = 0xff;  // the count n
+    const auto at = static_cast<std::size_t>(rnav::batch_count_offset());  // the count n
+    REQUIRE(v[i].data.size() > at + 4);
+    v[i].data[at] = 0x7f, v[i].data[at + 1] = 0xff, v[i].data[at + 2] = 0xff, v[i].data[at + 3] = 0xff;
     CHECK_THAT(with("count.lcmlog", v),
                Catch::Contains("event " + std::to_string(i) + " on channel PRL_APOI does not decode"));
   }

@@ -388,3 +388,55 @@ TEST_CASE("lock-step node, feedback input: window w gets the batch of window w-1
     CHECK(ctl.fed == std::vector<std::vector<double>>{{}, {0}, {101}, {302}});
   }
 }
+
+TEST_CASE("lock-step node: another run's grants, batches and acks are ignored and counted, and FINISHED reports them",
+          "[lockstep][foreign]") {
+  // Two runs on one network (--net host, or a replayed log): this run's id is 3, the other's 4.
+  // The other run's START, its source's batch for the same window (another value) and its
+  // sink's ack change nothing here; the sink's FINISHED report carries the count.
+  rnav::InprocBus bus;
+  bus.set_run_id(3);
+  Acks acks(bus);
+  Source src(bus);
+  Sink sink(bus);
+  sim_window_t w0 = window(kStart, 0);
+  w0.run_id = 3;
+  send(bus, w0);
+  REQUIRE(sink.got == std::vector<double>{0});
+  CHECK(acks.all.back().run_id == 3);
+  sim_window_t other = window(kStart, 1);
+  other.run_id = 4;
+  send(bus, other);  // not ours: nothing processed
+  CHECK(src.processed == 1);
+  bearing_batch_t b{};
+  b.header.seq = 1;
+  b.header.window = 1;
+  b.header.run_id = 4;
+  b.n = 1;
+  b.bearings.resize(1);
+  b.bearings[0].bearing_rad = 42;
+  bus.publish(kCh, b);
+  node_ack_t a{};
+  a.node = "sink_of_run_4";
+  a.status = kWaiting;
+  a.window = 0;
+  a.run_id = 4;
+  a.n_missing = 1;
+  a.missing = {kCh};
+  bus.publish(rnav::ch::kAck, a);  // the other run's WAITING: no batch published again here
+  bus.run_until_idle();
+  CHECK(src.republished() == 0);
+  sim_window_t w1 = window(kStart, 1);
+  w1.run_id = 3;
+  send(bus, w1);
+  CHECK(sink.got == std::vector<double>{0, 1});  // this run's batch, not the other's 42
+  CHECK(sink.foreign_ignored() == 3);             // grant, batch, ack
+  CHECK(src.foreign_ignored() == 2);              // grant, ack (the source takes no input)
+  sim_window_t fin = window(sim_window_t::FINISH, 1);
+  fin.run_id = 3;
+  send(bus, fin);
+  int reported = -1;
+  for (const auto& x : acks.all)
+    if (x.node == "sink" && x.status == node_ack_t::FINISHED) reported = x.n_foreign;
+  CHECK(reported == 3);
+}

@@ -214,6 +214,11 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     det("1,radar,10,20\n2,radar,10,2");  // "2" may be the start of "20.5"
     expect("detections.csv: the last line has no newline: the file may have been cut", "");
   }
+  SECTION("bearings in milliradians (beyond two turns read as degrees) are named as such") {
+    det("1,radar,10,20\n2,radar,10,5000\n");
+    expect("detections.csv:3", "");
+    expect("5000 is outside [-360, 360] (milliradians in a degree column?)", "bearing_deg");
+  }
   SECTION("a byte-order mark before the header is named, not read as a column 't_s' missing") {
     std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << det_head << "1,radar,10,20\n";
     expect("detections.csv:1: starts with a byte-order mark", "");

@@ -6,6 +6,7 @@
 // corrupt log, or one that lost a message, is an error naming where, and writes nothing.
 // ctest names: python.log_reader, python.sample_wire, python.numpy_tables, python.corrupt_log,
 // python.log2csv.
+#include "batch_decode.hpp"
 #include "lcm_event_reader.hpp"
 #include "lcm_log_export.hpp"
 #include "lcm_log_streams.hpp"
@@ -445,7 +446,8 @@ TEST_CASE("corrupt_log", "[python][lcm_log][input]") {
   const auto data = off + 28 + ev[k].channel.size();
   variant("foreign", with(data, std::string(1, static_cast<char>(bytes[data] ^ 0x55))),
           "event " + std::to_string(ev[k].eventnum) + " (byte " + std::to_string(off) + ") on channel PRL_APOI: fingerprint ");
-  variant("count", with(data + 44, std::string("\x00\x00\x7f\xff", 4)), "does not decode as rnav.prl_plot_batch_t");
+  variant("count", with(data + static_cast<std::size_t>(rnav::batch_count_offset()), std::string("\x00\x00\x7f\xff", 4)),
+          "does not decode as rnav.prl_plot_batch_t");
   // A batch lost (the log skips it), and one sent twice with different contents (in the place of
   // a later acknowledgement, with its event number).
   prl_plot_batch_t batch;

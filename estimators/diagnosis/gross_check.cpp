@@ -58,6 +58,21 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
                       ": median ratio to the range from nav.csv " + short_num(qm) + n +
                       " (expected 1; a range off by more than 25 % is no radar effect)");
   }
+  // An angle column in another unit, from its least-squares slope b against the computed angle:
+  // radians (b = pi/180), milliradians (b = 1000 pi/180 = 17.45) or radians converted twice
+  // (b = 180/pi); the course's is checked before its offset, which such a scale makes large.
+  auto angle_unit = [&n](const char* col, double b) {
+    if (std::abs(b * 180 / M_PI - 1) <= kAngleUnitMatch)
+      throw ConfigError(std::string("radar.csv ") + col + " looks like radians: least-squares slope " + short_num(b) +
+                        " against the angle from nav.csv" + n + " (pi/180 = 0.01745; expected 1)");
+    if (std::abs(b * 180 / (1000 * M_PI) - 1) <= kAngleUnitMatch)
+      throw ConfigError(std::string("radar.csv ") + col + " looks like milliradians: least-squares slope " + short_num(b) +
+                        " against the angle from nav.csv" + n + " (1000 pi/180 = 17.45; expected 1)");
+    if (std::abs(b * M_PI / 180 - 1) <= kAngleUnitMatch)
+      throw ConfigError(std::string("radar.csv ") + col + " looks like radians converted twice: least-squares slope " +
+                        short_num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
+  };
+  if (const double b = slope(ek_hat, ek, kMinSpreadDeg * kDegToRad); !std::isnan(b)) angle_unit("azimuth_deg", b);
   // course: an azimuth reference read as radians, the offset, then the slope. A reference of r
   // radians written as r "degrees" (r <= 2 pi) leaves d = r - r 180/pi (wrapped; 18 deg for
   // 6.07 rad): named where d matches it and is beyond kMinRefOffsetDeg.
@@ -93,12 +108,7 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
                                   {"elevation_deg", eg, eg_hat}}) {
     const double b = slope(x, y, kMinSpreadDeg * kDegToRad);
     if (std::isnan(b)) continue;
-    if (std::abs(b * 180 / M_PI - 1) <= kAngleUnitMatch)
-      throw ConfigError(std::string("radar.csv ") + col + " looks like radians: least-squares slope " + short_num(b) +
-                        " against the angle from nav.csv" + n + " (pi/180 = 0.01745; expected 1)");
-    if (std::abs(b * M_PI / 180 - 1) <= kAngleUnitMatch)
-      throw ConfigError(std::string("radar.csv ") + col + " looks like radians converted twice: least-squares slope " +
-                        short_num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
+    angle_unit(col, b);
     if (b >= 1 / kMaxSlope && b <= kMaxSlope) continue;
     throw ConfigError(std::string("radar.csv ") + col + " does not scale with the angle from nav.csv: least-squares slope " +
                       short_num(b) + n + " (expected 1): check its unit, and nav.csv's heights");

@@ -15,8 +15,8 @@
 //           heights in feet: 1 / 0.3048);
 //   glide:  the same as the course.
 // The likely unit: the factor f among kilometres (1000), feet (0.3048), nautical miles (1852),
-// statute miles (1609.344), millimetres (0.001) [range] or degrees/radians (180/pi and its
-// inverse) [angles] with |q f - 1| (or |b f - 1|) <= kUnitMatch; an azimuth_reference_deg r read
+// statute miles (1609.344), millimetres (0.001) [range] or radians and milliradians in a degree
+// column (180/pi and its inverse, 1000 pi/180) [angles] with |q f - 1| (or |b f - 1|) <= kUnitMatch; an azimuth_reference_deg r read
 // as radians (r <= 2 pi, |d| > kMinRefOffsetDeg and d = r (1 - 180/pi) wrapped within
 // kRefMatchDeg: checked before the offset, which wrapping may bring under its bound); for a
 // glide slope of about 0.3048, nav heights in feet.

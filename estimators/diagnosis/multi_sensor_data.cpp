@@ -86,7 +86,10 @@ void read_detections(const std::string& file, MultiSensorData& d) {
     if (!valid_sensor_name(x.sensor)) fail(t, i, "sensor", "'" + x.sensor + "' is not a sensor name ([a-z0-9_]+)");
     if (!std::isnan(x.range_m) && (x.range_m < 0 || x.range_m > kMaxRange_m))
       fail(t, i, "range_m", num(x.range_m) + " is outside [0, 1e6]");
-    if (!std::isnan(b) && (b < -360 || b > 360)) fail(t, i, "bearing_deg", num(b) + " is outside [-360, 360]");
+    // a degree column holding milliradians reaches 1000 x 2 pi = 6283: named as such
+    if (!std::isnan(b) && (b < -360 || b > 360))
+      fail(t, i, "bearing_deg",
+           num(b) + " is outside [-360, 360]" + (std::abs(b) <= 2000 * M_PI + 1 ? " (milliradians in a degree column?)" : ""));
     if (std::isnan(b) && !std::isnan(x.range_m)) fail(t, i, "bearing_deg", "empty, but range_m is given");
     if (!std::isnan(e) && (e < -90 || e > 90)) fail(t, i, "elevation_deg", num(e) + " is outside [-90, 90]");
     if (std::isnan(b) && !std::isnan(e)) fail(t, i, "elevation_deg", "given on an empty-scan row");

@@ -46,6 +46,11 @@ void Conductor::on_window_heard(const void* data, int size) {
   if (state_ == State::kDone || sent_.count(digest(data, size))) return;
   sim_window_t w;
   const bool decoded = w.decode(data, 0, size) == size;
+  if (decoded && w.run_id != bus_.run_id()) {  // another run's clock on this network: not ours to obey
+    ++foreign_;
+    return;
+  }
+  // of this run, yet not sent by this clock: a second clock of the same run id (or a forged one)
   abort("foreign traffic on " + std::string(ch::kWindow) + ": a message this clock did not send" +
             (decoded ? " (command " + std::to_string(w.command) + ", seed " + std::to_string(w.seed) + ", " +
                            std::to_string(w.n_realizations) + " realization(s), realization " + std::to_string(w.realization) +
@@ -70,6 +75,7 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
   w.utime_begin = (runner_.epoch_utime + b);
   w.utime_end = (runner_.epoch_utime + std::min(b + window_us_, end_us_));
   w.reason = reason;
+  w.run_id = bus_.run_id();
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w.getEncodedSize()));
   w.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   sent_.insert(digest(bytes.data(), static_cast<int>(bytes.size())));  // before it can come back
@@ -241,6 +247,10 @@ void Conductor::abort(const std::string& reason, int code) {
 
 void Conductor::on_ack(const node_ack_t& a) {
   if (state_ == State::kDone) return;
+  if (a.run_id != bus_.run_id()) {  // another run's node on this network
+    ++foreign_;
+    return;
+  }
   if (std::find(o_.nodes.begin(), o_.nodes.end(), a.node) == o_.nodes.end()) {
     // an ack counted toward a window it does not belong to would close it early
     std::string ours;
@@ -258,7 +268,10 @@ void Conductor::on_ack(const node_ack_t& a) {
     return;
   }
   if (state_ == State::kFinishing) {
-    if (a.status == node_ack_t::FINISHED) acked_.insert(a.node);
+    if (a.status == node_ack_t::FINISHED) {
+      acked_.insert(a.node);
+      node_foreign_[a.node] = a.n_foreign;
+    }
     if (acked_.size() == o_.nodes.size()) {
       state_ = State::kDone;
       // Every node has finished: let them go now instead of after their linger. Sent three times

@@ -69,6 +69,10 @@ class Conductor {
   const std::string& failure() const { return failure_; }
   const std::vector<RetryEvent>& retries() const { return retries_; }
   const std::vector<ResendEvent>& resends() const { return resends_; }
+  /// Messages of another run (another Bus::run_id) this clock heard and ignored, and those each
+  /// node reported ignoring with its FINISHED report.
+  int foreign_ignored() const { return foreign_; }
+  const std::map<std::string, int>& nodes_foreign_ignored() const { return node_foreign_; }
   int windows_per_realization() const { return n_windows_; }
   /// [s wall] How long the caller may block before the next poll() has something to do (a
   /// resend, heartbeat or timeout falls due), in (0, 0.05].
@@ -116,6 +120,8 @@ class Conductor {
   /// (another run, a replayed log) and fails the run at once, naming it, instead of as a
   /// missing ack 18 s later.
   std::unordered_set<std::uint64_t> sent_;
+  int foreign_ = 0;
+  std::map<std::string, int> node_foreign_;
   double loss_deadline_s_ = -1;  ///< [s wall] when the collected losses are acted on (< 0: none)
   std::vector<RetryEvent> retries_;
   std::vector<ResendEvent> resends_;

@@ -36,6 +36,11 @@ void write_events(const std::string& file, const rnav::Conductor& c, int n, std:
   for (const auto& e : c.resends())
     j["resends"].push_back({{"realization", e.realization}, {"attempt", e.attempt}, {"window", e.window}, {"reason", e.reason},
                                   {"wall_s", e.wall_s}, {"wait_s", e.wait_s}});
+  // messages of other runs on the same network, ignored: the clock's own count and each node's
+  int total = c.foreign_ignored();
+  nlohmann::ordered_json nodes = nlohmann::ordered_json::object();
+  for (const auto& [node, k] : c.nodes_foreign_ignored()) nodes[node] = k, total += k;
+  j["foreign_messages_ignored"] = {{"total", total}, {"clock", c.foreign_ignored()}, {"nodes", nodes}};
   rnav::write_file_atomic(file, j.dump(2) + "\n");
 }
 
@@ -177,6 +182,11 @@ int main(int argc, char** argv) {
     }
     std::cerr << "clock: " << o.n_realizations << " realizations in " << wall << " s, "
               << c.resends().size() << " RESEND(s), " << c.retries().size() << " repeated\n";
+    int foreign = c.foreign_ignored();
+    for (const auto& [node, k] : c.nodes_foreign_ignored()) foreign += k;
+    if (foreign > 0)
+      std::cerr << "clock: " << foreign << " message(s) of another run on this network ignored (run_events.json "
+                   "foreign_messages_ignored)\n";
     return 0;
   });
 }
