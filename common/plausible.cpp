@@ -52,10 +52,14 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
   const double a = std::pow(std::sin(dlat / 2), 2) +
                    std::cos(g.lat_deg * kDeg) * std::cos(c.lat_deg * kDeg) * std::pow(std::sin(dlon / 2), 2);
   const double d = 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
+  // degrees columns holding radians put a position within (+-pi/2, +-pi) of (0, 0)
+  const bool radians = std::abs(g.lat_deg) <= 1.5708 && std::abs(g.lon_deg) <= 3.1416 &&
+                       (std::abs(c.lat_deg) > 1.5708 || std::abs(c.lon_deg) > 3.1416);
   if (!(d <= kMaxSceneDistanceM))
     throw ConfigError(where + ": position (" + num(g.lat_deg) + ", " + num(g.lon_deg) + ") is " + num(d / 1000) +
                       " km from " + centre_name + " (" + num(c.lat_deg) + ", " + num(c.lon_deg) + "), more than " +
-                      num(kMaxSceneDistanceM / 1000) + " km: latitude and longitude swapped, or another place");
+                      num(kMaxSceneDistanceM / 1000) + " km: " +
+                      (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
 }
 
 void track(const std::string& what, const std::vector<GeoSample>& v, const Geodetic* centre,

@@ -67,10 +67,10 @@ def main():
          "radar.csv elevation_deg looks like radians"),
         ("elevations in milliradians", lambda d: rewrite(d, "radar.csv", "elevation_deg", lambda x: 1000 * math.radians(x)),
          "radar.csv elevation_deg looks like milliradians"),
-        # (azimuths in milliradians: 17.45 times the degrees wrap past 180 on this flight; they are
-        # refused by the azimuth offset check, the unit not named)
+        # (17.45 times the degrees: they wrap past 180 on this flight; the slope is taken on the
+        # azimuths made continuous)
         ("azimuths in milliradians", lambda d: rewrite(d, "radar.csv", "azimuth_deg", lambda x: 1000 * math.radians(x)),
-         "radar.csv azimuth_deg is off the azimuth from nav.csv"),
+         "radar.csv azimuth_deg looks like milliradians"),
         ("azimuth reference in radians", site_radians, "site.json radar.azimuth_reference_deg looks like radians"),
         ("nav heights in feet", lambda d: rewrite(d, "nav.csv", "h_m", lambda x: x / 0.3048), "nav.csv h_m looks like feet"),
     ]

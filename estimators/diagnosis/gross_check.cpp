@@ -48,6 +48,14 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
     ek.push_back(p.course_rad), ek_hat.push_back(p.course_pred_rad);
     eg.push_back(p.glide_rad), eg_hat.push_back(p.glide_pred_rad);
   }
+  // The course made continuous across +-pi, plot after plot (in time order): an azimuth that
+  // crosses the back of the reference, or one scaled 17.45 times (milliradians in a degree
+  // column), wraps, and a slope across the wrap means nothing.
+  auto unwrap = [](std::vector<double>& a) {
+    for (std::size_t i = 1; i < a.size(); ++i) a[i] = a[i - 1] + wrap_pi(a[i] - a[i - 1]);
+  };
+  unwrap(ek);
+  unwrap(ek_hat);
   const std::string n = " over " + std::to_string(plots.size()) + " plots";
   // range: q = median(D / D^)
   const double qm = median(q);
