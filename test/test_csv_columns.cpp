@@ -1,6 +1,7 @@
 // The column descriptions of the CSV files the project writes (common/csv_columns.hpp): one list
 // gives the header and NAME.units.json, keys in the header's order; a bad list is refused naming
 // the column.
+#include "shell.hpp"
 #include "csv_columns.hpp"
 
 #include "csv_units.hpp"
@@ -8,7 +9,6 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -19,20 +19,6 @@ namespace fs = std::filesystem;
 using rnav::CsvColumnDoc;
 
 namespace {
-
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_csv_columns_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 // The message of the std::invalid_argument the list raises in every use, the same in each.
 std::string refusal(const std::vector<CsvColumnDoc>& c) {
@@ -100,13 +86,13 @@ TEST_CASE("csv columns: a name that is not plain, given twice, or without a mean
 }
 
 TEST_CASE("csv columns: units.json is written beside the CSV, atomically", "[csv][files]") {
-  const fs::path d = fresh("write");
+  const fs::path d = rnav_test::scratch("csv_columns_write");
   CHECK(rnav::csv_units_name("stats_time.csv") == "stats_time.units.json");
   CHECK(rnav::csv_units_name("out/a.b.csv") == "out/a.b.units.json");
   CHECK(rnav::csv_units_name("table") == "table.units.json");
   std::ofstream(d / "x.csv") << rnav::csv_header(kExample) << "1.5,2\n";
   rnav::write_csv_units(d.string(), "x.csv", kExample);
-  CHECK(slurp(d / "x.units.json") == rnav::csv_units_json(kExample));
+  CHECK(rnav_test::slurp(d / "x.units.json") == rnav::csv_units_json(kExample));
   CHECK(rnav_test::csv_units_problem(d / "x.csv").empty());
   CHECK_FALSE(fs::exists(d / ".x.units.json.partial"));
   // The path form, and the test's own check can fail: a header that no longer matches is named.

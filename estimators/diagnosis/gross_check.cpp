@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <tuple>
+#include <utility>
 
 namespace rnav {
 
@@ -80,7 +80,8 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
       throw ConfigError(std::string("radar.csv ") + col + " looks like radians converted twice: least-squares slope " +
                         short_num(b) + " against the angle from nav.csv" + n + " (180/pi = 57.3; expected 1)");
   };
-  if (const double b = slope(ek_hat, ek, kMinSpreadDeg * kDegToRad); !std::isnan(b)) angle_unit("azimuth_deg", b);
+  const double b_course = slope(ek_hat, ek, kMinSpreadDeg * kDegToRad);
+  if (!std::isnan(b_course)) angle_unit("azimuth_deg", b_course);
   // course: an azimuth reference read as radians, the offset, then the slope. A reference of r
   // radians written as r "degrees" (r <= 2 pi) leaves d = r - r 180/pi (wrapped; 18 deg for
   // 6.07 rad): named where d matches it and is beyond kMinRefOffsetDeg.
@@ -112,9 +113,8 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
                         " times those from the radar's range and elevation over " + std::to_string(hq.size()) +
                         " plots (1 / 0.3048 = 3.281; expected 1)");
   }
-  for (const auto& [col, y, x] : {std::tuple<const char*, const std::vector<double>&, const std::vector<double>&>{"azimuth_deg", ek, ek_hat},
-                                  {"elevation_deg", eg, eg_hat}}) {
-    const double b = slope(x, y, kMinSpreadDeg * kDegToRad);
+  for (const auto& [col, b] : {std::pair<const char*, double>{"azimuth_deg", b_course},
+                               {"elevation_deg", slope(eg_hat, eg, kMinSpreadDeg * kDegToRad)}}) {
     if (std::isnan(b)) continue;
     angle_unit(col, b);
     if (b >= 1 / kMaxSlope && b <= kMaxSlope) continue;

@@ -473,12 +473,5 @@ def write_csv(table, path, unit_map=None, meaning_map=None):
     m = column_meanings(table, meaning_map)
     # text columns (strings, variable-length arrays joined by ';') are percent-encoded
     text = [any(isinstance(r[j], str) for r in table.rows) for j in range(len(table.columns))]
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        w = csv.writer(f, lineterminator="\n")
-        w.writerow(table.columns)
-        for r in table.rows:
-            w.writerow([csvio.percent_encode(x) if t and isinstance(x, str) else _text(x) for x, t in zip(r, text)])
-        f.flush()
-        os.fsync(f.fileno())
-    csvio.write_units(path, [(c, u.get(c, ""), m.get(c) or c, "percent" if t else None)
-                             for c, t in zip(table.columns, text)])
+    csvio.write_csv(path, [(c, u.get(c, ""), m.get(c) or c, "percent" if t else None)
+                           for c, t in zip(table.columns, text)], table.rows)

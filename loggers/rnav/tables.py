@@ -61,7 +61,7 @@ class Table(dict):
         return "%s [%s]" % (m, u) if u else m
 
 
-def _column(cells, where, name):
+def _column(cells):
     if all(_INT.match(c) for c in cells) and cells:
         return np.array([int(c) for c in cells], dtype=np.int64)
     if all(c == "" or _FLOAT.match(c) for c in cells):
@@ -96,7 +96,7 @@ def read_csv(path):
     for i, r in enumerate(body):
         if len(r) != len(header):
             raise CsvError("%s: line %d: %d fields, the header has %d" % (path, i + 2, len(r), len(header)))
-    cols = {h: _column([r[j].strip() for r in body], path, h) for j, h in enumerate(header)}
+    cols = {h: _column([r[j].strip() for r in body]) for j, h in enumerate(header)}
     doc = read_units(path)
     units, meanings = {}, {}
     if doc is not None:

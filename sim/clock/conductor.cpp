@@ -1,6 +1,7 @@
 #include "conductor.hpp"
 
 #include "channels.hpp"
+#include "lockstep_node.hpp"
 
 #include <rnav/sim_scenario_t.hpp>
 #include <rnav/sim_window_t.hpp>
@@ -33,17 +34,9 @@ Conductor::Conductor(Bus& bus, const RunnerOptions& runner, double step_s,
   bus_.subscribe_raw(ch::kWindow, [this](const std::string&, const void* data, int size) { on_window_heard(data, size); });
 }
 
-namespace {
-// FNV-1a over a message's bytes (a digest to recognise the clock's own messages, not security).
-std::uint64_t digest(const void* data, int size) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (int i = 0; i < size; ++i) h = (h ^ static_cast<const std::uint8_t*>(data)[i]) * 1099511628211ULL;
-  return h;
-}
-}  // namespace
-
+// its own messages are known by message_digest (lockstep_node.hpp), taken before each is sent
 void Conductor::on_window_heard(const void* data, int size) {
-  if (state_ == State::kDone || sent_.count(digest(data, size))) return;
+  if (state_ == State::kDone || sent_.count(message_digest(data, size))) return;
   sim_window_t w;
   const bool decoded = w.decode(data, 0, size) == size;
   if (decoded && w.run_id != bus_.run_id()) {  // another run's clock on this network: not ours to obey
@@ -78,7 +71,7 @@ void Conductor::send(std::int8_t command, const std::string& reason) {
   w.run_id = bus_.run_id();
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(w.getEncodedSize()));
   w.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  sent_.insert(digest(bytes.data(), static_cast<int>(bytes.size())));  // before it can come back
+  sent_.insert(message_digest(bytes.data(), static_cast<int>(bytes.size())));  // before it can come back
   bus_.publish_raw(ch::kWindow, bytes.data(), static_cast<int>(bytes.size()));
   last_sent_s_ = now_s_;
 }
