@@ -2,6 +2,7 @@
 
 #include "config.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rnav::plausible {
@@ -9,6 +10,14 @@ namespace rnav::plausible {
 namespace {
 
 std::string num(double x) { return value_text(x); }
+
+constexpr double kPi = 3.14159265358979323846;
+
+double median_of(std::vector<double> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
 
 }  // namespace
 
@@ -60,6 +69,38 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
                       " km from " + centre_name + " (" + num(c.lat_deg) + ", " + num(c.lon_deg) + "), more than " +
                       num(kMaxSceneDistanceM / 1000) + " km: " +
                       (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
+}
+
+void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b) {
+  if (a.g.empty() || b.g.empty()) return;
+  auto med = [](const NamedPositions& p, double Geodetic::*field) {
+    std::vector<double> v;
+    for (const auto& g : p.g) v.push_back(g.*field);
+    return median_of(v);
+  };
+  // m read as radians lands on the other list's median `other`, within [lo, hi] of a radians column
+  auto radians = [](double m, double other, double lo, double hi) {
+    return m >= lo && m <= hi && std::abs(m * 180 / kPi - other) <= kRadiansMatchDeg && std::abs(m - other) > kRadiansMatchDeg;
+  };
+  const double lat[2] = {med(a, &Geodetic::lat_deg), med(b, &Geodetic::lat_deg)};
+  const double lon[2] = {med(a, &Geodetic::lon_deg), med(b, &Geodetic::lon_deg)};
+  const NamedPositions* p[2] = {&a, &b};
+  for (int i = 0; i < 2; ++i) {
+    const int o = 1 - i;
+    const bool r_lat = radians(lat[i], lat[o], -kPi / 2, kPi / 2), r_lon = radians(lon[i], lon[o], -kPi, 2 * kPi);
+    if (!r_lat && !r_lon) continue;
+    std::string names, said;
+    auto add = [&](bool on, const std::string& name, double m, double other, const std::string& other_name) {
+      if (!on) return;
+      names += (names.empty() ? "" : " and ") + name;
+      said += (said.empty() ? "" : "; ") + std::string("its median ") + num(m) + " read as radians is " +
+              num(m * 180 / kPi) + " deg, where " + other_name + " lies (median " + num(other) + " deg; read as degrees it is " +
+              num(std::abs(m - other)) + " deg away)";
+    };
+    add(r_lat, p[i]->lat_name, lat[i], lat[o], p[o]->lat_name);
+    add(r_lon, p[i]->lon_name, lon[i], lon[o], p[o]->lon_name);
+    throw ConfigError(names + (r_lat && r_lon ? " look" : " looks") + " like radians: " + said);
+  }
 }
 
 void track(const std::string& what, const std::vector<GeoSample>& v, const Geodetic* centre,

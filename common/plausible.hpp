@@ -37,6 +37,22 @@ void angle(const std::string& where, const std::string& name, double rad);
 /// haversine distance on a sphere of the WGS84 equatorial radius (enough for a bound).
 void near(const std::string& where, const Geodetic& g, const Geodetic& centre, const std::string& centre_name);
 
+/// Positions of one file or JSON object, with the names of its latitude and longitude columns
+/// as a message should give them ("nav.csv lat_deg", "site.json radar.lat_deg").
+struct NamedPositions {
+  std::string lat_name, lon_name;
+  std::vector<Geodetic> g;
+};
+/// [deg] A coordinate column holding radians: its median m read as radians (m 180/pi) lies within
+/// this of the other file's median, while m as read lies farther than this from it. (Scenes are
+/// tens of kilometres across: a degree of latitude is 111 km. Coordinates within about a degree
+/// of 0 differ too little between the two units to be told apart, or to matter.)
+inline constexpr double kRadiansMatchDeg = 1;
+/// Throws ConfigError naming a latitude or longitude column of `a` or `b` that holds radians
+/// (see kRadiansMatchDeg; |m| <= pi/2 for a latitude, -pi <= m <= 2 pi for a longitude). Called
+/// before `near`, whose "far away" would not say which column. Empty lists pass.
+void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b);
+
 /// Which heights of a track are checked against [kMinHeightM, kMaxHeightM].
 enum class Heights { kAll, kWhereKnown /* finite ones: NaN marks an unknown height */, kNone };
 /// A sampled track of positions, sample i named `what` + " " + i (e.g. "FILE: observer sample"):

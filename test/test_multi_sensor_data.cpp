@@ -221,7 +221,7 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
   }
   SECTION("a reference track in radians (lat_deg, lon_deg) is named as such") {
     std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n0,1,1.1,0.18\n1,1,1.1,0.18\n";
-    expect("lat_deg and lon_deg look like radians", "");
+    expect("truth.csv lat_deg and truth.csv lon_deg look like radians", "");
   }
   SECTION("a byte-order mark before the header is named, not read as a column 't_s' missing") {
     std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << det_head << "1,radar,10,20\n";

@@ -27,8 +27,9 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
     for (std::size_t i = 0; i < t.rows(); ++i) {
       const double ts = t.col("t_s")[i], b = t.col("bearing_deg")[i];
       if (std::abs(b) > 720)
-        throw ConfigError(dir + "/bearings.csv:" + std::to_string(t.line(i)) +
-                          ": column 'bearing_deg' out of range");
+        throw ConfigError(dir + "/bearings.csv:" + std::to_string(t.line(i)) + ": column 'bearing_deg': " +
+                          value_text(b) + " is outside [-720, 720]" +
+                          (std::abs(b) <= 2000 * M_PI + 1 ? " (milliradians in a degree column?)" : ""));
       if (d.frames.empty() || d.frames.back().t_s != ts) d.frames.push_back({ts, {}});
       d.frames.back().bearings_rad.push_back(wrap_pi(b * kDegToRad));
     }
@@ -41,6 +42,11 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
   }
   if (d.observer.size() < 2) throw ConfigError(dir + "/observer.csv: fewer than 2 rows");
   if (d.frames.size() < 10) throw ConfigError(dir + "/bearings.csv: fewer than 10 frames");
+  // coordinates in radians, named by file and column before validate's "far away"
+  plausible::NamedPositions obs{"observer.csv lat_deg", "observer.csv lon_deg", {}}, tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
+  for (const auto& s : d.observer) obs.g.push_back(s.g);
+  for (const auto& s : d.truth) tru.g.push_back(s.g);
+  plausible::coordinates_in_degrees(obs, tru);
   d.validate(dir);
   return d;
 }

@@ -24,12 +24,36 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, double 
   return sxy / sxx;
 }
 
+double mean(const std::vector<double>& x) {
+  double m = 0;
+  for (double v : x) m += v / static_cast<double>(x.size());
+  return m;
+}
+
+double sd(const std::vector<double>& x) {
+  const double m = mean(x);
+  double s = 0;
+  for (double v : x) s += (v - m) * (v - m) / static_cast<double>(x.size());
+  return std::sqrt(s);
+}
+
 }  // namespace
 
-std::string range_unit_of(double q) {
+// Weighted least-squares line y = a + b x: (a, b); b NaN where x does not spread.
+static std::pair<double, double> line_fit(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w) {
+  double sw = 0, mx = 0, my = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sw += w[i], mx += w[i] * x[i], my += w[i] * y[i];
+  mx /= sw, my /= sw;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sxx += w[i] * (x[i] - mx) * (x[i] - mx), sxy += w[i] * (x[i] - mx) * (y[i] - my);
+  const double b = sxy / sxx;
+  return {my - b * mx, b};
+}
+
+std::string range_unit_of(double q, double tol) {
   for (const auto& [name, f] : std::vector<std::pair<const char*, double>>{
            {"kilometres", 1000}, {"feet", 0.3048}, {"nautical miles", 1852}, {"statute miles", 1609.344}, {"millimetres", 0.001}})
-    if (std::abs(q * f - 1) <= kUnitMatch) return name;
+    if (std::abs(q * f - 1) <= tol) return name;
   return "";
 }
 
@@ -97,22 +121,38 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
                       " deg" + n + " (more than " + short_num(kMaxAngleOffsetDeg) +
                       " deg is no radar effect): check site.json radar.azimuth_reference_deg and the column's unit");
   // Heights: the aircraft's height H = D sin(Eg) + h_R + (D cos Eg)^2 / (2 R_E) (above the radar,
-  // the radar's own, the Earth's drop over the horizontal distance), measured and from nav.csv:
-  // nav heights in feet make H^ = H / 0.3048 (an angle's slope tells nothing there: near the
-  // runway the radar's height over D dominates it).
-  std::vector<double> hq;
+  // the radar's own, the Earth's drop over the horizontal distance) from the radar, against
+  // nav.csv's height h as read (not recomputed from the nav's polar position: in kilometres h is
+  // a metre or so, and the recomputation's decimetre errors would hide it). An angle's slope tells
+  // nothing here: near the runway the radar's height over D dominates it. By the least-squares
+  // line H = c + d h over the plots:
+  //   nav.csv h_m in a unit of factor f (h = H / f):       d = f, c = 0;
+  //   site.json radar.h_m in that unit (h_R' = h_R / f):   d = 1, c = h_R' - h_R, the site height
+  //   nav.csv implies h_R' - c, and h_R' over it is 1 / f (named where |c| > kMinSiteHeightOffsetM:
+  //   an elevation bias of 0.1 deg is 17 m at 10 km).
+  // Weighted by 1 / D^2: H's noise is D times the elevation's. A real elevation bias tilts the
+  // line by a few per cent on a glide (0.1 deg is 3.4 % of the height on a 3 deg slope), hence
+  // kHeightUnitMatch. A ratio and an offset are told apart only where the heights spread (sd of H at least
+  // kMinHeightSpreadM, a descent); on a level pass nav's unit is named from the median ratio h / H.
   auto height = [&](double D, double Eg) { return D * std::sin(Eg) + radar_h_m + std::pow(D * std::cos(Eg), 2) / (2 * kEarthRadiusM); };
+  std::vector<double> H, h, w, hq;
   for (const auto& p : plots) {
-    const double H = height(p.range_m, p.glide_rad), H_hat = height(p.range_pred_m, p.glide_pred_rad);
-    if (H >= kMinHeightM && H_hat > 0) hq.push_back(H_hat / H);
+    H.push_back(height(p.range_m, p.glide_rad)), h.push_back(p.nav_h_m), w.push_back(1 / (p.range_m * p.range_m));
+    if (H.back() >= kMinHeightM && p.nav_h_m > 0) hq.push_back(p.nav_h_m / H.back());
   }
-  if (hq.size() >= kMinHeightPlots) {
-    const double qh = median(hq);
-    if (std::abs(qh * 0.3048 - 1) <= kUnitMatch)
-      throw ConfigError("nav.csv h_m looks like feet: the aircraft's heights from nav.csv are a median " + short_num(qh) +
-                        " times those from the radar's range and elevation over " + std::to_string(hq.size()) +
-                        " plots (1 / 0.3048 = 3.281; expected 1)");
-  }
+  const auto [ch, dh] = line_fit(h, H, w);  // H = ch + dh h
+  const bool spread = sd(H) >= kMinHeightSpreadM && std::isfinite(dh);
+  const double q_nav = spread ? (dh != 0 ? 1 / dh : INFINITY) : hq.size() >= kMinHeightPlots ? median(hq) : 1.0;
+  if (const std::string u = range_unit_of(q_nav, kHeightUnitMatch); !u.empty())
+    throw ConfigError("nav.csv h_m looks like " + u + ": the aircraft's heights from nav.csv are " + short_num(q_nav) +
+                      " times those from the radar's range and elevation" +
+                      (spread ? " (least-squares line" + n + ")" : " (median over " + std::to_string(hq.size()) + " plots)") +
+                      " (expected 1)");
+  if (spread && std::abs(dh - 1) <= kHeightUnitMatch && std::abs(ch) > kMinSiteHeightOffsetM && radar_h_m != ch)
+    if (const std::string u = range_unit_of(radar_h_m / (radar_h_m - ch), kHeightUnitMatch); !u.empty())
+      throw ConfigError("site.json radar.h_m looks like " + u + ": " + short_num(radar_h_m) +
+                        " m puts every height from the radar " + short_num(ch) + " m off nav.csv's (least-squares line" + n +
+                        "); nav.csv implies a site height of " + short_num(radar_h_m - ch) + " m");
   for (const auto& [col, b] : {std::pair<const char*, double>{"azimuth_deg", b_course},
                                {"elevation_deg", slope(eg_hat, eg, kMinSpreadDeg * kDegToRad)}}) {
     if (std::isnan(b)) continue;
@@ -121,6 +161,27 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
     throw ConfigError(std::string("radar.csv ") + col + " does not scale with the angle from nav.csv: least-squares slope " +
                       short_num(b) + n + " (expected 1): check its unit, and nav.csv's heights");
   }
+}
+
+void check_truth_heights(const std::vector<GeoSample>& nav, const std::vector<GeoSample>& truth) {
+  if (nav.size() < 2) return;
+  std::vector<double> q;
+  std::size_t k = 1;
+  for (const auto& s : truth) {
+    if (s.t_s < nav.front().t_s || s.t_s > nav.back().t_s) continue;
+    while (k + 1 < nav.size() && nav[k].t_s < s.t_s) ++k;
+    const GeoSample &a = nav[k - 1], &b = nav[k];
+    const double w = b.t_s > a.t_s ? (s.t_s - a.t_s) / (b.t_s - a.t_s) : 0;
+    const double h_nav = a.g.h_m + w * (b.g.h_m - a.g.h_m);  // h^(t) = h_a + w (h_b - h_a)
+    if (h_nav >= kMinHeightM) q.push_back(s.g.h_m / h_nav);
+  }
+  if (q.size() < kMinHeightPlots) return;
+  const double qm = median(q);
+  if (qm >= 1 / kMaxRangeScale && qm <= kMaxRangeScale) return;
+  const std::string u = range_unit_of(qm);
+  throw ConfigError("truth.csv h_m " + (u.empty() ? std::string("does not match nav.csv's heights") : "looks like " + u) +
+                    ": the aircraft's true heights are a median " + short_num(qm) + " times nav.csv's over " +
+                    std::to_string(q.size()) + " samples (expected 1)");
 }
 
 }  // namespace rnav

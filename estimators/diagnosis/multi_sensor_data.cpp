@@ -4,6 +4,7 @@
 
 #include "config.hpp"
 #include "csv_table.hpp"
+#include "gross_check.hpp"
 #include "plausible.hpp"
 
 #include <algorithm>
@@ -205,6 +206,38 @@ void refuse_raw_autoferry(const std::string& dir) {
                     " (add --boat-names A,B to name its boats), then diagnose out/" + name);
 }
 
+// Units the range checks cannot see, by file and column (before validate's "far away", which
+// would not say which column):
+//   coordinates: observer.csv's and truth.csv's medians (plausible::coordinates_in_degrees);
+//   heading:     every heading_deg within [0, 2 pi] while most of the observer's courses over
+//                ground (between rows kMinCourseSpeedMps or faster, flat Earth: atan2(dE, dN))
+//                lie outside that band read as degrees (bearings_look_like_radians): radians.
+constexpr double kMinCourseSpeedMps = 0.5;  // [m/s] slower, the course over ground is noise
+constexpr double kMetresPerDegree = 111195;  // [m] one degree of a great circle (mean radius)
+void check_units(const MultiSensorData& d) {
+  plausible::NamedPositions obs{"observer.csv lat_deg", "observer.csv lon_deg", {}}, tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
+  for (const auto& s : d.observer) obs.g.push_back(s.g);
+  for (const auto& [name, v] : d.truth)
+    for (const auto& s : v) tru.g.push_back(s.g);
+  plausible::coordinates_in_degrees(obs, tru);
+  int n = 0, inside = 0, refs = 0, refs_outside = 0;
+  for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
+    const double h = d.observer_heading_deg[i];
+    if (!std::isnan(h)) ++n, inside += h * kDegToRad <= kRadiansAsDegreesRad;
+    const Geodetic &a = d.observer[i].g, &b = d.observer[i + 1].g;
+    const double dn = (b.lat_deg - a.lat_deg) * kMetresPerDegree,
+                 de = (b.lon_deg - a.lon_deg) * kMetresPerDegree * std::cos(a.lat_deg * kDegToRad);
+    const double dt = d.observer[i + 1].t_s - d.observer[i].t_s;
+    if (!(dt > 0) || std::hypot(dn, de) / dt < kMinCourseSpeedMps) continue;
+    ++refs;
+    refs_outside += outside_radians_band(std::fmod(std::atan2(de, dn) + 2 * M_PI, 2 * M_PI));
+  }
+  if (bearings_look_like_radians(n, inside, refs, refs_outside))
+    throw ConfigError("observer.csv heading_deg looks like radians: all " + std::to_string(n) +
+                      " values lie within [0, 6.28] while the observer's course over ground mostly lies outside (" +
+                      std::to_string(refs_outside) + " of " + std::to_string(refs) + " moving steps)");
+}
+
 }  // namespace
 
 MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
@@ -213,6 +246,7 @@ MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
   read_observer(dir + "/observer.csv", d);
   read_detections(dir + "/detections.csv", d);
   if (std::filesystem::exists(dir + "/truth.csv")) read_truth(dir + "/truth.csv", d);
+  check_units(d);
   d.validate(dir);
   return d;
 }

@@ -26,6 +26,7 @@ struct Plot {
   Eigen::Vector3d y;               // meas - nav [m, rad, rad]
   Eigen::Vector3d meas;            // measured polar
   double D = 0, Ek = 0, Eg = 0;    // nav polar
+  double nav_h_m = 0;              // the nav's height at t, as read [m] (for the gross checks)
   Eigen::Matrix3d J;               // d(D, Ek, Eg)/dp at the nav position
   Eigen::Vector3d rate;            // d(D, Ek, Eg)/dt from the nav velocity
   /// What the catalogue's columns need (prl_effect_columns.hpp).
@@ -100,6 +101,7 @@ std::vector<Plot> plots_with_nav(const PrlFlightData& data, const DiagnoseOption
     Plot pl;
     pl.t = t;
     pl.D = q.range_m, pl.Ek = q.course_rad, pl.Eg = q.glide_rad;
+    pl.nav_h_m = (1 - a) * data.nav[j].g.h_m + a * data.nav[j + 1].g.h_m;
     pl.J = polar_jacobian(p);
     pl.rate = pl.J * v;
     const Polar& m = data.plots[i];
@@ -242,8 +244,10 @@ DiagnoseReport diagnose_prl(const PrlFlightData& data, const DiagnoseOptions& o)
   if (plots->size() < 30) throw ConfigError("diagnose prl: fewer than 30 plots with a nav solution around them");
   {
     std::vector<PlotGeometry> g;
-    for (const Plot& p : *plots) g.push_back({p.meas(0), p.meas(1), p.meas(2), p.D, p.Ek, p.Eg});
+    for (const Plot& p : *plots) g.push_back({p.meas(0), p.meas(1), p.meas(2), p.D, p.Ek, p.Eg, p.nav_h_m});
     check_plot_units(g, data.azimuth_reference_deg, data.radar_site.h_m);
+    // truth's heights against nav's once nav's are known right (a ratio of the two cannot say which is off)
+    check_truth_heights(data.nav, data.truth);
   }
   const Problem pb = prl_problem(plots, data, o);
   check_limit_entries(pb, o.search.injection, "diagnose prl");
