@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
     rnav::MultiDiagnoseOptions mo;
     rnav::LcmLogOptions lo;
     bool log_options = false;
+    // The most data rows diagnosed: the diagnosis's time and memory grow with them (a landing
+    // flight with --injections 0: about 1 ms and 15 kB per plot; 39 000 multi-sensor rows, 24 s
+    // and 220 MB), the CSV limit (--max-input-mb) bounds only the reading.
+    constexpr long long kDefaultMaxRows = 50000;
+    long long max_rows = kDefaultMaxRows;
     // Every prl and uav report states limits measured by injection (the library's default is the
     // Fisher limits alone, for callers that run many searches); multi-sensor problems are larger
     // and their catalogues long: Fisher unless asked.
@@ -59,7 +64,7 @@ int main(int argc, char** argv) {
       std::cerr << "diagnose: limit by injection: " << line << std::endl;
     };
     // Where a long search is: a line at most every 2 s once it has run 3 s (a 20 Hz flight of
-    // 12 000 plots takes about a minute), with the wall time since the start.
+    // 9 205 plots takes 9 s with --injections 0, the default limits by injection minutes), with the wall time since the start.
     struct Progress {
       std::mutex m;
       std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
@@ -104,6 +109,13 @@ int main(int argc, char** argv) {
                "67.1 MB (64 MiB)", [&](const std::string& v) {
                  const double mb = rnav::cli::number("--max-input-mb", v, 1e-6, 1e6);
                  rnav::set_max_csv_bytes(static_cast<std::uint64_t>(mb * 1e6));
+               })
+        .value("--max-rows", "N",
+               "the most data rows diagnosed (radar plots, bearings, or detections over all recordings); more are "
+               "refused before the diagnosis, naming the count (a landing flight with --injections 0 takes about "
+               "1 ms and 15 kB per plot), >= 1",
+               std::to_string(kDefaultMaxRows), [&](const std::string& v) {
+                 max_rows = rnav::parse_integer("--max-rows", v, 1, std::numeric_limits<long long>::max());
                })
         .value("--residuals", "FILE",
                "write the residuals (per plot or frame, nominal and extended model) as CSV to FILE, and each column's "
@@ -210,6 +222,13 @@ int main(int argc, char** argv) {
       if (json.empty()) return;
       rnav::write_file_atomic(json, j.dump(2) + "\n");
     };
+    // rows: the data's count of `what`, refused beyond --max-rows
+    auto check_rows = [&](std::size_t rows, const std::string& what, const std::string& where) {
+      if (static_cast<long long>(rows) > max_rows)
+        throw rnav::ConfigError(where + ": " + std::to_string(rows) + " " + what + ", more than the " +
+                                std::to_string(max_rows) + " diagnosed at most (--max-rows N raises it; the time and "
+                                "memory of the diagnosis grow with them)");
+    };
     if (kind == "multi") {
       std::vector<std::pair<std::string, rnav::MultiSensorData>> recs;
       for (std::size_t k = 1; k < pos.size(); ++k) {
@@ -223,6 +242,9 @@ int main(int argc, char** argv) {
           if (r.first == name) throw rnav::ConfigError("KIND multi: two INPUT folders are both named '" + name + "' (recordings are named by their folder)");
         recs.push_back({name, rnav::MultiSensorData::read_folder(in)});
       }
+      std::size_t rows = 0;
+      for (const auto& r : recs) rows += r.second.detections.size();
+      check_rows(rows, "detection rows", recs.size() == 1 ? pos[1] : std::to_string(recs.size()) + " recordings");
       const auto rep = rnav::diagnose_multi_pooled(recs, mo);
       std::cout << rep.text();
       if (!residuals.empty()) rep.write_residuals_csv(residuals);
@@ -234,10 +256,19 @@ int main(int argc, char** argv) {
       throw rnav::ConfigError("--realization, --scenario and --set apply to an LCM event log; '" +
                               input + "' is a CSV folder");
     std::string summary;
-    const auto rep =
-        kind == "prl"
-            ? rnav::diagnose_prl(log ? rnav::read_prl_lcm_log(input, lo, &summary) : rnav::PrlFlightData::read_folder(input), o)
-            : rnav::diagnose_uav(log ? rnav::read_uav_lcm_log(input, lo, &summary) : rnav::AzimuthData::read_folder(input), uo);
+    auto prl_data = [&] {
+      auto d = log ? rnav::read_prl_lcm_log(input, lo, &summary) : rnav::PrlFlightData::read_folder(input);
+      check_rows(d.plots.size(), "radar plots", input);
+      return d;
+    };
+    auto uav_data = [&] {
+      auto d = log ? rnav::read_uav_lcm_log(input, lo, &summary) : rnav::AzimuthData::read_folder(input);
+      std::size_t n = 0;
+      for (const auto& f : d.frames) n += f.bearings_rad.size();
+      check_rows(n, "bearings", input);
+      return d;
+    };
+    const auto rep = kind == "prl" ? rnav::diagnose_prl(prl_data(), o) : rnav::diagnose_uav(uav_data(), uo);
     if (!summary.empty()) std::cerr << "diagnose: " << summary << "\n";
     std::cout << rep.text();
     if (!residuals.empty()) rep.write_residuals_csv(residuals);
