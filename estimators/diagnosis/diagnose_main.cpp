@@ -52,10 +52,11 @@ int main(int argc, char** argv) {
     rnav::LcmLogOptions lo;
     bool log_options = false;
     // The most data rows diagnosed: the diagnosis's time and memory grow with them (a landing
-    // flight with --injections 0: about 1 ms and 15 kB per plot; 39 000 multi-sensor rows, 24 s
-    // and 220 MB), the CSV limit (--max-input-mb) bounds only the reading.
-    constexpr long long kDefaultMaxRows = 50000;
-    long long max_rows = kDefaultMaxRows;
+    // flight with --injections 0: about 1 ms and 15 kB per plot; a multi-sensor recording of
+    // 39 000 detection rows, 24 s and 220 MB; the nine Autoferry recordings pooled, 72 793 rows,
+    // about a minute), the CSV limit (--max-input-mb) bounds only the reading. 0: the kind's default.
+    constexpr long long kDefaultMaxRows = 50000, kDefaultMaxRowsMulti = 150000;
+    long long max_rows = 0;
     // Every prl and uav report states limits measured by injection (the library's default is the
     // Fisher limits alone, for callers that run many searches); multi-sensor problems are larger
     // and their catalogues long: Fisher unless asked.
@@ -114,7 +115,8 @@ int main(int argc, char** argv) {
                "the most data rows diagnosed (radar plots, bearings, or detections over all recordings); more are "
                "refused before the diagnosis, naming the count (a landing flight with --injections 0 takes about "
                "1 ms and 15 kB per plot), >= 1",
-               std::to_string(kDefaultMaxRows), [&](const std::string& v) {
+               std::to_string(kDefaultMaxRows) + " for prl and uav, " + std::to_string(kDefaultMaxRowsMulti) + " for multi",
+               [&](const std::string& v) {
                  max_rows = rnav::parse_integer("--max-rows", v, 1, std::numeric_limits<long long>::max());
                })
         .value("--residuals", "FILE",
@@ -223,6 +225,7 @@ int main(int argc, char** argv) {
       rnav::write_file_atomic(json, j.dump(2) + "\n");
     };
     // rows: the data's count of `what`, refused beyond --max-rows
+    if (max_rows == 0) max_rows = kind == "multi" ? kDefaultMaxRowsMulti : kDefaultMaxRows;
     auto check_rows = [&](std::size_t rows, const std::string& what, const std::string& where) {
       if (static_cast<long long>(rows) > max_rows)
         throw rnav::ConfigError(where + ": " + std::to_string(rows) + " " + what + ", more than the " +
