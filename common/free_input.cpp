@@ -60,6 +60,17 @@ std::string foreign_type_error(const std::string& channel, const char* batch_typ
          " (its type fingerprint matches neither)";
 }
 
+std::string free_input_summary(long received, const InputForm& form, long flights, long incomplete, const FreeSkips& skips) {
+  std::string s = std::to_string(received) + " message(s) received";
+  if (form.form() == InputForm::Form::kBatches)
+    s += " as batches: " + std::to_string(flights) + " flight(s), " + std::to_string(incomplete) +
+         " of them incomplete, " + std::to_string(skips.resends) + " resent and " + std::to_string(skips.stale) +
+         " stale batch(es) skipped";
+  else if (form.form() == InputForm::Form::kSamples)
+    s += " as single samples";
+  return s;
+}
+
 bool RecentCopies::seen(const void* data, int size) {
   const std::uint64_t d = message_digest(data, size);
   if (set_.count(d)) return true;

@@ -88,4 +88,61 @@ class RecentCopies {
 /// The error for a message whose fingerprint is neither the batch nor the sample type.
 std::string foreign_type_error(const std::string& channel, const char* batch_type, const char* sample_type);
 
+/// What a free-running node's inputs skipped (one tally for all its channels).
+struct FreeSkips {
+  long resends = 0;  ///< batches of a window already seen, and byte-identical copies of samples
+  long stale = 0;    ///< batches of an older flight than the current one
+};
+
+/// The node's summary line up to its own output count: "N message(s) received as batches: F
+/// flight(s), I of them incomplete, R resent and S stale batch(es) skipped" (or "... as single
+/// samples", or nothing after "received" before any input).
+std::string free_input_summary(long received, const InputForm& form, long flights, long incomplete, const FreeSkips& skips);
+
+/// One input channel of a free-running node, carrying batch type Batch (with a batch_header_t
+/// `header`) or sample type Sample: the dispatch every such input shares (see the file comment).
+/// take() hands a batch that is the next of its flight to on_batch (a resend, or a batch of a
+/// flight older than the node's current one, is skipped and counted), and a sample that is not a
+/// copy of one seen lately to on_sample; a message of any other type, or in the other form than
+/// the node's inputs so far (`form`, shared by the node's inputs), throws naming the channel.
+template <class Batch, class Sample> class FreeInput {
+ public:
+  FreeInput(std::string channel, InputForm& form, FreeSkips& skips)
+      : channel_(std::move(channel)), form_(form), skips_(skips), order_(channel_) {}
+
+  template <class OnBatch, class OnSample>
+  void take(const void* data, int size, const FlightKey& current, OnBatch&& on_batch, OnSample&& on_sample) {
+    const std::int64_t fp = message_fingerprint(data, size);
+    if (fp == Batch::getHash()) {
+      form_.expect(InputForm::Form::kBatches, channel_);
+      Batch b = decode_whole_batch<Batch>(data, size, channel_);
+      const BatchOrder::Step s = order_.see(b.header);
+      if (s == BatchOrder::Step::kResend) {
+        ++skips_.resends;
+      } else if (s == BatchOrder::Step::kStale || FlightKey{b.header.realization, b.header.attempt} < current) {
+        ++skips_.stale;
+      } else {
+        on_batch(std::move(b));
+      }
+    } else if (fp == Sample::getHash()) {
+      form_.expect(InputForm::Form::kSamples, channel_);
+      if (copies_.seen(data, size)) {
+        ++skips_.resends;  // a publisher's resend
+        return;
+      }
+      on_sample(decode_sample<Sample>(data, size, channel_));
+    } else {
+      throw std::runtime_error(foreign_type_error(channel_, Batch::getTypeName(), Sample::getTypeName()));
+    }
+  }
+  const std::string& channel() const { return channel_; }
+
+ private:
+  std::string channel_;
+  InputForm& form_;
+  FreeSkips& skips_;
+  BatchOrder order_;
+  RecentCopies copies_;
+};
+
 }  // namespace rnav

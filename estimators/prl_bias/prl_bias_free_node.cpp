@@ -14,7 +14,7 @@ constexpr std::int64_t kEndOfInput = std::numeric_limits<std::int64_t>::max();
 }  // namespace
 
 PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o)
-    : bus_(bus), o_(o), stream_(sc), apoi_order_(ch::kApoi), nav_order_(ch::kNav) {
+    : bus_(bus), o_(o), stream_(sc), apoi_in_(ch::kApoi, form_, skips_), nav_in_(ch::kNav, form_, skips_) {
   if (!(o.nav_lateness_s >= 0 && o.nav_lateness_s <= 3600))
     throw std::invalid_argument("nav_lateness_s must be in [0, 3600] s");
   bus.subscribe_raw(ch::kApoi, [this](const std::string&, const void* d, int n) { on_apoi(d, n); });
@@ -33,61 +33,35 @@ void PrlBiasFreeNode::enter_flight(const FlightKey& f) {
 
 void PrlBiasFreeNode::on_apoi(const void* data, int size) {
   ++received_;
-  const std::int64_t fp = message_fingerprint(data, size);
-  if (fp == prl_plot_batch_t::getHash()) {
-    form_.expect(InputForm::Form::kBatches, ch::kApoi);
-    auto b = decode_whole_batch<prl_plot_batch_t>(data, size, ch::kApoi);
-    const auto s = apoi_order_.see(b.header);
-    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
-    const FlightKey key{b.header.realization, b.header.attempt};
-    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
-    enter_flight(key);
-    apoi_q_.push_back(std::move(b));
-    drain_windows();
-  } else if (fp == prl_plot_t::getHash()) {
-    form_.expect(InputForm::Form::kSamples, ch::kApoi);
-    if (apoi_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
-    const auto p = decode_sample<prl_plot_t>(data, size, ch::kApoi);
-    if (p.utime <= last_plot_utime_)
-      throw std::runtime_error(std::string(ch::kApoi) + ": plot " + std::to_string(p.plot_id) + " at utime " +
-                               std::to_string(p.utime) + " does not follow the previous plot's " +
-                               std::to_string(last_plot_utime_) + " (a new flight needs a new estimator)");
-    last_plot_utime_ = p.utime;
-    stream_.add_plot(p);
-    step_samples(std::max(nav_known_, p.utime - to_us(o_.nav_lateness_s)));
-  } else {
-    throw std::runtime_error(foreign_type_error(ch::kApoi, "prl_plot_batch_t", "prl_plot_t"));
-  }
+  apoi_in_.take(
+      data, size, flight_,
+      queue(apoi_q_),
+      [this](const prl_plot_t& p) {
+        if (p.utime <= last_plot_utime_)
+          throw std::runtime_error(std::string(ch::kApoi) + ": plot " + std::to_string(p.plot_id) + " at utime " +
+                                   std::to_string(p.utime) + " does not follow the previous plot's " +
+                                   std::to_string(last_plot_utime_) + " (a new flight needs a new estimator)");
+        last_plot_utime_ = p.utime;
+        stream_.add_plot(p);
+        step_samples(std::max(nav_known_, p.utime - to_us(o_.nav_lateness_s)));
+      });
 }
 
 void PrlBiasFreeNode::on_nav(const void* data, int size) {
   ++received_;
-  const std::int64_t fp = message_fingerprint(data, size);
-  if (fp == nav_batch_t::getHash()) {
-    form_.expect(InputForm::Form::kBatches, ch::kNav);
-    auto b = decode_whole_batch<nav_batch_t>(data, size, ch::kNav);
-    const auto s = nav_order_.see(b.header);
-    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
-    const FlightKey key{b.header.realization, b.header.attempt};
-    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
-    enter_flight(key);
-    nav_q_.push_back(std::move(b));
-    drain_windows();
-  } else if (fp == nav_solution_t::getHash()) {
-    form_.expect(InputForm::Form::kSamples, ch::kNav);
-    if (nav_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
-    const auto n = decode_sample<nav_solution_t>(data, size, ch::kNav);
-    if (n.link_utime < last_nav_link_)
-      throw std::runtime_error(std::string(ch::kNav) + ": a solution reached the ground at " +
-                               std::to_string(n.link_utime) + " us, before the previous one's " +
-                               std::to_string(last_nav_link_) + " (a new flight needs a new estimator)");
-    last_nav_link_ = n.link_utime;
-    stream_.add_nav(n);
-    nav_known_ = std::max(nav_known_, n.link_utime + 1);
-    step_samples(nav_known_);
-  } else {
-    throw std::runtime_error(foreign_type_error(ch::kNav, "nav_batch_t", "nav_solution_t"));
-  }
+  nav_in_.take(
+      data, size, flight_,
+      queue(nav_q_),
+      [this](const nav_solution_t& n) {
+        if (n.link_utime < last_nav_link_)
+          throw std::runtime_error(std::string(ch::kNav) + ": a solution reached the ground at " +
+                                   std::to_string(n.link_utime) + " us, before the previous one's " +
+                                   std::to_string(last_nav_link_) + " (a new flight needs a new estimator)");
+        last_nav_link_ = n.link_utime;
+        stream_.add_nav(n);
+        nav_known_ = std::max(nav_known_, n.link_utime + 1);
+        step_samples(nav_known_);
+      });
 }
 
 void PrlBiasFreeNode::drain_windows() {
@@ -139,14 +113,8 @@ void PrlBiasFreeNode::flush() {
 }
 
 std::string PrlBiasFreeNode::summary() const {
-  std::string s = std::to_string(received_) + " message(s) received";
-  if (form_.form() == InputForm::Form::kBatches)
-    s += " as batches: " + std::to_string(flights_) + " flight(s), " + std::to_string(incomplete_flights_) +
-         " of them incomplete, " + std::to_string(skipped_resends_) + " resent and " +
-         std::to_string(skipped_stale_) + " stale batch(es) skipped";
-  else if (form_.form() == InputForm::Form::kSamples)
-    s += " as single samples";
-  return s + "; " + std::to_string(published_) + " plot(s) estimated and published";
+  return free_input_summary(received_, form_, flights_, incomplete_flights_, skips_) + "; " + std::to_string(published_) +
+         " plot(s) estimated and published";
 }
 
 }  // namespace rnav

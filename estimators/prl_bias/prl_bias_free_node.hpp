@@ -46,6 +46,15 @@ class PrlBiasFreeNode : public FreeNode {
   void on_nav(const void* data, int size);
   /// A batch of flight `f` arrived: a newer flight ends the current one.
   void enter_flight(const FlightKey& f);
+  /// What a batch that is the next of its flight does: it enters its flight (enter_flight), is
+  /// queued on `q`, and every window both inputs hold is processed (drain_windows).
+  template <class B> auto queue(std::deque<B>& q) {
+    return [this, &q](B&& b) {
+      enter_flight({b.header.realization, b.header.attempt});
+      q.push_back(std::move(b));
+      drain_windows();
+    };
+  }
   /// Batches: process every window both inputs hold.
   void drain_windows();
   /// Samples: process what is decided by `now_utime` and publish one message per plot.
@@ -54,9 +63,10 @@ class PrlBiasFreeNode : public FreeNode {
   Bus& bus_;
   PrlBiasFreeOptions o_;
   PrlBiasStream stream_;
-  InputForm form_;
-  RecentCopies apoi_copies_, nav_copies_;  // single samples: resent copies to skip
-  BatchOrder apoi_order_, nav_order_;
+  InputForm form_;    // the form of every input (the first message sets it)
+  FreeSkips skips_;   // resends and stale batches skipped, over both inputs
+  FreeInput<prl_plot_batch_t, prl_plot_t> apoi_in_;
+  FreeInput<nav_batch_t, nav_solution_t> nav_in_;
   FlightKey flight_{-1, -1};
   std::deque<prl_plot_batch_t> apoi_q_;  // batches of the current flight not yet processed
   std::deque<nav_batch_t> nav_q_;
@@ -65,7 +75,7 @@ class PrlBiasFreeNode : public FreeNode {
   std::int64_t last_plot_utime_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t last_nav_link_ = std::numeric_limits<std::int64_t>::min();
   std::vector<PrlBiasEstimator::Output> out_;
-  long flights_ = 0, incomplete_flights_ = 0, skipped_resends_ = 0, skipped_stale_ = 0, published_ = 0;
+  long flights_ = 0, incomplete_flights_ = 0, published_ = 0;
 };
 
 }  // namespace rnav

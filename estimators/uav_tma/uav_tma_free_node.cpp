@@ -8,7 +8,7 @@ namespace rnav {
 
 UavTmaFreeNode::UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFreeOptions& o)
     : bus_(bus), sc_(sc), o_(o), est_(tma::make_estimators(sc.tma, static_cast<std::uint64_t>(o.seed), 0)),
-      nav_order_(ch::kUavNav), bearing_order_(ch::kUavBearing) {
+      nav_in_(ch::kUavNav, form_, skips_), bearing_in_(ch::kUavBearing, form_, skips_) {
   if (!(o.bearing_lateness_s >= 0 && o.bearing_lateness_s <= 3600))
     throw std::invalid_argument("bearing_lateness_s must be in [0, 3600] s");
   bus.subscribe_raw(ch::kUavNav, [this](const std::string&, const void* d, int n) { on_nav(d, n); });
@@ -27,60 +27,34 @@ void UavTmaFreeNode::enter_flight(const FlightKey& f) {
 
 void UavTmaFreeNode::on_nav(const void* data, int size) {
   ++received_;
-  const std::int64_t fp = message_fingerprint(data, size);
-  if (fp == observer_batch_t::getHash()) {
-    form_.expect(InputForm::Form::kBatches, ch::kUavNav);
-    auto b = decode_whole_batch<observer_batch_t>(data, size, ch::kUavNav);
-    const auto s = nav_order_.see(b.header);
-    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
-    const FlightKey key{b.header.realization, b.header.attempt};
-    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
-    enter_flight(key);
-    nav_q_.push_back(std::move(b));
-    drain_windows();
-  } else if (fp == observer_state_t::getHash()) {
-    form_.expect(InputForm::Form::kSamples, ch::kUavNav);
-    if (nav_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
-    const auto o = decode_sample<observer_state_t>(data, size, ch::kUavNav);
-    if (o.utime <= last_nav_utime_)
-      throw std::runtime_error(std::string(ch::kUavNav) + ": a state at utime " + std::to_string(o.utime) +
-                               " does not follow the previous one's " + std::to_string(last_nav_utime_) +
-                               " (a new flight needs a new estimator)");
-    last_nav_utime_ = o.utime;
-    frames_.push_back(o);
-    step_samples(false);
-  } else {
-    throw std::runtime_error(foreign_type_error(ch::kUavNav, "observer_batch_t", "observer_state_t"));
-  }
+  nav_in_.take(
+      data, size, flight_,
+      queue(nav_q_),
+      [this](const observer_state_t& o) {
+        if (o.utime <= last_nav_utime_)
+          throw std::runtime_error(std::string(ch::kUavNav) + ": a state at utime " + std::to_string(o.utime) +
+                                   " does not follow the previous one's " + std::to_string(last_nav_utime_) +
+                                   " (a new flight needs a new estimator)");
+        last_nav_utime_ = o.utime;
+        frames_.push_back(o);
+        step_samples(false);
+      });
 }
 
 void UavTmaFreeNode::on_bearing(const void* data, int size) {
   ++received_;
-  const std::int64_t fp = message_fingerprint(data, size);
-  if (fp == bearing_batch_t::getHash()) {
-    form_.expect(InputForm::Form::kBatches, ch::kUavBearing);
-    auto b = decode_whole_batch<bearing_batch_t>(data, size, ch::kUavBearing);
-    const auto s = bearing_order_.see(b.header);
-    if (s == BatchOrder::Step::kResend) { ++skipped_resends_; return; }
-    const FlightKey key{b.header.realization, b.header.attempt};
-    if (s == BatchOrder::Step::kStale || key < flight_) { ++skipped_stale_; return; }
-    enter_flight(key);
-    bearing_q_.push_back(std::move(b));
-    drain_windows();
-  } else if (fp == bearing_t::getHash()) {
-    form_.expect(InputForm::Form::kSamples, ch::kUavBearing);
-    if (bearing_copies_.seen(data, size)) { ++skipped_resends_; return; }  // a publisher's resend
-    const auto b = decode_sample<bearing_t>(data, size, ch::kUavBearing);
-    if (b.utime < last_bearing_utime_)
-      throw std::runtime_error(std::string(ch::kUavBearing) + ": a bearing at utime " + std::to_string(b.utime) +
-                               " does not follow the previous one's " + std::to_string(last_bearing_utime_) +
-                               " (a new flight needs a new estimator)");
-    last_bearing_utime_ = b.utime;
-    bearings_.emplace(b.utime, b);
-    step_samples(false);
-  } else {
-    throw std::runtime_error(foreign_type_error(ch::kUavBearing, "bearing_batch_t", "bearing_t"));
-  }
+  bearing_in_.take(
+      data, size, flight_,
+      queue(bearing_q_),
+      [this](const bearing_t& b) {
+        if (b.utime < last_bearing_utime_)
+          throw std::runtime_error(std::string(ch::kUavBearing) + ": a bearing at utime " + std::to_string(b.utime) +
+                                   " does not follow the previous one's " + std::to_string(last_bearing_utime_) +
+                                   " (a new flight needs a new estimator)");
+        last_bearing_utime_ = b.utime;
+        bearings_.emplace(b.utime, b);
+        step_samples(false);
+      });
 }
 
 void UavTmaFreeNode::drain_windows() {
@@ -135,14 +109,8 @@ void UavTmaFreeNode::flush() {
 }
 
 std::string UavTmaFreeNode::summary() const {
-  std::string s = std::to_string(received_) + " message(s) received";
-  if (form_.form() == InputForm::Form::kBatches)
-    s += " as batches: " + std::to_string(flights_) + " flight(s), " + std::to_string(incomplete_flights_) +
-         " of them incomplete, " + std::to_string(skipped_resends_) + " resent and " +
-         std::to_string(skipped_stale_) + " stale batch(es) skipped";
-  else if (form_.form() == InputForm::Form::kSamples)
-    s += " as single samples";
-  return s + "; " + std::to_string(frames_done_) + " frame(s) processed";
+  return free_input_summary(received_, form_, flights_, incomplete_flights_, skips_) + "; " +
+         std::to_string(frames_done_) + " frame(s) processed";
 }
 
 }  // namespace rnav

@@ -43,8 +43,19 @@ class UavTmaFreeNode : public FreeNode {
  private:
   void on_nav(const void* data, int size);
   void on_bearing(const void* data, int size);
+  /// A batch of flight `f` arrived: a newer flight ends the current one.
   void enter_flight(const FlightKey& f);
+  /// Batches: process every window both inputs hold.
   void drain_windows();
+  /// What a batch that is the next of its flight does: it enters its flight (enter_flight), is
+  /// queued on `q`, and every window both inputs hold is processed (drain_windows).
+  template <class B> auto queue(std::deque<B>& q) {
+    return [this, &q](B&& b) {
+      enter_flight({b.header.realization, b.header.attempt});
+      q.push_back(std::move(b));
+      drain_windows();
+    };
+  }
   /// Samples: process every frame whose bearings are all in, given the latest times seen.
   void step_samples(bool end_of_input);
 
@@ -52,9 +63,10 @@ class UavTmaFreeNode : public FreeNode {
   UavScenario sc_;
   UavTmaFreeOptions o_;
   std::vector<std::unique_ptr<tma::TmaEstimator>> est_;
-  InputForm form_;
-  RecentCopies nav_copies_, bearing_copies_;  // single samples: resent copies to skip
-  BatchOrder nav_order_, bearing_order_;
+  InputForm form_;    // the form of every input (the first message sets it)
+  FreeSkips skips_;   // resends and stale batches skipped, over both inputs
+  FreeInput<observer_batch_t, observer_state_t> nav_in_;
+  FreeInput<bearing_batch_t, bearing_t> bearing_in_;
   FlightKey flight_{-1, -1};
   std::deque<observer_batch_t> nav_q_;
   std::deque<bearing_batch_t> bearing_q_;
@@ -64,7 +76,7 @@ class UavTmaFreeNode : public FreeNode {
   std::int64_t last_nav_utime_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t last_bearing_utime_ = std::numeric_limits<std::int64_t>::min();
   std::vector<tma_estimate_t> out_;
-  long flights_ = 0, incomplete_flights_ = 0, skipped_resends_ = 0, skipped_stale_ = 0, frames_done_ = 0;
+  long flights_ = 0, incomplete_flights_ = 0, frames_done_ = 0;
 };
 
 }  // namespace rnav
