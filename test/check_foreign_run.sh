@@ -7,7 +7,8 @@
 # stats_time.csv, stats_range.csv and realizations.csv must equal, byte for byte, those of run C
 # (seed 1, in one process, no foreign traffic), and B's run_events.json must report the foreign
 # messages it ignored (A's replay runs during all of B's; how many arrive depends on the pace, so
-# the check is that some were counted, and the count is printed).
+# the check is that some were counted, and the count is printed). B's own LCM log, which heard
+# the replay too, is refused by the diagnosis's log reader, naming the two runs.
 # Usage: check_foreign_run.sh SOURCE_DIR BUILD_DIR
 set -u
 SRC=$(cd "$1" && pwd)
@@ -22,7 +23,7 @@ unshare -n bash -c '
   "$0/scripts/run" paper --realizations 2 --seed 2 --net host --no-plots --lcm-log "$1/a.lcmlog" --out "$1/a" >"$1/a.log" 2>&1 || exit 8
   ( while true; do lcm-logplayer --lcm-url="$url" "$1/a.lcmlog" >/dev/null 2>&1; done ) & player=$!
   sleep 0.2
-  "$0/scripts/run" paper --realizations 10 --seed 1 --net host --no-plots --out "$1/b" >"$1/b.log" 2>&1; rc=$?
+  "$0/scripts/run" paper --realizations 10 --seed 1 --net host --no-plots --lcm-log "$1/b.lcmlog" --out "$1/b" >"$1/b.log" 2>&1; rc=$?
   pkill -P $player 2>/dev/null; kill $player 2>/dev/null; wait
   exit $rc' "$SRC" "$T"
 rc=$?
@@ -37,4 +38,8 @@ n=$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["f
   fail "run_events.json has no foreign_messages_ignored"
 ((n > 0)) || fail "run_events.json counts no foreign message ignored; the replay sent A's thousands during B's run"
 grep -q "message(s) of another run on this network ignored" "$T/b/logs/clock.log" || fail "the clock did not say it ignored another run's messages"
+# B's own recording heard A's replay too: a log of two runs is refused by its reader, naming both.
+"$RNAV_BUILD/bin/rnav_diagnose" prl "$T/b.lcmlog" --injections 0 >"$T/d.out" 2>"$T/d.err"; rc=$?
+((rc == 2)) && grep -q "b.lcmlog: the log holds the traffic of 2 runs (run ids " "$T/d.err" ||
+  fail "diagnosing a log of two runs: exit $rc, expected 2 and the two runs named: $(tail -2 "$T/d.err")"
 echo "check_foreign_run: results byte-identical with another run's traffic replayed; $n foreign messages ignored"

@@ -75,6 +75,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
   std::size_t moved_on_index = 0;          // last position of a later START or FINISH (+1)
   std::string abort_reason;
   std::set<std::string> channels;
+  std::map<std::int64_t, long> runs;       // run id -> grants and batches carrying it
   std::size_t index = 0;
   LcmEvent event;
   while (log.next(event)) {
@@ -95,6 +96,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
       // A RESEND repeats its window's grant (a node that lost the START takes it as the START),
       // so it stands for a START the log lost; repeated grants of one window count once.
       if (w.command == sim_window_t::START || w.command == sim_window_t::RESEND) {
+        ++runs[w.run_id];
         attempts[w.realization].insert(w.attempt);
         if (w.realization == realization) {
           bool seen = false;
@@ -117,6 +119,7 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
       it.event = e->eventnum;
       it.digest = message_digest(e->data.data(), datalen);
       if (!s->decode(e->data.data(), datalen, it.h, it.msg)) throw undecodable("batch of " + s->channel);
+      ++runs[it.h.run_id];
       attempts[it.h.realization].insert(it.h.attempt);
       if (it.h.realization == realization) s->items.push_back(std::move(it));
       else ++n_other_realizations_;
@@ -125,6 +128,17 @@ void LcmLogStreams::read(const std::string& file, int realization, const std::st
     }
   }
 
+  // Two runs on one network (another user's under --net host, or a log replayed during the
+  // recording) put two sets of realizations, attempts and windows in one log: mixed, their
+  // streams would fail the checks below with a confusing gap or duplicate, or worse pass.
+  if (runs.size() > 1) {
+    std::string list;
+    for (const auto& [id, k] : runs)
+      list += (list.empty() ? "" : ", ") + std::to_string(id) + " (" + std::to_string(k) + " grants and batches)";
+    throw ConfigError(file + ": the log holds the traffic of " + std::to_string(runs.size()) + " runs (run ids " + list +
+                      "): a log must hold one run; record each run on its own network (scripts/run's default "
+                      "private namespace) or its own --lcm-url");
+  }
   if (!attempts.count(realization)) {
     std::set<int> present;
     for (const auto& [r, a] : attempts) present.insert(r);
