@@ -81,9 +81,8 @@ void add_interpolation_noise(Problem& p, const std::vector<double>& sd, const st
   if (any) p.nominal_corr_gain = std::move(gain);
 }
 
-}  // namespace
-
-MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
+// Checks the options and the recordings' names; throws ConfigError naming the first fault.
+void check_inputs(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
   const double sb = o.sigma_bearing_rad, sr = o.sigma_range_m;
   if (!(sb > 0 && sr > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
   if (!(o.split_fraction > 0.2 && o.split_fraction < 0.9)) throw ConfigError("multi diagnosis: split fraction must be in (0.2, 0.9)");
@@ -91,16 +90,18 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
   if (!(o.min_sweep_period_s > 0)) throw ConfigError("multi diagnosis: min_sweep_period_s must be > 0");
   if (recs.empty()) throw ConfigError("multi diagnosis: no recording");
   const bool pooled = recs.size() > 1;
-  {
-    std::set<std::string> names;
-    for (const auto& r : recs)
-      if (pooled && (r.name.empty() || !names.insert(r.name).second))
-        throw ConfigError("multi diagnosis: recordings need distinct, non-empty names ('" + r.name + "' repeats or is empty)");
-  }
+  std::set<std::string> names;
+  for (const auto& r : recs)
+    if (pooled && (r.name.empty() || !names.insert(r.name).second))
+      throw ConfigError("multi diagnosis: recordings need distinct, non-empty names ('" + r.name + "' repeats or is empty)");
+}
+
+// Each recording's span [t0, t1] of detection times [s] and its split time (into mp), and the
+// range sensors' scan periods (checked, into mp).
+void set_spans(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o, MultiProblem& mp,
+               std::vector<double>& t0, std::vector<double>& t1) {
+  const bool pooled = recs.size() > 1;
   const int R = static_cast<int>(recs.size());
-  MultiProblem mp;
-  Problem& p = mp.problem;
-  std::vector<double> t0(R), t1(R);
   for (int r = 0; r < R; ++r) {
     const auto& a = recs[static_cast<std::size_t>(r)].a;
     if (a.empty()) throw ConfigError("multi diagnosis: no detection associated to any target" + (pooled ? " in recording " + recs[static_cast<std::size_t>(r)].name : std::string()));
@@ -112,89 +113,117 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
   for (const auto& [s, T] : o.scan_period_s)
     if (!(T > 0) || !std::isfinite(T)) throw ConfigError("multi diagnosis: scan period of " + s + " must be finite and > 0");
   mp.scan_period_s = o.scan_period_s;
+}
 
-  // channels in a fixed order: recording, sensor, target, quantity
-  auto geoms = std::make_shared<std::vector<ObsGeom>>();
-  std::vector<double> interp_sd, interval;  // per observation: the reference's interpolation sd [unit], its interval [s]
-  for (int r = 0; r < R; ++r) {
-    const auto& rd = recs[static_cast<std::size_t>(r)];
-    const auto& a = rd.a;
-    const std::string prefix = pooled ? rd.name + "/" : "";
-    std::map<std::string, std::vector<std::pair<std::size_t, bool>>> by_channel;  // name -> (assoc index, is_range)
-    std::map<std::string, Channel> channel_of;
-    for (std::size_t i = 0; i < a.size(); ++i) {
+// Per observation, beside the problem's own rows: the geometry the columns need, the
+// reference's interpolation sd [unit] and its interval [s].
+struct ObsTables {
+  std::vector<ObsGeom> geoms;
+  std::vector<double> interp_sd, interval;
+};
+
+// The geometry of detection x of recording r, as a range or as a bearing observation.
+ObsGeom geom_of(const AssociatedDetection& x, int r, bool is_range) {
+  ObsGeom g;
+  g.is_range = is_range;
+  g.rec = r;
+  g.sensor = x.sensor;
+  g.target = x.target;
+  g.dh = is_range ? x.drange() : x.dbearing();
+  g.v_rel = x.v_rel;
+  g.v_target = x.v_target;
+  g.u = x.u_course;
+  g.u_perp = Eigen::Vector2d(-x.u_course.y(), x.u_course.x());
+  g.range_pred = x.range_pred();
+  g.bearing_pred = x.bearing_pred();
+  g.t = x.t_s;
+  return g;
+}
+
+// Recording r's channels (sensor, target, quantity, in name order) with their observations in
+// time order, appended to mp and obs; a channel of fewer than 10 detections is dropped.
+void add_recording(const std::vector<RecordingDetections>& recs, int r, const MultiProblemOptions& o, MultiProblem& mp,
+                   ObsTables& obs) {
+  const double sb = o.sigma_bearing_rad, sr = o.sigma_range_m;
+  const bool pooled = recs.size() > 1;
+  Problem& p = mp.problem;
+  const auto& rd = recs[static_cast<std::size_t>(r)];
+  const auto& a = rd.a;
+  const std::string prefix = pooled ? rd.name + "/" : "";
+  std::map<std::string, std::vector<std::pair<std::size_t, bool>>> by_channel;  // name -> (assoc index, is_range)
+  std::map<std::string, Channel> channel_of;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto& x = a[i];
+    const std::string base = prefix + x.sensor + ":" + x.target;
+    by_channel[base + ":bearing"].push_back({i, false});
+    channel_of[base + ":bearing"] = {base + ":bearing", x.sensor, x.target, "rad", sb};
+    if (x.has_range) {
+      by_channel[base + ":range"].push_back({i, true});
+      channel_of[base + ":range"] = {base + ":range", x.sensor, x.target, "m", sr};
+    }
+  }
+  mp.bearing_obs.emplace_back(a.size(), -1);
+  mp.range_obs.emplace_back(a.size(), -1);
+  for (auto& [name, list] : by_channel) {
+    if (list.size() < 10) {  // too few to identify a noise model: reported, not used
+      mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
+      continue;
+    }
+    std::stable_sort(list.begin(), list.end(), [&](const auto& u, const auto& w) { return a[u.first].t_s < a[w.first].t_s; });
+    const int ch = static_cast<int>(p.channels.size());
+    p.channels.push_back(channel_of[name]);
+    for (const auto& [i, is_range] : list) {
       const auto& x = a[i];
-      const std::string base = prefix + x.sensor + ":" + x.target;
-      by_channel[base + ":bearing"].push_back({i, false});
-      channel_of[base + ":bearing"] = {base + ":bearing", x.sensor, x.target, "rad", sb};
-      if (x.has_range) {
-        by_channel[base + ":range"].push_back({i, true});
-        channel_of[base + ":range"] = {base + ":range", x.sensor, x.target, "m", sr};
-      }
-    }
-    mp.bearing_obs.emplace_back(a.size(), -1);
-    mp.range_obs.emplace_back(a.size(), -1);
-    for (auto& [name, list] : by_channel) {
-      if (list.size() < 10) {  // too few to identify a noise model: reported, not used
-        mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
-        continue;
-      }
-      std::stable_sort(list.begin(), list.end(), [&](const auto& u, const auto& w) { return a[u.first].t_s < a[w.first].t_s; });
-      const int ch = static_cast<int>(p.channels.size());
-      p.channels.push_back(channel_of[name]);
-      for (const auto& [i, is_range] : list) {
-        const auto& x = a[i];
-        ObsGeom g;
-        g.is_range = is_range;
-        g.rec = r;
-        g.sensor = x.sensor;
-        g.target = x.target;
-        g.dh = is_range ? x.drange() : x.dbearing();
-        g.v_rel = x.v_rel;
-        g.v_target = x.v_target;
-        g.u = x.u_course;
-        g.u_perp = Eigen::Vector2d(-x.u_course.y(), x.u_course.x());
-        g.range_pred = x.range_pred();
-        g.bearing_pred = x.bearing_pred();
-        g.t = x.t_s;
-        (is_range ? mp.range_obs : mp.bearing_obs).back()[i] = static_cast<long>(p.y.size());
-        p.channel.push_back(ch);
-        p.t_s.push_back(x.t_s);
-        p.y.push_back(is_range ? x.range_m - x.range_pred() : wrap_pi(x.bearing_rad - x.bearing_pred()));
-        p.estimation.push_back(x.t_s < mp.split_time_s[static_cast<std::size_t>(r)]);
-        geoms->push_back(g);
-        interp_sd.push_back(is_range ? x.ref_interp_sd_m : x.ref_interp_sd_m / x.range_pred());
-        interval.push_back(x.ref_interval_s);
-      }
+      (is_range ? mp.range_obs : mp.bearing_obs).back()[i] = static_cast<long>(p.y.size());
+      p.channel.push_back(ch);
+      p.t_s.push_back(x.t_s);
+      p.y.push_back(is_range ? x.range_m - x.range_pred() : wrap_pi(x.bearing_rad - x.bearing_pred()));
+      p.estimation.push_back(x.t_s < mp.split_time_s[static_cast<std::size_t>(r)]);
+      obs.geoms.push_back(geom_of(x, r, is_range));
+      obs.interp_sd.push_back(is_range ? x.ref_interp_sd_m : x.ref_interp_sd_m / x.range_pred());
+      obs.interval.push_back(x.ref_interval_s);
     }
   }
-  if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with 10 or more associated detections");
-  add_interpolation_noise(p, interp_sd, interval);
-  const auto n = static_cast<Eigen::Index>(p.y.size());
-  p.nuisance = Eigen::MatrixXd(n, 0);
-  const Geoms G = geoms;
+}
 
-  std::set<std::string> sensors, targets, range_sensors;
-  for (const auto& c : p.channels) {
-    sensors.insert(c.sensor);
-    targets.insert(c.target);
-    if (c.unit == "m") range_sensors.insert(c.sensor);
+// The column of a clock offset: the rate of the sensor's measurement.
+Eigen::RowVectorXd rate_column(const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); }
+
+// The column of a constant.
+Eigen::RowVectorXd unit_column(const ObsGeom&, std::size_t) { return one(1.0); }
+
+using In = std::function<bool(const ObsGeom&)>;
+using Val = std::function<Eigen::RowVectorXd(const ObsGeom&, std::size_t)>;
+
+// The catalogue of a multi-sensor problem and its scope questions, built kind by kind into
+// p.catalogue and p.scope_questions.
+struct CatalogueBuilder {
+  struct Kind {
+    std::vector<std::size_t> hardware, per_recording;
+  };
+
+  CatalogueBuilder(MultiProblem& mp_in, const std::vector<RecordingDetections>& recs_in, const MultiProblemOptions& o_in,
+                   const std::vector<double>& t0_in, const std::vector<double>& t1_in, Geoms G_in)
+      : mp(mp_in), p(mp_in.problem), recs(recs_in), o(o_in), t0(t0_in), t1(t1_in), G(std::move(G_in)),
+        pooled(recs_in.size() > 1), R(static_cast<int>(recs_in.size())) {
+    for (const auto& c : p.channels) {
+      sensors.insert(c.sensor);
+      targets.insert(c.target);
+      if (c.unit == "m") range_sensors.insert(c.sensor);
+    }
   }
-  auto add = [&](Candidate c) {
+
+  // Appends c to the catalogue; returns its index.
+  std::size_t add(Candidate c) {
     p.catalogue.push_back(std::move(c));
     return p.catalogue.size() - 1;
-  };
+  }
+
   // A hardware entry (one value in every recording) and, pooled, its per-recording copies: the
   // alternative of its scope question and its replicates (replication.hpp); scope_only unless
   // `own` (an effect a recording may have of its own, e.g. a start-up bias: then each copy is a
   // candidate too). `in` selects the entry's observations.
-  using In = std::function<bool(const ObsGeom&)>;
-  using Val = std::function<Eigen::RowVectorXd(const ObsGeom&, std::size_t)>;
-  struct Kind {
-    std::vector<std::size_t> hardware, per_recording;
-  };
-  std::map<std::string, Kind> kinds;  // scope-question key -> entries
-  auto hardware = [&](const std::string& kind, Candidate c, int k, const In& in, const Val& val, bool own = false) {
+  std::size_t hardware(const std::string& kind, Candidate c, int k, const In& in, const Val& val, bool own = false) {
     c.columns = cols(G, k, in, val);
     kinds[kind].hardware.push_back(add(c));
     if (!pooled) return kinds[kind].hardware.back();
@@ -209,124 +238,187 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
       p.catalogue[hw].replicates.push_back(kinds[kind].per_recording.back());
     }
     return hw;
-  };
-  auto rec_name = [&](int r) { return recs[static_cast<std::size_t>(r)].name; };
+  }
 
-  std::vector<std::size_t> sensor_clock, target_clock, sensor_bias, pair_offset, target_offset, target_clock_hw;
-  std::size_t common_clock = 0, common_bias = 0;
-  const std::string rate_sig = "the rate of the sensor's measurement (target and observer motion)";
-  auto rate = [](const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); };
-  auto unit = [](const ObsGeom&, std::size_t) { return one(1.0); };
-  for (const auto& s : sensors) {
-    auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
-    auto is_sb = [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; };
-    sensor_clock.push_back(hardware("sensor clocks (time_offset)", {"time_offset", {s, ""}, {"s"}, rate_sig, "", {}, {}}, 1, is_s, rate));
-    sensor_bias.push_back(hardware("sensor bearing biases (bearing_bias)",
-                                   {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb, unit,
-                                   true));
-    for (int r = 0; r < R; ++r) {  // a step belongs to one recording
-      if (!any(G, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; })) continue;
-      std::vector<double> grid;
-      for (int k = 0; k < o.step_grid; ++k) grid.push_back(t0[r] + (t1[r] - t0[r]) * (0.1 + 0.8 * k / (o.step_grid - 1)));
-      add({"bias_step", {s, "", pooled ? rec_name(r) : ""}, {"rad"}, "a jump in this sensor's bearings at one time", "t_s", grid,
-           cols(G, 1, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; },
-                [grid](const ObsGeom& g, std::size_t v) { return one(g.t >= grid[v] ? 1.0 : 0.0); })});
-    }
-  }
-  for (const auto& s : range_sensors) {
-    auto is_sr = [s](const ObsGeom& g) { return g.sensor == s && g.is_range; };
-    hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr, unit,
-             true);
-    hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr,
-             [](const ObsGeom& g, std::size_t) { return one(g.range_pred); });
-    const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
-    if (std::isfinite(T) && T >= o.min_sweep_period_s) {
-      // scan_time_offset: dt = c + f ((beta_end - beta) mod 2 pi) / omega (sweep_delay_s), beta_end scanned
-      std::vector<double> grid;
-      for (int k = 0; k < o.sweep_grid; ++k) grid.push_back(360.0 * k / o.sweep_grid);
+  std::string rec_name(int r) const { return recs[static_cast<std::size_t>(r)].name; }
+
+  // Per sensor: its clock, its bearing bias, and a bearing step in each recording.
+  void add_sensor_entries() {
+    const std::string rate_sig = "the rate of the sensor's measurement (target and observer motion)";
+    for (const auto& s : sensors) {
       auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
-      hardware("scan stamps (scan_time_offset)",
-               {"scan_time_offset", {s, ""}, {"c_s", "sweep_frac"},
-                "the rate of the sensor's measurement, and its bearing within the sweep (period " + period_text(T) + " s)",
-                "sweep_end_deg", grid, {}},
-               2, is_s, [grid, T](const ObsGeom& g, std::size_t v) {
-                 const double r = -g.dh * g.v_rel;
-                 Eigen::RowVectorXd row(2);
-                 row << r, r * sweep_delay_s(g.bearing_pred, grid[v] * M_PI / 180, T);
-                 return row;
-               });
+      auto is_sb = [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; };
+      sensor_clock.push_back(hardware("sensor clocks (time_offset)", {"time_offset", {s, ""}, {"s"}, rate_sig, "", {}, {}}, 1, is_s, rate_column));
+      sensor_bias.push_back(hardware("sensor bearing biases (bearing_bias)",
+                                     {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb,
+                                     unit_column, true));
+      for (int r = 0; r < R; ++r) {  // a step belongs to one recording
+        if (!any(G, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; })) continue;
+        std::vector<double> grid;
+        for (int k = 0; k < o.step_grid; ++k) grid.push_back(t0[r] + (t1[r] - t0[r]) * (0.1 + 0.8 * k / (o.step_grid - 1)));
+        add({"bias_step", {s, "", pooled ? rec_name(r) : ""}, {"rad"}, "a jump in this sensor's bearings at one time", "t_s", grid,
+             cols(G, 1, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; },
+                  [grid](const ObsGeom& g, std::size_t v) { return one(g.t >= grid[v] ? 1.0 : 0.0); })});
+      }
     }
   }
-  auto offset_cols = [](const ObsGeom& g, std::size_t) {
-    Eigen::RowVectorXd r(2);
-    r << g.dh * g.u, g.dh * g.u_perp;
-    return r;
-  };
-  auto truth_rate = [](const ObsGeom& g, std::size_t) { return one(g.dh * g.v_target); };
-  const std::string off_sig = "the line-of-sight component of the target's heading (aspect)";
-  const std::string truth_sig = "the rate due to the target's own motion (the same for every sensor)";
-  for (const auto& t : targets) {
-    auto is_t = [t](const ObsGeom& g) { return g.target == t; };
-    for (int r = 0; r < R; ++r)  // a reference clock belongs to one recording
-      if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }))
-        target_clock.push_back(add({"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
-                                  cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)}));
-    if (pooled)  // "the same in seconds in every recording": the boat's reference logger
-      target_clock_hw.push_back(hardware("reference clocks (truth_time_offset per boat)",
-                                         {"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, {}}, 1, is_t, truth_rate));
-    target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)",
-                                     {"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}}, 2, is_t, offset_cols));
-    for (const auto& s : range_sensors)
-      pair_offset.push_back(hardware("hull offsets per sensor and target (antenna_offset)",
-                                     {"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {}, {}}, 2,
-                                     [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t; }, offset_cols));
+
+  // Per range sensor: its range bias and gain, and its scan stamps where it scans slowly enough.
+  void add_range_sensor_entries() {
+    for (const auto& s : range_sensors) {
+      auto is_sr = [s](const ObsGeom& g) { return g.sensor == s && g.is_range; };
+      hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr,
+               unit_column, true);
+      hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr,
+               [](const ObsGeom& g, std::size_t) { return one(g.range_pred); });
+      const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
+      if (std::isfinite(T) && T >= o.min_sweep_period_s) {
+        // scan_time_offset: dt = c + f ((beta_end - beta) mod 2 pi) / omega (sweep_delay_s), beta_end scanned
+        std::vector<double> grid;
+        for (int k = 0; k < o.sweep_grid; ++k) grid.push_back(360.0 * k / o.sweep_grid);
+        auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
+        hardware("scan stamps (scan_time_offset)",
+                 {"scan_time_offset", {s, ""}, {"c_s", "sweep_frac"},
+                  "the rate of the sensor's measurement, and its bearing within the sweep (period " + period_text(T) + " s)",
+                  "sweep_end_deg", grid, {}},
+                 2, is_s, [grid, T](const ObsGeom& g, std::size_t v) {
+                   const double r = -g.dh * g.v_rel;
+                   Eigen::RowVectorXd row(2);
+                   row << r, r * sweep_delay_s(g.bearing_pred, grid[v] * M_PI / 180, T);
+                   return row;
+                 });
+      }
+    }
   }
-  if (sensors.size() > 1) {
+
+  // Per target: its reference clock in each recording (and, pooled, per boat), its antenna
+  // offset, and its hull offset as each range sensor sees it.
+  void add_target_entries() {
+    auto offset_cols = [](const ObsGeom& g, std::size_t) {
+      Eigen::RowVectorXd r(2);
+      r << g.dh * g.u, g.dh * g.u_perp;
+      return r;
+    };
+    auto truth_rate = [](const ObsGeom& g, std::size_t) { return one(g.dh * g.v_target); };
+    const std::string off_sig = "the line-of-sight component of the target's heading (aspect)";
+    const std::string truth_sig = "the rate due to the target's own motion (the same for every sensor)";
+    for (const auto& t : targets) {
+      auto is_t = [t](const ObsGeom& g) { return g.target == t; };
+      for (int r = 0; r < R; ++r)  // a reference clock belongs to one recording
+        if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }))
+          target_clock.push_back(add({"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
+                                      cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)}));
+      if (pooled)  // "the same in seconds in every recording": the boat's reference logger
+        target_clock_hw.push_back(hardware("reference clocks (truth_time_offset per boat)",
+                                           {"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, {}}, 1, is_t, truth_rate));
+      target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)",
+                                       {"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}}, 2, is_t, offset_cols));
+      for (const auto& s : range_sensors)
+        pair_offset.push_back(hardware("hull offsets per sensor and target (antenna_offset)",
+                                       {"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {}, {}}, 2,
+                                       [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t; }, offset_cols));
+    }
+  }
+
+  // With several sensors: the observer's one clock and its heading, common to every sensor.
+  void add_common_entries() {
+    if (sensors.size() <= 1) return;
     common_clock = hardware("the observer's clock (common time_offset)",
                             {"time_offset", {"", ""}, {"s"}, "the rate of every sensor's measurement (one clock)", "", {}, {}}, 1,
-                            [](const ObsGeom&) { return true; }, rate);
+                            [](const ObsGeom&) { return true; }, rate_column);
     common_bias = hardware("the observer's heading (common bearing_bias)",
                            {"bearing_bias", {"", ""}, {"rad"}, "a constant on every sensor's bearings (the observer's heading)", "", {}, {}},
-                           1, [](const ObsGeom& g) { return !g.is_range; }, unit);
+                           1, [](const ObsGeom& g) { return !g.is_range; }, unit_column);
   }
 
-  // scope questions
-  ScopeQuestion clock{"which clock is off: the sensors', the targets' references', both, or one common clock?", {}};
-  clock.alternatives.push_back({"per sensor", sensor_clock});
-  clock.alternatives.push_back({pooled ? "per target reference and recording" : "per target reference", target_clock});
-  std::vector<std::size_t> both = sensor_clock;
-  both.insert(both.end(), target_clock.begin(), target_clock.end());
-  clock.alternatives.push_back({"per sensor and per target", both});
-  if (sensors.size() > 1) clock.alternatives.push_back({"one common clock", {common_clock}});
-  p.scope_questions.push_back(clock);
-  if (sensors.size() > 1)
-    p.scope_questions.push_back({"bearing bias: per sensor, or the observer's heading (common)?",
-                                 {{"per sensor", sensor_bias}, {"common (heading)", {common_bias}}}});
-  if (!pair_offset.empty())
-    p.scope_questions.push_back({"hull offset: per target (antenna) or per sensor and target (where each sensor sees the hull)?",
-                                 {{"per target", target_offset}, {"per sensor and target", pair_offset}}});
-  if (pooled) {
-    for (const auto& [kind, k] : kinds)
-      p.scope_questions.push_back({kind + ": one value in every recording (hardware), or one per recording?",
-                                   {{"one value in every recording", k.hardware}, {"one per recording", k.per_recording}}});
-    p.scope_questions.push_back({"a boat's offset along its track: the same in metres (antenna offset), the same in seconds "
-                                 "(reference clock), or per recording?",
-                                 {{"the same in metres (antenna_offset per boat)", target_offset},
-                                  {"the same in seconds (truth_time_offset per boat)", target_clock_hw},
-                                  {"per recording (truth_time_offset per boat and recording)", target_clock}}});
+  // The scope questions between the entries added: which clock, which bias, which offset, and,
+  // pooled, each hardware kind against its per-recording values.
+  void add_scope_questions() {
+    ScopeQuestion clock{"which clock is off: the sensors', the targets' references', both, or one common clock?", {}};
+    clock.alternatives.push_back({"per sensor", sensor_clock});
+    clock.alternatives.push_back({pooled ? "per target reference and recording" : "per target reference", target_clock});
+    std::vector<std::size_t> both = sensor_clock;
+    both.insert(both.end(), target_clock.begin(), target_clock.end());
+    clock.alternatives.push_back({"per sensor and per target", both});
+    if (sensors.size() > 1) clock.alternatives.push_back({"one common clock", {common_clock}});
+    p.scope_questions.push_back(clock);
+    if (sensors.size() > 1)
+      p.scope_questions.push_back({"bearing bias: per sensor, or the observer's heading (common)?",
+                                   {{"per sensor", sensor_bias}, {"common (heading)", {common_bias}}}});
+    if (!pair_offset.empty())
+      p.scope_questions.push_back({"hull offset: per target (antenna) or per sensor and target (where each sensor sees the hull)?",
+                                   {{"per target", target_offset}, {"per sensor and target", pair_offset}}});
+    if (pooled) {
+      for (const auto& [kind, k] : kinds)
+        p.scope_questions.push_back({kind + ": one value in every recording (hardware), or one per recording?",
+                                     {{"one value in every recording", k.hardware}, {"one per recording", k.per_recording}}});
+      p.scope_questions.push_back({"a boat's offset along its track: the same in metres (antenna offset), the same in seconds "
+                                   "(reference clock), or per recording?",
+                                   {{"the same in metres (antenna_offset per boat)", target_offset},
+                                    {"the same in seconds (truth_time_offset per boat)", target_clock_hw},
+                                    {"per recording (truth_time_offset per boat and recording)", target_clock}}});
+    }
   }
 
-  // covariates for what stays unexplained
-  std::vector<double> range(static_cast<std::size_t>(n)), aspect(static_cast<std::size_t>(n)), speed(static_cast<std::size_t>(n)),
-      time(static_cast<std::size_t>(n));
-  for (std::size_t i = 0; i < G->size(); ++i) {
-    const auto& g = (*G)[i];
+  MultiProblem& mp;
+  Problem& p;
+  const std::vector<RecordingDetections>& recs;
+  const MultiProblemOptions& o;
+  const std::vector<double>& t0;
+  const std::vector<double>& t1;
+  const Geoms G;
+  const bool pooled;
+  const int R;
+  std::set<std::string> sensors, targets, range_sensors;
+  std::map<std::string, Kind> kinds;  // scope-question key -> entries
+  std::vector<std::size_t> sensor_clock, target_clock, sensor_bias, pair_offset, target_offset, target_clock_hw;
+  std::size_t common_clock = 0, common_bias = 0;
+};
+
+// The covariates of each observation for what stays unexplained: range, target speed, time
+// since its recording's start, aspect.
+void add_covariates(Problem& p, const std::vector<ObsGeom>& geoms, const std::vector<double>& t0) {
+  const auto n = static_cast<std::size_t>(p.y.size());
+  std::vector<double> range(n), aspect(n), speed(n), time(n);
+  for (std::size_t i = 0; i < geoms.size(); ++i) {
+    const auto& g = geoms[i];
     range[i] = g.range_pred;
     speed[i] = g.v_target.norm();
     time[i] = g.t - t0[static_cast<std::size_t>(g.rec)];
     aspect[i] = g.dh * g.u_perp;  // the line-of-sight cross-component of the hull axis
   }
   p.covariates = {{"range", range}, {"target speed", speed}, {"time", time}, {"aspect (hull across the line of sight)", aspect}};
+}
+
+}  // namespace
+
+MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, const MultiProblemOptions& o) {
+  check_inputs(recs, o);
+  const int R = static_cast<int>(recs.size());
+  MultiProblem mp;
+  Problem& p = mp.problem;
+  std::vector<double> t0(R), t1(R);
+  set_spans(recs, o, mp, t0, t1);
+
+  // channels in a fixed order: recording, sensor, target, quantity
+  ObsTables obs;
+  for (int r = 0; r < R; ++r) add_recording(recs, r, o, mp, obs);
+  if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with 10 or more associated detections");
+  add_interpolation_noise(p, obs.interp_sd, obs.interval);
+  const auto n = static_cast<Eigen::Index>(p.y.size());
+  p.nuisance = Eigen::MatrixXd(n, 0);
+  const Geoms G = std::make_shared<const std::vector<ObsGeom>>(std::move(obs.geoms));
+
+  CatalogueBuilder catalogue(mp, recs, o, t0, t1, G);
+  catalogue.add_sensor_entries();
+  catalogue.add_range_sensor_entries();
+  catalogue.add_target_entries();
+  catalogue.add_common_entries();
+  // scope questions
+  catalogue.add_scope_questions();
+
+  // covariates for what stays unexplained
+  add_covariates(p, *G, t0);
   return mp;
 }
 

@@ -171,51 +171,20 @@ void add_target_model(const AzimuthData& data, const LocalLevelFrame& F, const U
   for (const auto& n : tm.notes) rep.reference += "; target model: " + n;
 }
 
-}  // namespace
-
-DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o) {
+// Checks the options and that the observer has a track; throws ConfigError naming the fault.
+void check_options(const AzimuthData& data, const UavDiagnoseOptions& o) {
   if (!(o.gate_deg > 0 && o.gate_deg <= 90)) throw ConfigError("diagnose uav: gate must be in (0, 90] deg");
   if (!(o.sigma_deg > 0)) throw ConfigError("diagnose uav: sigma must be > 0 deg");
   if (!(o.split_fraction > 0.2 && o.split_fraction < 0.9)) throw ConfigError("diagnose uav: split fraction must be in (0.2, 0.9)");
   if (o.maneuver_grid < 2) throw ConfigError("diagnose uav: manoeuvre grid must be >= 2");
   if (data.observer.size() < 2) throw ConfigError("diagnose uav: observer.csv needs at least 2 rows");
-  const bool with_truth = data.truth.size() >= 2 && !o.ignore_truth;
-  DiagnoseReport rep;
-  rep.kind = "uav";
-  const LocalLevelFrame F(data.observer.front().g, 0.0);  // x north, z east
-  const PlaneSeries observer(data.observer, F);
-  const PlaneSeries truth(data.truth, F);
-  const double gate = o.gate_deg * kDegToRad;
+}
 
-  std::vector<TrackObs> tobs;
-  TrackFit full;
-  auto obs = std::make_shared<std::vector<Ob>>();
-  if (with_truth) {
-    check_bearing_units(data, observer, truth);
-    rep.reference = "truth (truth.csv)";
-    *obs = against_truth(data, observer, truth, gate, rep.plots_dropped);
-  } else {
-    TrackFitOptions fo;
-    fo.gate_deg = o.gate_deg;
-    fo.seed = o.seed;
-    tobs = track_observations(data, F);
-    full = fit_cv_track(tobs, -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), fo);
-    rep.reference = "constant-velocity track fitted to the bearings (no truth used); object at t = " +
-                    short_num(full.track.t_ref_s) + " s: " + short_num(full.track.p0_F.x()) + " m north, " +
-                    short_num(full.track.p0_F.y()) + " m east of the first observer sample, velocity (" +
-                    short_num(full.track.v_F.x()) + ", " + short_num(full.track.v_F.y()) + ") m/s";
-    *obs = against_fitted(tobs, full, gate);
-    rep.plots_dropped = static_cast<int>(data.frames.size() - obs->size());
-  }
-  rep.plots_used = static_cast<int>(obs->size());
-  if (obs->size() < 30)
-    throw ConfigError(std::string("diagnose uav: fewer than 30 frames with a detection near the ") +
-                      (with_truth ? "truth" : "fitted track"));
+// The bearing residuals against the reference (truth or the fitted track), the catalogue of
+// the effects, and the covariates: estimation frames before split; the frames span
+// [t0, t0 + span] [s].
+Problem uav_problem(const Obs& obs, const UavDiagnoseOptions& o, bool with_truth, double t0, double span, double split) {
   const std::vector<Ob>& ob = *obs;
-  const double t0 = ob.front().t, span = ob.back().t - t0;
-  const double split = t0 + o.split_fraction * span;
-  rep.split_time_s = split;
-
   Problem pb;
   pb.channels.push_back({"bearing", "", "", "rad", o.sigma_deg * kDegToRad});
   const auto n = static_cast<Eigen::Index>(ob.size());
@@ -260,6 +229,74 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   std::vector<double> range, rate, time;
   for (const auto& x : ob) range.push_back(x.range), rate.push_back(x.rate), time.push_back(x.t - t0);
   pb.covariates = {{"range", range}, {"bearing rate", rate}, {"time", time}};
+  return pb;
+}
+
+// Against the fitted track: what it leaves unexplained (an object range the observer's path
+// does not observe; many frames without a detection near the track), into rep.unexplained.
+void add_fitted_track_notes(const std::vector<Ob>& ob, const std::vector<TrackObs>& tobs, const TrackFit& full,
+                            const UavDiagnoseOptions& o, DiagnoseReport& rep) {
+  // Observability: the relative SE of the object's range along the line of sight from the
+  // observer's mean position; bearings fix range only through the observer's own motion.
+  Eigen::Vector2d o_mean = Eigen::Vector2d::Zero();
+  for (const auto& x : ob) o_mean += tobs[x.k].o_F;
+  o_mean /= static_cast<double>(ob.size());
+  const Eigen::Vector2d los = full.track.p0_F - o_mean;
+  const double R = los.norm();
+  const double se_R = std::sqrt((los / R).dot(full.cov.topLeftCorner<2, 2>() * (los / R)));
+  if (!(se_R < 0.2 * R))
+    rep.unexplained.push_back("the object's range is not observable from this observer path (range " + short_num(R) +
+                              " m +- " + short_num(se_R) + " m): the fitted track, the gain and range-dependent "
+                              "effects are unreliable; the observer must manoeuvre (or use truth)");
+  const double frac = 1.0 - static_cast<double>(full.n_associated) / static_cast<double>(std::max<std::size_t>(1, tobs.size()));
+  if (frac > 0.2)
+    rep.unexplained.push_back(short_num(100 * frac) + " % of the frames with detections have none within " +
+                              short_num(o.gate_deg) + " deg of the fitted constant-velocity track");
+}
+
+}  // namespace
+
+DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o) {
+  check_options(data, o);
+  const bool with_truth = data.truth.size() >= 2 && !o.ignore_truth;
+  DiagnoseReport rep;
+  rep.kind = "uav";
+  const LocalLevelFrame F(data.observer.front().g, 0.0);  // x north, z east
+  const PlaneSeries observer(data.observer, F);
+  const PlaneSeries truth(data.truth, F);
+  const double gate = o.gate_deg * kDegToRad;
+
+  std::vector<TrackObs> tobs;
+  TrackFit full;
+  auto obs = std::make_shared<std::vector<Ob>>();
+  if (with_truth) {
+    check_bearing_units(data, observer, truth);
+    rep.reference = "truth (truth.csv)";
+    *obs = against_truth(data, observer, truth, gate, rep.plots_dropped);
+  } else {
+    TrackFitOptions fo;
+    fo.gate_deg = o.gate_deg;
+    fo.seed = o.seed;
+    tobs = track_observations(data, F);
+    full = fit_cv_track(tobs, -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), fo);
+    rep.reference = "constant-velocity track fitted to the bearings (no truth used); object at t = " +
+                    short_num(full.track.t_ref_s) + " s: " + short_num(full.track.p0_F.x()) + " m north, " +
+                    short_num(full.track.p0_F.y()) + " m east of the first observer sample, velocity (" +
+                    short_num(full.track.v_F.x()) + ", " + short_num(full.track.v_F.y()) + ") m/s";
+    *obs = against_fitted(tobs, full, gate);
+    rep.plots_dropped = static_cast<int>(data.frames.size() - obs->size());
+  }
+  rep.plots_used = static_cast<int>(obs->size());
+  if (obs->size() < 30)
+    throw ConfigError(std::string("diagnose uav: fewer than 30 frames with a detection near the ") +
+                      (with_truth ? "truth" : "fitted track"));
+  const std::vector<Ob>& ob = *obs;
+  const double t0 = ob.front().t, span = ob.back().t - t0;
+  const double split = t0 + o.split_fraction * span;
+  rep.split_time_s = split;
+
+  const Problem pb = uav_problem(obs, o, with_truth, t0, span, split);
+  const auto n = static_cast<Eigen::Index>(ob.size());
 
   check_limit_entries(pb, o.search.injection, "diagnose uav");
   const SearchResult r = search_effects(pb, o.search);
@@ -267,24 +304,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   if (with_truth && o.test_target_model) add_target_model(data, F, o, rep);
   if (!with_truth && data.truth.size() >= 2) extrapolated_track_gain(pb, r, full.track, truth, split, ob.back().t, rep);
 
-  if (!with_truth) {
-    // Observability: the relative SE of the object's range along the line of sight from the
-    // observer's mean position; bearings fix range only through the observer's own motion.
-    Eigen::Vector2d o_mean = Eigen::Vector2d::Zero();
-    for (const auto& x : ob) o_mean += tobs[x.k].o_F;
-    o_mean /= static_cast<double>(ob.size());
-    const Eigen::Vector2d los = full.track.p0_F - o_mean;
-    const double R = los.norm();
-    const double se_R = std::sqrt((los / R).dot(full.cov.topLeftCorner<2, 2>() * (los / R)));
-    if (!(se_R < 0.2 * R))
-      rep.unexplained.push_back("the object's range is not observable from this observer path (range " + short_num(R) +
-                                " m +- " + short_num(se_R) + " m): the fitted track, the gain and range-dependent "
-                                "effects are unreliable; the observer must manoeuvre (or use truth)");
-    const double frac = 1.0 - static_cast<double>(full.n_associated) / static_cast<double>(std::max<std::size_t>(1, tobs.size()));
-    if (frac > 0.2)
-      rep.unexplained.push_back(short_num(100 * frac) + " % of the frames with detections have none within " +
-                                short_num(o.gate_deg) + " deg of the fitted constant-velocity track");
-  }
+  if (!with_truth) add_fitted_track_notes(ob, tobs, full, o, rep);
   const double sigma = std::sqrt(r.noise[0].fit.params.s2);
   if (gate < 3 * sigma)
     rep.unexplained.push_back("the association gate (" + short_num(o.gate_deg) + " deg) is narrower than 3 sigma of the fitted noise (" +

@@ -41,37 +41,20 @@ double determined_z(const Ols& f, Eigen::Index col, Eigen::Index k, const Eigen:
   const double var = (C_held * V).cwiseProduct(C_held).sum();
   return var > 0 ? std::min(z, std::sqrt(signal / var)) : z;
 }
-}  // namespace
 
-void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
+// The columns of effect c (entry, grid point) on the held-out frames.
+Eigen::MatrixXd held_cols(const Design& d, const std::pair<std::size_t, std::size_t>& c, const std::vector<char>& held) {
+  return rows_where(d.Cw[c.first][c.second], held);
+}
+
+// The chosen effects the estimation window `est` determines, taken in the order they were
+// named (out_of_sample says when one is left out).
+std::vector<std::pair<std::size_t, std::size_t>> determined_in_window(
+    const Design& d, const SearchOptions& o, const std::vector<std::pair<std::size_t, std::size_t>>& chosen,
+    const std::vector<char>& est, const std::vector<char>& held) {
   const Problem& p = *d.pb;
-  const NoiseIdOptions& no = o.noise;
-  std::vector<std::pair<std::size_t, std::size_t>> chosen;
-  for (const auto& e : res.effects) chosen.push_back({e.entry, e.variant});
-  const auto n = static_cast<Eigen::Index>(p.size());
-  std::vector<char> est(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) est[i] = p.estimation[i] && d.used[i];
-  const Eigen::Map<const Eigen::VectorXd> y(p.y.data(), n);
   const Eigen::Index q = p.nuisance.cols();
-  // nominal: nuisance only
-  Eigen::VectorXd pred0 = Eigen::VectorXd::Zero(n);
-  res.nominal_oos_beta = Eigen::VectorXd::Zero(q);
-  if (q > 0) {
-    const Ols f0 = ols(d.Nw, d.yw, est, true);
-    if (f0.ok) pred0 = p.nuisance * f0.beta, res.nominal_oos_beta = f0.beta;
-  }
-  res.extended_oos_beta = res.nominal_oos_beta;
-  // extended: the chosen effects refitted on the window, taken in the order they were named.
-  // An effect is left out when the window does not determine it: absent from the window (a step
-  // after the split), its columns confounded there with those kept before it (canonical
-  // correlation above confound_corr given the nuisance and them: a pair the window cannot
-  // separate, e.g. an along-hull offset and a clock offset on one straight leg, would be
-  // extrapolated as a large difference of two large estimates), or determined_z below
-  // holdout_min_z given them. The kept set is then refitted (dropping any that fell below).
   const Eigen::MatrixXd Nw_est = rows_where(d.Nw, est);
-  std::vector<char> held(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i) held[i] = !p.estimation[i] && d.used[i];
-  auto held_cols = [&](const std::pair<std::size_t, std::size_t>& c) { return rows_where(d.Cw[c.first][c.second], held); };
   std::vector<std::pair<std::size_t, std::size_t>> kept;
   for (const auto& c : chosen) {
     const Eigen::MatrixXd& C = d.Cw[c.first][c.second];
@@ -88,8 +71,92 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     const Ols f = ols(Mt, d.yw, est);
     if (!f.ok) continue;
     const auto k = static_cast<Eigen::Index>(p.catalogue[c.first].params.size());
-    if (determined_z(f, f.beta.size() - k, k, held_cols(c)) >= o.holdout_min_z) kept = trial;
+    if (determined_z(f, f.beta.size() - k, k, held_cols(d, c, held)) >= o.holdout_min_z) kept = trial;
   }
+  return kept;
+}
+
+// Channel c's out-of-sample gain into res.gain[c] (residual RMS and predictive log-likelihood
+// of the nominal prediction pred0 and the extended pred1 on its held-out frames) and its
+// outlier mixture's gain into res.noise[c].
+void score_channel(const Design& d, const NoiseIdOptions& no, std::size_t c, const Eigen::VectorXd& pred0,
+                   const Eigen::VectorXd& pred1, SearchResult& res) {
+  const Problem& p = *d.pb;
+  const Eigen::Map<const Eigen::VectorXd> y(p.y.data(), static_cast<Eigen::Index>(p.size()));
+  const auto& rows = d.rows[c];
+  std::vector<double> r0, r1, t, r1_est, t_est, h_est;
+  const std::vector<double>& h = d.gains[c];
+  std::vector<char> score;
+  for (auto i : rows) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    r0.push_back(y(ii) - pred0(ii));
+    r1.push_back(y(ii) - pred1(ii));
+    t.push_back(p.t_s[i]);
+    score.push_back(!p.estimation[i]);
+    if (p.estimation[i]) {
+      r1_est.push_back(r1.back()), t_est.push_back(p.t_s[i]);
+      if (!h.empty()) h_est.push_back(h[t.size() - 1]);
+    }
+  }
+  SeriesGain& g = res.gain[c];
+  double a = 0, b = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    if (score[k] && d.used[rows[k]]) a += r0[k] * r0[k], b += r1[k] * r1[k], ++g.n;
+  if (g.n == 0 || r1_est.size() < 10) return;
+  g.nominal_rms = std::sqrt(a / g.n);
+  g.extended_rms = std::sqrt(b / g.n);
+  NoiseParams nom;
+  nom.s2 = p.channels[c].nominal_var();
+  if (p.channels[c].nominal_corr_sigma > 0) {
+    nom.nom_share = p.channels[c].nominal_share();
+    nom.nom_tau_s = p.channels[c].nominal_corr_tau_s;
+  }
+  g.nominal_loglik = predictive_loglik(t, h, r0, nom, score);
+  // The extended model's noise: the nominal one, unless the search named a noise finding for
+  // this channel (noise_scale or correlated_noise): then the model identified on the
+  // estimation frames' extended residuals. An outlier mixture (flags on those frames) on top.
+  NoiseIdOptions nc = no;
+  nc.nominal_share = nom.nom_share, nc.nominal_tau_s = nom.nom_tau_s;
+  const NoiseFit nf = identify_noise(t_est, h_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
+                                     Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), nc);
+  const bool noise_named = res.noise[c].scale_named || res.noise[c].correlated_named;
+  NoiseParams gauss = noise_named ? nf.params : nom;
+  gauss.p_out = 0, gauss.s_out2 = 0;
+  NoiseParams mix = gauss;
+  mix.p_out = nf.params.p_out, mix.s_out2 = nf.params.s_out2;
+  const double l_gauss = predictive_loglik(t, h, r1, gauss, score);
+  const double l_mix = mix.p_out > 0 ? predictive_loglik(t, h, r1, mix, score) : l_gauss;
+  res.noise[c].outlier_gain = l_mix - l_gauss;
+  g.extended_loglik = std::max(l_gauss, l_mix);
+}
+}  // namespace
+
+void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
+  const Problem& p = *d.pb;
+  std::vector<std::pair<std::size_t, std::size_t>> chosen;
+  for (const auto& e : res.effects) chosen.push_back({e.entry, e.variant});
+  const auto n = static_cast<Eigen::Index>(p.size());
+  std::vector<char> est(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) est[i] = p.estimation[i] && d.used[i];
+  const Eigen::Index q = p.nuisance.cols();
+  // nominal: nuisance only
+  Eigen::VectorXd pred0 = Eigen::VectorXd::Zero(n);
+  res.nominal_oos_beta = Eigen::VectorXd::Zero(q);
+  if (q > 0) {
+    const Ols f0 = ols(d.Nw, d.yw, est, true);
+    if (f0.ok) pred0 = p.nuisance * f0.beta, res.nominal_oos_beta = f0.beta;
+  }
+  res.extended_oos_beta = res.nominal_oos_beta;
+  // extended: the chosen effects refitted on the window, taken in the order they were named.
+  // An effect is left out when the window does not determine it: absent from the window (a step
+  // after the split), its columns confounded there with those kept before it (canonical
+  // correlation above confound_corr given the nuisance and them: a pair the window cannot
+  // separate, e.g. an along-hull offset and a clock offset on one straight leg, would be
+  // extrapolated as a large difference of two large estimates), or determined_z below
+  // holdout_min_z given them. The kept set is then refitted (dropping any that fell below).
+  std::vector<char> held(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) held[i] = !p.estimation[i] && d.used[i];
+  std::vector<std::pair<std::size_t, std::size_t>> kept = determined_in_window(d, o, chosen, est, held);
   Eigen::VectorXd pred1 = pred0;
   for (std::size_t pass = 0; pass <= chosen.size(); ++pass) {
     const Eigen::MatrixXd Mw = model_matrix(d, kept);
@@ -100,7 +167,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
     Eigen::Index col = q;
     for (std::size_t s = 0; s < kept.size(); ++s) {
       const auto k = static_cast<Eigen::Index>(p.catalogue[kept[s].first].params.size());
-      const double z = f1.ok ? determined_z(f1, col, k, held_cols(kept[s])) : 0.0;
+      const double z = f1.ok ? determined_z(f1, col, k, held_cols(d, kept[s], held)) : 0.0;
       if (z < weakest_z || !f1.ok) weakest_z = z, weakest = s;  // singular: drop the latest chosen
       col += k;
     }
@@ -119,53 +186,7 @@ void out_of_sample(const Design& d, const SearchOptions& o, SearchResult& res) {
   res.nominal_oos = pred0;
   res.extended_oos = pred1;
   res.gain.assign(d.rows.size(), SeriesGain{});
-  for (std::size_t c = 0; c < d.rows.size(); ++c) {
-    const auto& rows = d.rows[c];
-    std::vector<double> r0, r1, t, r1_est, t_est, h_est;
-    const std::vector<double>& h = d.gains[c];
-    std::vector<char> score;
-    for (auto i : rows) {
-      const auto ii = static_cast<Eigen::Index>(i);
-      r0.push_back(y(ii) - pred0(ii));
-      r1.push_back(y(ii) - pred1(ii));
-      t.push_back(p.t_s[i]);
-      score.push_back(!p.estimation[i]);
-      if (p.estimation[i]) {
-        r1_est.push_back(r1.back()), t_est.push_back(p.t_s[i]);
-        if (!h.empty()) h_est.push_back(h[t.size() - 1]);
-      }
-    }
-    SeriesGain& g = res.gain[c];
-    double a = 0, b = 0;
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      if (score[k] && d.used[rows[k]]) a += r0[k] * r0[k], b += r1[k] * r1[k], ++g.n;
-    if (g.n == 0 || r1_est.size() < 10) continue;
-    g.nominal_rms = std::sqrt(a / g.n);
-    g.extended_rms = std::sqrt(b / g.n);
-    NoiseParams nom;
-    nom.s2 = p.channels[c].nominal_var();
-    if (p.channels[c].nominal_corr_sigma > 0) {
-      nom.nom_share = p.channels[c].nominal_share();
-      nom.nom_tau_s = p.channels[c].nominal_corr_tau_s;
-    }
-    g.nominal_loglik = predictive_loglik(t, h, r0, nom, score);
-    // The extended model's noise: the nominal one, unless the search named a noise finding for
-    // this channel (noise_scale or correlated_noise): then the model identified on the
-    // estimation frames' extended residuals. An outlier mixture (flags on those frames) on top.
-    NoiseIdOptions nc = no;
-    nc.nominal_share = nom.nom_share, nc.nominal_tau_s = nom.nom_tau_s;
-    const NoiseFit nf = identify_noise(t_est, h_est, Eigen::Map<const Eigen::VectorXd>(r1_est.data(), static_cast<Eigen::Index>(r1_est.size())),
-                                       Eigen::MatrixXd(static_cast<Eigen::Index>(r1_est.size()), 0), nc);
-    const bool noise_named = res.noise[c].scale_named || res.noise[c].correlated_named;
-    NoiseParams gauss = noise_named ? nf.params : nom;
-    gauss.p_out = 0, gauss.s_out2 = 0;
-    NoiseParams mix = gauss;
-    mix.p_out = nf.params.p_out, mix.s_out2 = nf.params.s_out2;
-    const double l_gauss = predictive_loglik(t, h, r1, gauss, score);
-    const double l_mix = mix.p_out > 0 ? predictive_loglik(t, h, r1, mix, score) : l_gauss;
-    res.noise[c].outlier_gain = l_mix - l_gauss;
-    g.extended_loglik = std::max(l_gauss, l_mix);
-  }
+  for (std::size_t c = 0; c < d.rows.size(); ++c) score_channel(d, o.noise, c, pred0, pred1, res);
 }
 
 }  // namespace rnav::search_detail

@@ -204,6 +204,55 @@ bool answer_before_mpi(int argc, char** argv, int& code) {
   }
 }
 
+// Every rank parses the same arguments (rank 0 speaks, and prepares the output folder). Returns
+// the exit code (2 bad input, 1 other failure); go is false after --help or a failure.
+int parse_options(int argc, char** argv, int rank, Options& o, bool& go) {
+  int code = 0;
+  try {
+    std::ostringstream quiet;
+    go = parse(argc, argv, o, rank == 0 ? std::cout : quiet);
+    if (go && rank == 0) rnav::prepare_output_dir(o.out, o.force);
+  } catch (const rnav::ConfigError& e) {
+    if (rank == 0) std::cerr << rnav::cli::error_line(kProg, e.what()) << "\n";
+    code = 2;
+  } catch (const std::exception& e) {
+    if (rank == 0) std::cerr << rnav::cli::error_line(kProg, e.what()) << "\n";
+    code = 1;
+  }
+  return code;
+}
+
+// This rank's shard s run and packed (empty: no realization). On failure, or a pack beyond one
+// MPI message, `failure` says why and is returned instead of the pack.
+std::string run_own_shard(const Options& o, const Range& s, int rank, std::string& failure) {
+  std::string pack;
+  if (rank == o.die_rank) std::raise(SIGKILL);
+  if (s.count > 0) {
+    try {
+      pack = run_shard(o, s, rank);
+    } catch (const std::exception& e) {
+      failure = e.what();
+    }
+  }
+  if (!failure.empty()) pack = failure;
+  if (pack.size() > static_cast<std::size_t>(INT_MAX)) {
+    failure = "its outputs (" + std::to_string(pack.size()) + " bytes) exceed MPI's 2 GiB message: use more ranks";
+    pack = failure;
+  }
+  return pack;
+}
+
+// Returns once every rank has called it, polling a non-blocking barrier every 5 ms.
+void wait_for_all_ranks() {
+  MPI_Request req;
+  MPI_Ibarrier(MPI_COMM_WORLD, &req);
+  for (int done = 0;;) {
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    usleep(5000);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -223,19 +272,8 @@ int main(int argc, char** argv) {
 
   // 1. Options (every rank parses the same arguments; rank 0 speaks), the output folder.
   Options o;
-  int code = 0;
   bool go = false;
-  try {
-    std::ostringstream quiet;
-    go = parse(argc, argv, o, rank == 0 ? std::cout : quiet);
-    if (go && rank == 0) rnav::prepare_output_dir(o.out, o.force);
-  } catch (const rnav::ConfigError& e) {
-    if (rank == 0) std::cerr << rnav::cli::error_line(kProg, e.what()) << "\n";
-    code = 2;
-  } catch (const std::exception& e) {
-    if (rank == 0) std::cerr << rnav::cli::error_line(kProg, e.what()) << "\n";
-    code = 1;
-  }
+  int code = parse_options(argc, argv, rank, o, go);
   if (!go && code == 0) return finish(0);  // --help
   if ((code = agree(code)) != 0) return finish(code);
 
@@ -244,34 +282,14 @@ int main(int argc, char** argv) {
   // One write per line, so that ranks' lines do not interleave.
   std::cerr << ("mpi: rank " + std::to_string(rank) + "/" + std::to_string(k) + " on " + host + ": " + s.text() + "\n");
   const double t0 = rnav::wall_seconds();
-  std::string pack, failure;
-  if (rank == o.die_rank) std::raise(SIGKILL);
-  if (s.count > 0) {
-    try {
-      pack = run_shard(o, s, rank);
-    } catch (const std::exception& e) {
-      failure = e.what();
-    }
-  }
-  if (!failure.empty()) pack = failure;
-  if (pack.size() > static_cast<std::size_t>(INT_MAX)) {
-    failure = "its outputs (" + std::to_string(pack.size()) + " bytes) exceed MPI's 2 GiB message: use more ranks";
-    pack = failure;
-  }
+  std::string failure;
+  std::string pack = run_own_shard(o, s, rank, failure);
   const double secs = rnav::wall_seconds() - t0;
 
   // 3. Wait for every rank without spinning (MPI implementations busy-poll inside collectives:
   // a rank done early would take a core from the ranks still running when ranks outnumber
   // cores), then gather: status, time, host, then the packs.
-  {
-    MPI_Request req;
-    MPI_Ibarrier(MPI_COMM_WORLD, &req);
-    for (int done = 0;;) {
-      MPI_Test(&req, &done, MPI_STATUS_IGNORE);
-      if (done) break;
-      usleep(5000);
-    }
-  }
+  wait_for_all_ranks();
   int failed = failure.empty() ? 0 : 1, len = static_cast<int>(pack.size());
   std::vector<int> all_failed(k), lens(k);
   std::vector<double> all_secs(k);
