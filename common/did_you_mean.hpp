@@ -1,6 +1,6 @@
 // "Did you mean ...?": the closest known name to a misspelt one (an option, a scenario key, a
 // scenario name), by edit distance. Used by the option parser (cli.hpp) and the scenario reader
-// (config.hpp); scripts use the same rule (scripts/cli.bash, scripts/cli_args.py).
+// (config.hpp); scripts use the same rule (scripts/cli.bash, loggers/rnav/cli_args.py).
 #pragma once
 
 #include <cstddef>

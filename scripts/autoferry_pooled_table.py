@@ -6,12 +6,9 @@ the scope answers, and the leave-one-recording-out error per sensor:target pair 
 (pairs with >= 5 detections)."""
 import json
 import math
-import os
 import re
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import cli_args  # noqa: E402
+from rnav import cli_args
 
 MEAN_EFFECTS_SKIPPED = ("noise_scale", "correlated_noise", "outliers", "target_maneuver")
 MIN_N = 5          # detections a pair needs to count in the summary (the issue's rule)

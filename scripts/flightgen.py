@@ -245,8 +245,7 @@ import random
 import re
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import cli_args  # noqa: E402
+from rnav import cli_args
 
 PROG = "flightgen.py"
 A_WGS, F_WGS = 6378137.0, 1 / 298.257223563

@@ -29,11 +29,8 @@ import sys
 import time
 import urllib.parse
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(os.path.dirname(HERE), "loggers"))
-import cli_args  # noqa: E402
-from rnav import lcmlog as rnav_lcmlog  # noqa: E402
+from rnav import cli_args
+from rnav import lcmlog as rnav_lcmlog
 
 PROG = "spy_text.py"
 SHORT, FRAGMENT = 0x4C433032, 0x4C433033   # 'LC02', 'LC03'

@@ -17,7 +17,8 @@ for each file:
   * rnav.read_run / read_sweep / read_log open the folders and the log;
   * every file a landing-radar, azimuth-only and data-link run writes (plots included) is named
     in the README's table of outputs.
-Usage: check_csv_kinds.py SOURCE_DIR BUILD_DIR SHARED_DATA_DIR
+Usage: PYTHONPATH=SOURCE_DIR/loggers check_csv_kinds.py SOURCE_DIR BUILD_DIR SHARED_DATA_DIR (ctest sets
+PYTHONPATH)
 """
 import glob
 import json
@@ -28,11 +29,11 @@ import subprocess
 import sys
 import tempfile
 
+import numpy as np
+import pandas as pd
+import rnav
+
 SRC, BUILD, DATA = (os.path.abspath(a) for a in sys.argv[1:4])
-sys.path.insert(0, os.path.join(SRC, "loggers"))
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-import rnav  # noqa: E402
 
 BIN = os.path.join(BUILD, "bin")
 ENV = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(SRC, "loggers"))

@@ -24,9 +24,8 @@ import os
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from generated_checks import Checks, run  # noqa: E402
-import generated_checks  # noqa: E402
+from generated_checks import Checks, run
+import generated_checks
 
 SRC, BUILD = sys.argv[1], sys.argv[2]
 DIAG = os.path.join(BUILD, "bin", "rnav_diagnose")

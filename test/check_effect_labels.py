@@ -3,12 +3,11 @@
 with its estimate (loggers/rnav/effect_labels.py), on a hand-made report: an angle shown in degrees,
 a parameter named by its unit shown after the value, the scope and recording written out, an
 effect only on the panels it acts on, noise findings and nominal parameters left out.
-Usage: check_effect_labels.py SOURCE_DIR"""
+Usage: PYTHONPATH=SOURCE_DIR/loggers check_effect_labels.py (ctest sets it)"""
 import math
 import sys
 
-sys.path.insert(0, sys.argv[1] + "/loggers")
-from rnav import effect_labels as L  # noqa: E402
+from rnav import effect_labels as L
 
 report = {"effects": [
     {"name": "range_bias", "nominal": True, "params": ["m"], "estimate": 6.1, "stderr": 1.2},

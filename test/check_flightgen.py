@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks of scripts/flightgen.py, the independent flight generator.
 
-Usage: check_flightgen.py SOURCE_DIR
+Usage: PYTHONPATH=SOURCE_DIR/scripts check_flightgen.py SOURCE_DIR (ctest sets PYTHONPATH)
 
 1. Determinism: the same seed and keys (with every kind of noise on) give byte-identical files,
    through the CLI into two folders; another seed changes every data file; changing only a
@@ -42,10 +42,10 @@ import subprocess
 import sys
 import tempfile
 
+import flightgen
+
 SRC = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), ".."))
 GEN = os.path.join(SRC, "scripts", "flightgen.py")
-sys.path.insert(0, os.path.join(SRC, "scripts"))
-import flightgen  # noqa: E402
 
 A, F = 6378137.0, 1 / 298.257223563
 B = A * (1 - F)

@@ -38,9 +38,8 @@ rc=$?
 # --net host: the run warns that its traffic is on the host's network
 grep -q "^run: warning: the run's LCM traffic is on this host's network" "$T/run.log" ||
   { cat "$T/run.log"; fail "--net host gave no warning that other users can see the run"; }
-/usr/bin/python3 - "$T/spy.json" "$T/rec.lcmlog" "$SRC/loggers" <<'PY' || { tail -15 "$T/spy.txt"; exit 1; }
+PYTHONPATH="$SRC/loggers" /usr/bin/python3 - "$T/spy.json" "$T/rec.lcmlog" <<'PY' || { tail -15 "$T/spy.txt"; exit 1; }
 import json, sys
-sys.path.insert(0, sys.argv[3])
 from rnav import lcmlog
 d = json.load(open(sys.argv[1]))
 ch = {c["channel"]: c for c in d["channels"]}

@@ -359,7 +359,6 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
   std::ofstream(script) << "import csv, sys\n"
                            "from urllib.parse import unquote  # text cells are percent-encoded (loggers/rnav/csvio.py)\n"
                            "sys.modules['lcm'] = None  # the generated types must not need LCM's module\n"
-                           "sys.path.insert(0, '" << RNAV_SOURCE_DIR << "/loggers')\n"
                            "from rnav import lcmlog as rnav_lcmlog\n"
                            "t = rnav_lcmlog.tables(sys.argv[1])\n"
                            "n = 0\n"
@@ -379,7 +378,9 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
                            "        n += len(text)\n"
                            "print(t['UAV_TMA']['P_3_3'].dtype, t['UAV_TMA']['updated'].dtype, "
                            "t['UAV_TMA']['utime'].dtype, n)\n";
-  const auto [st, out] = sh("/usr/bin/python3 " + script.string() + " " + log + " " + (d / "csv").string());
+  // the checkout's own package, as ctest gives the python tests (PYTHONPATH)
+  const auto [st, out] = sh("PYTHONPATH=" + std::string(RNAV_SOURCE_DIR) + "/loggers /usr/bin/python3 " + script.string() +
+                            " " + log + " " + (d / "csv").string());
   INFO(out);
   REQUIRE(st == 0);
   std::istringstream os(out);

@@ -14,22 +14,29 @@ Every Table is {column: numpy array} with `units`, `meanings` and `frame()`. Fro
 or log holds and converts a log to CSV; see `python3 -m rnav --help`.
 
 Modules: tables (reading), csvio (the CSV + units.json format every writer follows), lcmlog (LCM
-event logs), effect_labels (the diagnosis's effects as legend text).
+event logs), effect_labels (the diagnosis's effects as legend text); for the programs in scripts/
+(which import the package through the link scripts/rnav): cli_args (their command lines and
+messages), study_runner (the runner of every study's jobs), clopper_pearson (binomial intervals).
 """
+import importlib
 import sys
 
-try:
-    import numpy  # noqa: F401
-except ImportError:  # the python3 first on PATH may be another interpreter than Debian's
-    _why = ("rnav needs numpy, which this interpreter (%s) lacks: use Debian's /usr/bin/python3 "
-            "(scripts/setup installs python3-numpy)" % sys.executable)
-    if sys.argv[:1] == ["-m"]:  # python3 -m rnav: a message, not a traceback
-        sys.stderr.write("rnav: error: %s\n" % _why)
-        raise SystemExit(2)
-    raise ImportError(_why) from None
+# The readers need numpy; the programs' helpers (cli_args, study_runner, clopper_pearson) and
+# effect_labels do not, so the readers are loaded on first use: scripts/flightgen.py, the
+# independent generator, runs on any Python 3.
+_READERS = {"CsvError": "csvio", "LogError": "lcmlog", "Folder": "tables", "Table": "tables",
+            "read_csv": "tables", "read_log": "tables", "read_run": "tables", "read_sweep": "tables"}
+__all__ = list(_READERS)
 
-from .csvio import CsvError  # noqa: E402
-from .lcmlog import LogError  # noqa: E402
-from .tables import Folder, Table, read_csv, read_log, read_run, read_sweep  # noqa: E402
 
-__all__ = ["CsvError", "LogError", "Folder", "Table", "read_csv", "read_log", "read_run", "read_sweep"]
+def __getattr__(name):
+    """A reader of the package (see _READERS), imported when first asked for."""
+    module = _READERS.get(name)
+    if module is None:
+        raise AttributeError("module 'rnav' has no attribute %r" % name)
+    try:
+        import numpy  # noqa: F401
+    except ImportError:  # the python3 first on PATH may be another interpreter than Debian's
+        raise ImportError("rnav needs numpy, which this interpreter (%s) lacks: use Debian's /usr/bin/python3 "
+                          "(scripts/setup installs python3-numpy)" % sys.executable) from None
+    return getattr(importlib.import_module("." + module, __name__), name)

@@ -12,7 +12,11 @@ Exit status 0, 2 for bad input (named on stderr).
 import os
 import sys
 
-from . import CsvError, LogError, read_csv, read_log, read_run, read_sweep
+try:
+    from . import CsvError, LogError, read_csv, read_log, read_run, read_sweep
+except ImportError as e:  # numpy missing: a message, not a traceback
+    sys.stderr.write("rnav: error: %s\n" % e)
+    raise SystemExit(2)
 
 _REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 

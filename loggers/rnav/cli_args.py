@@ -1,15 +1,37 @@
-"""Command-line handling shared by the Python scripts (geometry_study, power_study, uav_study):
-argparse with the project's conventions, the Python twin of scripts/cli.bash and common/cli.hpp.
+"""Command-line handling shared by the Python programs in scripts/ (the studies, sweep,
+flightgen.py, ...): argparse with the project's conventions, the Python twin of scripts/cli.bash
+and common/cli.hpp.
 
 * -h/--help prints the usage and every option with its default on stdout;
 * --list-options prints each option name (and its value's placeholder), one per line;
 * errors print as "PROGRAM: error: message" (once; exit status 2), an unknown option with the
   nearest known one (the edit-distance rule of common/did_you_mean.hpp);
 * no abbreviations: an option is spelt out or is unknown.
+The scripts' messages on stderr go through die(), log() and progress(), each given the program
+name that prefixes its lines (e.g. die = functools.partial(cli_args.die, PROG)).
 """
 
 import argparse
 import sys
+
+
+def die(prog, msg, code=2):
+    """Print 'PROG: error: MSG' on stderr and exit with CODE (2: input refused)."""
+    sys.stderr.write("%s: error: %s\n" % (prog, msg))
+    sys.exit(code)
+
+
+def log(prog, msg):
+    """Print 'PROG: MSG' on stderr at once."""
+    sys.stderr.write("%s: %s\n" % (prog, msg))
+    sys.stderr.flush()
+
+
+def progress(prog, msg):
+    """A study_runner progress line (one per job done, with the ETA) as log() prints it; not the
+    'job NAME' line of each start."""
+    if not msg.startswith("job "):
+        log(prog, msg)
 
 
 def edit_distance(a, b):

@@ -47,7 +47,8 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-SCRIPTS = os.path.dirname(os.path.abspath(__file__))
+# scripts/ of this checkout (mpi.bash), also when imported through the link scripts/rnav
+SCRIPTS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__)))), "scripts")
 MARKER = "job.json"
 LOG = "job.log"
 KEPT = ("ok", "invalid")
