@@ -8,7 +8,7 @@
 # (seed 1, in one process, no foreign traffic), and B's run_events.json must report the foreign
 # messages it ignored (A's replay runs during all of B's; how many arrive depends on the pace, so
 # the check is that some were counted, and the count is printed). B's own LCM log, which heard
-# the replay too, is refused by the diagnosis's log reader, naming the two runs.
+# the replay too, is refused by the diagnosis's log reader and by rnav.read_log, naming the two runs.
 # Usage: check_foreign_run.sh SOURCE_DIR BUILD_DIR
 set -u
 SRC=$(cd "$1" && pwd)
@@ -42,4 +42,7 @@ grep -q "message(s) of another run on this network ignored" "$T/b/logs/clock.log
 "$RNAV_BUILD/bin/rnav_diagnose" prl "$T/b.lcmlog" --injections 0 >"$T/d.out" 2>"$T/d.err"; rc=$?
 ((rc == 2)) && grep -q "b.lcmlog: the log holds the traffic of 2 runs (run ids " "$T/d.err" ||
   fail "diagnosing a log of two runs: exit $rc, expected 2 and the two runs named: $(tail -2 "$T/d.err")"
+PYTHONPATH="$SRC/loggers" /usr/bin/python3 -m rnav show "$T/b.lcmlog" >"$T/p.out" 2>"$T/p.err"; rc=$?
+((rc == 2)) && grep -q "b.lcmlog: the log holds the traffic of 2 runs (run ids " "$T/p.err" ||
+  fail "python3 -m rnav show of a log of two runs: exit $rc, expected 2 and the two runs named: $(tail -2 "$T/p.err")"
 echo "check_foreign_run: results byte-identical with another run's traffic replayed; $n foreign messages ignored"

@@ -219,6 +219,18 @@ class _Chunk:
         self.rows, self.seen = [], set()
 
 
+def _one_run(path, runs, run_id, event):
+    """Count a grant or batch of run `run_id` (event number `event`). A log of two runs (another
+    run on the same network, or a log replayed while recording) mixes their realizations and
+    windows: refused at the first message of a second run, naming the run ids (as the C++ reader
+    does), before its windows can look like duplicates or gaps."""
+    runs[run_id] = runs.get(run_id, 0) + 1
+    if len(runs) > 1:
+        raise LogError("%s: the log holds the traffic of 2 runs (run ids %s; the second from event %d): a log must "
+                       "hold one run; record each run on its own network (scripts/run's default private namespace) "
+                       "or its own --lcm-url" % (path, " and ".join(str(r) for r in runs), event))
+
+
 def read(path, channels=None, all_attempts=False, types=None):
     """({channel: Table}, {channel: resent copies skipped}, {channel: rows of earlier attempts
     dropped}) of every channel of the log (or only `channels`), checked as the module says."""
@@ -229,6 +241,7 @@ def read(path, channels=None, all_attempts=False, types=None):
     acks = {}      # (realization, attempt, channel) -> {window: samples its publisher's OK ack lists}
     current = None  # the last grant (sim_window_t), the window of sample messages
     kinds, chunks, out, copies = {}, {}, {}, {}
+    runs = {}      # run id -> grants and batches carrying it (one log, one run: see _one_run)
     n_events = 0
     for ev in events(path):
         n_events += 1
@@ -245,6 +258,7 @@ def read(path, channels=None, all_attempts=False, types=None):
                            "channel)" % (path, ev.number, ch, type(msg).__name__, first[1], first[0].__name__))
         if ch == "SIM_WINDOW":
             if msg.command in (_START, _RESEND):
+                _one_run(path, runs, msg.run_id, ev.number)
                 grants.setdefault((msg.realization, msg.attempt), {}).setdefault(msg.window, (ev.number, msg))
                 starts[msg.realization] = ev.number
                 current = msg
@@ -266,6 +280,7 @@ def read(path, channels=None, all_attempts=False, types=None):
         per_channel = chunks.setdefault(ch, {})
         if items:
             h = msg.header
+            _one_run(path, runs, h.run_id, ev.number)
             key = (h.realization, h.attempt, h.window)
             old = per_channel.get(key)
             if old is not None:
