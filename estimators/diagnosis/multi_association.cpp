@@ -157,10 +157,8 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
   }
 }
 
-}  // namespace
-
-std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
-                                           std::map<std::string, SensorAssociation>& stats) {
+// The checks of associate()'s options.
+void check_options(const AssociationOptions& o) {
   if (!(o.gate_bearing_deg > 0 && o.gate_bearing_deg <= 45)) throw ConfigError("association: gate_bearing_deg must be in (0, 45]");
   if (!(o.gate_position_m > 0)) throw ConfigError("association: gate_position_m must be > 0");
   if (!(o.reference_max_gap_s > 0) || !std::isfinite(o.reference_max_gap_s))
@@ -174,15 +172,12 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       throw ConfigError("association: wide_gate_position_m must be finite and > 0");
     if (o.recentre_min_pairs < kMinPairsFloor) throw ConfigError("association: recentre_min_pairs must be >= 3");
   }
-  if (data.truth.empty()) throw ConfigError("multi-sensor diagnosis: needs truth.csv (the targets' reference tracks)");
-  const LocalLevelFrame F(data.observer.front().g, 0.0);
-  const PlaneSeries observer(data.observer, F);
-  std::map<std::string, PlaneSeries> truth;
-  const auto level = data.truth_on_level();
-  for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
-  const double gate_b = o.gate_bearing_deg * kDegToRad, h = o.velocity_half_span_s;
-  const auto& det = data.detections;
+}
 
+// The scans of det, each with the observer and the targets' predictions at its time (frame F).
+std::vector<Scan> make_scans(const std::vector<Detection>& det, const AssociationOptions& o, const LocalLevelFrame& F,
+                             const PlaneSeries& observer, const std::map<std::string, PlaneSeries>& truth) {
+  const double h = o.velocity_half_span_s;
   // scans: consecutive rows of one sensor with one t_s (sensors may interleave between scans)
   std::vector<Scan> scans;
   for (std::size_t i = 0; i < det.size();) {
@@ -215,116 +210,152 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     scans.push_back(std::move(s));
     i = j;
   }
+  return scans;
+}
+
+using Shifts = std::map<std::string, std::pair<double, double>>;  // per sensor: (bearing [rad], range [m])
+
+// First pass: per sensor, the residuals of the unambiguous pairs inside the wide gates.
+std::map<std::string, WideResiduals> wide_residuals(const std::vector<Scan>& scans, const std::vector<Detection>& det,
+                                                    const AssociationOptions& o) {
+  const double wide_b = std::max(o.wide_gate_bearing_deg, o.gate_bearing_deg) * kDegToRad;
+  const double wide_m = std::max(o.wide_gate_position_m, o.gate_position_m);
+  std::map<std::string, WideResiduals> wide;
+  for (const Scan& s : scans) {
+    WideResiduals& w = wide[det[s.begin].sensor];
+    const double gate = s.ranged ? wide_m : wide_b;
+    for (std::size_t a = 0; a < s.preds.size(); ++a) {
+      const Eigen::Vector2d& pa = s.preds[a].p;
+      const Eigen::Vector2d d = pa - s.po;
+      if (d.norm() < kMinPredRange) continue;
+      bool crowded = false;  // another target's prediction within the wide gate
+      for (std::size_t b = 0; b < s.preds.size(); ++b) crowded |= b != a && separation(s, pa, s.preds[b].p) < gate;
+      if (crowded) continue;
+      int inside = 0;
+      std::size_t hit = 0;
+      for (auto k : s.rows)
+        if (distance(det[k], s, pa) <= gate) ++inside, hit = k;
+      if (inside != 1) continue;
+      bool shared = false;  // the detection inside another target's wide gate, too
+      for (std::size_t b = 0; b < s.preds.size(); ++b)
+        shared |= b != a && distance(det[hit], s, s.preds[b].p) <= gate;
+      if (shared) continue;
+      w.bearing_rad.push_back(wrap_pi(det[hit].bearing_rad + s.gamma - bearing_rad(d)));
+      if (s.ranged) {
+        w.range_m.push_back(det[hit].range_m - d.norm());
+        w.pred_range_m.push_back(d.norm());
+      }
+    }
+  }
+  return wide;
+}
+
+// Each sensor's gate shifts from its first-pass residuals, recorded in its stats too.
+Shifts gate_shifts(const std::vector<Scan>& scans, const std::vector<Detection>& det, const AssociationOptions& o,
+                   std::map<std::string, SensorAssociation>& stats) {
+  const double gate_b = o.gate_bearing_deg * kDegToRad;
+  Shifts shift;
+  for (const auto& [sensor, w] : wide_residuals(scans, det, o)) {
+    const bool ranged = !w.range_m.empty();
+    // a range sensor's bearing shift is judged as metres across the line of sight at the pairs' median range
+    const double scale = ranged ? median(w.pred_range_m) : 1.0;  // [m/rad] or [1]
+    const double db = shift_of(w.bearing_rad, o.recentre_min_pairs, scale, ranged ? o.gate_position_m : gate_b);
+    const double dr = ranged ? shift_of(w.range_m, o.recentre_min_pairs, 1.0, o.gate_position_m) : 0.0;
+    shift[sensor] = {db, dr};
+    SensorAssociation& st = stats[sensor];
+    st.gate_shift_bearing_rad = db;
+    st.gate_shift_range_m = dr;
+    st.wide_pairs = static_cast<int>(w.bearing_rad.size());
+  }
+  return shift;
+}
+
+// Final pass over scan s: each unambiguous prediction's nearest detection inside its gate, appended to out.
+void associate_scan(const Scan& s, const std::vector<Detection>& det, const AssociationOptions& o, const Shifts& shift,
+                    std::map<std::string, SensorAssociation>& stats, std::vector<AssociatedDetection>& out) {
+  const double gate_b = o.gate_bearing_deg * kDegToRad;
+  const std::string& sensor = det[s.begin].sensor;
+  const double t = det[s.begin].t_s;
+  SensorAssociation& st = stats[sensor];
+  ++st.scans;
+  st.detections += static_cast<int>(s.rows.size());
+  const auto sh = shift.find(sensor);
+  std::vector<Eigen::Vector2d> gp;  // gating predictions
+  for (const auto& pr : s.preds)
+    gp.push_back(sh == shift.end() ? pr.p : shifted(s, pr.p, sh->second.first, sh->second.second));
+  const Eigen::Rotation2Dd to_local(-s.gamma);
+  auto dist = [&](std::size_t k, const Eigen::Vector2d& p) { return distance(det[k], s, p); };
+  const double gate = s.ranged ? o.gate_position_m : gate_b;
+  // ambiguity: two predictions within one gate of each other
+  std::vector<char> ambiguous(s.preds.size(), 0);
+  for (std::size_t a = 0; a < s.preds.size(); ++a)
+    for (std::size_t b = a + 1; b < s.preds.size(); ++b)
+      if (separation(s, gp[a], gp[b]) < 2 * gate) ambiguous[a] = ambiguous[b] = 1;
+  if (std::any_of(ambiguous.begin(), ambiguous.end(), [](char c) { return c; })) ++st.ambiguous_scans;
+  std::vector<long> claim(s.preds.size(), -1);
+  for (std::size_t a = 0; a < s.preds.size(); ++a) {
+    if (ambiguous[a]) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (auto k : s.rows)
+      if (dist(k, gp[a]) < best) best = dist(k, gp[a]), claim[a] = static_cast<long>(k);
+    if (!(best <= gate)) claim[a] = -1;
+  }
+  for (std::size_t a = 0; a < s.preds.size(); ++a) {
+    if (ambiguous[a]) continue;
+    bool lost = claim[a] < 0;
+    for (std::size_t b = 0; b < s.preds.size() && !lost; ++b)
+      if (b != a && claim[b] == claim[a] &&
+          dist(static_cast<std::size_t>(claim[a]), gp[b]) < dist(static_cast<std::size_t>(claim[a]), gp[a]))
+        lost = true;
+    if (lost) {
+      ++st.missed[s.preds[a].target];
+      continue;
+    }
+    const Pred& pr = s.preds[a];
+    const Detection& dk = det[static_cast<std::size_t>(claim[a])];
+    AssociatedDetection x;  // raw measurements and reference geometry (never the shifted prediction)
+    x.t_s = t;
+    x.sensor = sensor;
+    x.target = pr.target;
+    x.has_range = s.ranged;
+    x.bearing_rad = dk.bearing_rad;
+    x.range_m = s.ranged ? dk.range_m : 0.0;
+    x.d = to_local * (pr.p - s.po);
+    x.v_target = to_local * pr.v;
+    x.v_rel = to_local * (pr.v - s.vo);
+    const double speed = pr.v.norm();
+    x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(to_local * pr.v / speed) : Eigen::Vector2d::Zero();
+    x.ref_interp_sd_m = pr.interp_sd_m;
+    x.ref_interval_s = pr.interval_s;
+    if (x.d.norm() < kMinPredRange) continue;  // on top of the observer: no bearing
+    out.push_back(x);
+    ++st.associated[x.target];
+  }
+}
+
+}  // namespace
+
+std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
+                                           std::map<std::string, SensorAssociation>& stats) {
+  check_options(o);
+  if (data.truth.empty()) throw ConfigError("multi-sensor diagnosis: needs truth.csv (the targets' reference tracks)");
+  const LocalLevelFrame F(data.observer.front().g, 0.0);
+  const PlaneSeries observer(data.observer, F);
+  std::map<std::string, PlaneSeries> truth;
+  const auto level = data.truth_on_level();
+  for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
+  const auto& det = data.detections;
+  const std::vector<Scan> scans = make_scans(det, o, F, observer, truth);
 
   check_units(scans, det);
 
   // first pass (recentre_gates): unambiguous pairs inside the wide gates, and each sensor's shifts
-  std::map<std::string, std::pair<double, double>> shift;  // per sensor: (bearing [rad], range [m])
-  if (o.recentre_gates) {
-    const double wide_b = std::max(o.wide_gate_bearing_deg, o.gate_bearing_deg) * kDegToRad;
-    const double wide_m = std::max(o.wide_gate_position_m, o.gate_position_m);
-    std::map<std::string, WideResiduals> wide;
-    for (const Scan& s : scans) {
-      WideResiduals& w = wide[det[s.begin].sensor];
-      const double gate = s.ranged ? wide_m : wide_b;
-      for (std::size_t a = 0; a < s.preds.size(); ++a) {
-        const Eigen::Vector2d& pa = s.preds[a].p;
-        const Eigen::Vector2d d = pa - s.po;
-        if (d.norm() < kMinPredRange) continue;
-        bool crowded = false;  // another target's prediction within the wide gate
-        for (std::size_t b = 0; b < s.preds.size(); ++b) crowded |= b != a && separation(s, pa, s.preds[b].p) < gate;
-        if (crowded) continue;
-        int inside = 0;
-        std::size_t hit = 0;
-        for (auto k : s.rows)
-          if (distance(det[k], s, pa) <= gate) ++inside, hit = k;
-        if (inside != 1) continue;
-        bool shared = false;  // the detection inside another target's wide gate, too
-        for (std::size_t b = 0; b < s.preds.size(); ++b)
-          shared |= b != a && distance(det[hit], s, s.preds[b].p) <= gate;
-        if (shared) continue;
-        w.bearing_rad.push_back(wrap_pi(det[hit].bearing_rad + s.gamma - bearing_rad(d)));
-        if (s.ranged) {
-          w.range_m.push_back(det[hit].range_m - d.norm());
-          w.pred_range_m.push_back(d.norm());
-        }
-      }
-    }
-    for (const auto& [sensor, w] : wide) {
-      const bool ranged = !w.range_m.empty();
-      // a range sensor's bearing shift is judged as metres across the line of sight at the pairs' median range
-      const double scale = ranged ? median(w.pred_range_m) : 1.0;  // [m/rad] or [1]
-      const double db = shift_of(w.bearing_rad, o.recentre_min_pairs, scale, ranged ? o.gate_position_m : gate_b);
-      const double dr = ranged ? shift_of(w.range_m, o.recentre_min_pairs, 1.0, o.gate_position_m) : 0.0;
-      shift[sensor] = {db, dr};
-      SensorAssociation& st = stats[sensor];
-      st.gate_shift_bearing_rad = db;
-      st.gate_shift_range_m = dr;
-      st.wide_pairs = static_cast<int>(w.bearing_rad.size());
-    }
-  }
+  Shifts shift;  // per sensor: (bearing [rad], range [m])
+  if (o.recentre_gates) shift = gate_shifts(scans, det, o, stats);
 
   // final pass: the gates around the predictions, moved by the sensor's shifts for gating only
   std::vector<AssociatedDetection> out;
-  for (const Scan& s : scans) {
-    const std::string& sensor = det[s.begin].sensor;
-    const double t = det[s.begin].t_s;
-    SensorAssociation& st = stats[sensor];
-    ++st.scans;
-    st.detections += static_cast<int>(s.rows.size());
-    const auto sh = shift.find(sensor);
-    std::vector<Eigen::Vector2d> gp;  // gating predictions
-    for (const auto& pr : s.preds)
-      gp.push_back(sh == shift.end() ? pr.p : shifted(s, pr.p, sh->second.first, sh->second.second));
-    const Eigen::Rotation2Dd to_local(-s.gamma);
-    auto dist = [&](std::size_t k, const Eigen::Vector2d& p) { return distance(det[k], s, p); };
-    const double gate = s.ranged ? o.gate_position_m : gate_b;
-    // ambiguity: two predictions within one gate of each other
-    std::vector<char> ambiguous(s.preds.size(), 0);
-    for (std::size_t a = 0; a < s.preds.size(); ++a)
-      for (std::size_t b = a + 1; b < s.preds.size(); ++b)
-        if (separation(s, gp[a], gp[b]) < 2 * gate) ambiguous[a] = ambiguous[b] = 1;
-    if (std::any_of(ambiguous.begin(), ambiguous.end(), [](char c) { return c; })) ++st.ambiguous_scans;
-    std::vector<long> claim(s.preds.size(), -1);
-    for (std::size_t a = 0; a < s.preds.size(); ++a) {
-      if (ambiguous[a]) continue;
-      double best = std::numeric_limits<double>::infinity();
-      for (auto k : s.rows)
-        if (dist(k, gp[a]) < best) best = dist(k, gp[a]), claim[a] = static_cast<long>(k);
-      if (!(best <= gate)) claim[a] = -1;
-    }
-    for (std::size_t a = 0; a < s.preds.size(); ++a) {
-      if (ambiguous[a]) continue;
-      bool lost = claim[a] < 0;
-      for (std::size_t b = 0; b < s.preds.size() && !lost; ++b)
-        if (b != a && claim[b] == claim[a] &&
-            dist(static_cast<std::size_t>(claim[a]), gp[b]) < dist(static_cast<std::size_t>(claim[a]), gp[a]))
-          lost = true;
-      if (lost) {
-        ++st.missed[s.preds[a].target];
-        continue;
-      }
-      const Pred& pr = s.preds[a];
-      const Detection& dk = det[static_cast<std::size_t>(claim[a])];
-      AssociatedDetection x;  // raw measurements and reference geometry (never the shifted prediction)
-      x.t_s = t;
-      x.sensor = sensor;
-      x.target = pr.target;
-      x.has_range = s.ranged;
-      x.bearing_rad = dk.bearing_rad;
-      x.range_m = s.ranged ? dk.range_m : 0.0;
-      x.d = to_local * (pr.p - s.po);
-      x.v_target = to_local * pr.v;
-      x.v_rel = to_local * (pr.v - s.vo);
-      const double speed = pr.v.norm();
-      x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(to_local * pr.v / speed) : Eigen::Vector2d::Zero();
-      x.ref_interp_sd_m = pr.interp_sd_m;
-      x.ref_interval_s = pr.interval_s;
-      if (x.d.norm() < kMinPredRange) continue;  // on top of the observer: no bearing
-      out.push_back(x);
-      ++st.associated[x.target];
-    }
-  }
+  for (const Scan& s : scans) associate_scan(s, det, o, shift, stats, out);
   return out;
 }
 

@@ -88,6 +88,204 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
   }
 }
 
+// Chosen effect s from the final fit (its columns from col on; col moves past them), with its evidence and confounding.
+FoundEffect chosen_effect(const Design& d, const SearchOptions& o, const Chosen& chosen, const std::vector<double>& kept_lr,
+                          const Ols& fin, const Eigen::MatrixXd& cov, double m, std::size_t s, Eigen::Index& col) {
+  const Problem& p = *d.pb;
+  const auto [e, v] = chosen[s];
+  const Candidate& c = p.catalogue[e];
+  FoundEffect fe;
+  fe.name = c.name;
+  fe.scope = c.scope;
+  fe.params = c.params;
+  fe.entry = e;
+  fe.variant = v;
+  for (std::size_t j = 0; j < c.params.size(); ++j) {
+    fe.estimate.push_back(fin.beta(col + static_cast<Eigen::Index>(j)));
+    fe.stderr_.push_back(std::sqrt(cov(col + static_cast<Eigen::Index>(j), col + static_cast<Eigen::Index>(j))));
+  }
+  col += static_cast<Eigen::Index>(c.params.size());
+  const Chosen rest = without(chosen, s);
+  const Projector P(model_matrix(d, rest), d.yw, d.n_used);
+  fe.lr = P.lr(d.Cw[e][v]);
+  const double k = static_cast<double>(c.params.size());
+  // log10 of the Bonferroni-adjusted p of a 2 log LR: alpha / m per entry, split over its grid
+  auto log10_adjusted = [&](double lr) {
+    return std::min(0.0, (log_chi2_sf(lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
+  };
+  fe.log10_p = log10_adjusted(fe.lr);
+  fe.kept_lr = kept_lr[s];
+  fe.kept_log10_p = log10_adjusted(fe.kept_lr);
+  fe.delta_bic = fe.lr - (k + (c.scanned() ? 1 : 0)) * std::log(d.n_used);
+  if (c.scanned()) {
+    fe.scan_param = c.scan_param;
+    fe.scan_value = c.scan[v];
+    fe.scan_se = scan_se(d, P, e, v);
+    fe.note = "scanned over " + std::to_string(c.scan.size()) + " values of " + c.scan_param +
+              " (look-elsewhere: its share of alpha is split over them)";
+  }
+  fe.replication = replication(d, chosen, s);
+  confounding(d, o, chosen, m, fe, s);
+  return fe;
+}
+
+// The detection and separation limits of every non-scanned entry, per parameter.
+void detection_limits(const Design& d, const SearchOptions& o, double m, SearchResult& res) {
+  // ---- detection limits: each non-scanned entry alone with the nuisance; separation limits:
+  // the same given the other non-scanned entry that inflates its SE most (the size at which it
+  // is told from that partner with the same probability), z times
+  //   SE(e | nuisance, f) = SE(e | nuisance) / sqrt(1 - rho^2), rho its partial correlation with f;
+  //   naming limit = 2 z_power SE(e | nuisance, f)  (see SeparationLimit::naming_size) ----
+  const Problem& p = *d.pb;
+  const Eigen::Index q = p.nuisance.cols();
+  const double z_power = normal_upper_quantile(1 - o.power);
+  const double z = z_two_sided(o.alpha / m) + z_power;
+  auto se_of = [&](const Chosen& model, std::size_t j) {  // SE of the first entry's parameter j
+    const Ols f = ols(model_matrix(d, model), d.yw, d.used);
+    if (!f.ok) return std::numeric_limits<double>::quiet_NaN();
+    const auto ix = q + static_cast<Eigen::Index>(j);
+    return std::sqrt(f.cov_unscaled(ix, ix) * f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size())));
+  };
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+    const Candidate& c = p.catalogue[e];
+    if (c.scanned() || c.scope_only) continue;
+    const std::string key = c.name + "@" + c.scope.label();
+    for (std::size_t j = 0; j < c.params.size(); ++j) {
+      const double se = se_of({{e, 0}}, j);
+      if (!std::isfinite(se)) continue;
+      res.detection_limits[key][c.params[j]] = z * se;
+      const double inf = std::numeric_limits<double>::infinity();
+      SeparationLimit worst{z * se, "", 0.0, 2 * z_power * se};
+      for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
+        if (f == e || p.catalogue[f].scanned() || p.catalogue[f].scope_only) continue;
+        const double se_f = se_of({{e, 0}, {f, 0}}, j);
+        const Candidate& other = p.catalogue[f];
+        std::string label = other.name + " (" + other.scope.label();
+        for (const auto& pn : other.params) label += "; " + pn;
+        label += ")";
+        if (!std::isfinite(se_f)) {  // inside the partner's span: no size tells them apart
+          worst = {inf, label, 1.0, inf};
+          break;
+        }
+        if (z * se_f > worst.size) worst = {z * se_f, label, std::sqrt(std::max(0.0, 1 - (se / se_f) * (se / se_f))), 2 * z_power * se_f};
+      }
+      res.separation_limits[key][c.params[j]] = worst;
+    }
+  }
+}
+
+// The noise findings per channel (res.noise): its scale against the nominal and its correlation.
+void noise_findings(const Design& d, const SearchOptions& o, const std::vector<NoiseFit>& fits, double m,
+                    SearchResult& res) {
+  const Problem& p = *d.pb;
+  for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
+    ChannelNoise cn;
+    cn.fit = fits[ch];
+    const NoiseParams& np = cn.fit.params;
+    // The scale of the nominal model's structure (its white and nominal correlated parts) against
+    // the nominal variance: 2 log LR = n' (q - 1 - log q), exact when the structure holds (the
+    // whitened residuals are then independent). The chosen model's marginal s^2 is not used: a
+    // slow component the AIC rule admits has a poorly determined variance. Where a further
+    // correlated part was chosen, n' shrinks to the effective size under its lag-one correlation.
+    const double qv = cn.fit.s2_nominal / p.channels[ch].nominal_var();
+    const auto& t = d.times[ch];
+    const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
+    const double rho1 = np.lambda > 0 ? (1 - np.nom_share) * np.lambda * std::exp(-dt / np.tau_s) : 0.0;
+    const double n_eff = std::max(2.0, cn.fit.dof_nominal * (1 - rho1) / (1 + rho1));
+    cn.noise_scale = std::sqrt(qv);
+    cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);
+    const double lr = n_eff * (qv - 1 - std::log(qv));
+    cn.log10_p_scale = std::min(0.0, (log_chi2_sf(lr, 1) + std::log(m)) / std::log(10.0));
+    cn.scale_named = cn.log10_p_scale < std::log10(o.alpha);
+    cn.correlated_named = cn.fit.departs_nominal;
+    res.noise.push_back(cn);
+  }
+}
+
+// Whether each channel's outliers are named (res.noise[ch].outliers_named), after out_of_sample.
+void name_outliers(const Design& d, const SearchOptions& o, double m, SearchResult& res) {
+  // outliers named: flags in excess of the Gaussian expectation, a positive held-out gain of the
+  // heavy-tailed mixture over the identified (coloured) noise model, and isolated flags: gross
+  // errors strike single frames (at a rate p a flag has a flagged neighbour with probability
+  // about 2 p), while a burst of coloured noise the model underrates flags runs of frames; at
+  // most a quarter of the flagged frames may have a flagged neighbour.
+  for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
+    ChannelNoise& cn = res.noise[ch];
+    const int flagged = static_cast<int>(d.rows[ch].size()) - cn.fit.n;
+    const double lambda = o.noise.expected_false_flags;
+    const std::vector<char>& f = cn.fit.outlier;
+    int in_runs = 0;
+    for (std::size_t i = 0; i < f.size(); ++i)
+      in_runs += f[i] && ((i > 0 && f[i - 1]) || (i + 1 < f.size() && f[i + 1]));
+    cn.outliers_in_runs = in_runs;
+    cn.outliers_named = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha && cn.outlier_gain > 0 &&
+                        4 * in_runs <= flagged;
+  }
+}
+
+// The covariates a channel's residual under the final model (M beta) still correlates with (res.unexplained).
+void unexplained(const Design& d, const SearchOptions& o, const Eigen::MatrixXd& M, const Eigen::VectorXd& beta,
+                 SearchResult& res) {
+  const Problem& p = *d.pb;
+  const Eigen::VectorXd rw = d.yw - M * beta;
+  const double tests = std::max(1.0, static_cast<double>(p.covariates.size() * d.rows.size()));
+  for (const auto& [name, values] : p.covariates) {
+    if (values.size() != p.size()) throw std::invalid_argument("effect search: covariate " + name + " has the wrong size");
+    const Eigen::VectorXd xw = d.whiten(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())));
+    for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
+      std::vector<double> a, b;
+      for (auto i : d.rows[ch])
+        if (d.used[i]) a.push_back(xw(static_cast<Eigen::Index>(i))), b.push_back(rw(static_cast<Eigen::Index>(i)));
+      const double r = pearson(a, b);
+      const double z = std::abs(r) * std::sqrt(static_cast<double>(a.size()));
+      if (r != 0 && std::erfc(z / std::sqrt(2.0)) * tests < o.alpha)
+        res.unexplained.push_back(p.channels[ch].name + " residual correlates with " + name + " (r = " + short_num(r) +
+                                  ", after the extended model and its noise model)");
+    }
+  }
+}
+
+// The answer to scope question sq: each alternative's 2 log LR and BIC given the chosen effects outside them.
+ScopeAnswer scope_answer(const Design& d, const Chosen& chosen, const ScopeQuestion& sq) {
+  ScopeAnswer ans;
+  ans.question = sq.question;
+  std::vector<std::size_t> family;
+  for (const auto& alt : sq.alternatives) family.insert(family.end(), alt.second.begin(), alt.second.end());
+  Chosen base;
+  for (const auto& c : chosen)
+    if (std::find(family.begin(), family.end(), c.first) == family.end()) base.push_back(c);
+  const Eigen::MatrixXd B = model_matrix(d, base);
+  const Projector P(B, d.yw, d.n_used);
+  ScopeAnswer::Alt none{"none", 0, 0, 0};
+  ans.alternatives.push_back(none);
+  double best = 0;
+  ans.supported = "none";
+  for (const auto& [label, entries] : sq.alternatives) {
+    Chosen add;
+    for (auto e : entries) {  // the chosen grid point of a chosen entry, else point 0
+      const auto it = std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; });
+      add.push_back({e, it != chosen.end() ? it->second : 0});
+    }
+    const Eigen::MatrixXd all = model_matrix(d, add);
+    Eigen::MatrixXd C = all.rightCols(all.cols() - d.Nw.cols());
+    // keep independent columns only (e.g. a common effect inside per-sensor ones)
+    // (columns scaled to unit norm first: their units differ by orders of magnitude)
+    Eigen::VectorXd inv_norm(C.cols());
+    for (Eigen::Index j = 0; j < C.cols(); ++j) inv_norm(j) = C.col(j).norm() > 0 ? 1.0 / C.col(j).norm() : 1.0;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C * inv_norm.asDiagonal());
+    qr.setThreshold(1e-6);
+    if (qr.rank() < C.cols()) C = Eigen::MatrixXd(C * qr.colsPermutation()).leftCols(qr.rank());
+    ScopeAnswer::Alt a;
+    a.label = label;
+    a.k = static_cast<int>(C.cols());
+    a.lr = std::max(0.0, P.lr(C));
+    a.bic = a.k * std::log(d.n_used) - a.lr;
+    if (a.bic < best) best = a.bic, ans.supported = label;
+    ans.alternatives.push_back(a);
+  }
+  return ans;
+}
+
 }  // namespace
 
 void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const std::vector<double>& kept_lr,
@@ -115,189 +313,22 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
 
   // ---- the chosen effects ----
   Eigen::Index col = q;
-  for (std::size_t s = 0; s < chosen.size(); ++s) {
-    const auto [e, v] = chosen[s];
-    const Candidate& c = p.catalogue[e];
-    FoundEffect fe;
-    fe.name = c.name;
-    fe.scope = c.scope;
-    fe.params = c.params;
-    fe.entry = e;
-    fe.variant = v;
-    for (std::size_t j = 0; j < c.params.size(); ++j) {
-      fe.estimate.push_back(fin.beta(col + static_cast<Eigen::Index>(j)));
-      fe.stderr_.push_back(std::sqrt(cov(col + static_cast<Eigen::Index>(j), col + static_cast<Eigen::Index>(j))));
-    }
-    col += static_cast<Eigen::Index>(c.params.size());
-    const Chosen rest = without(chosen, s);
-    const Projector P(model_matrix(d, rest), d.yw, d.n_used);
-    fe.lr = P.lr(d.Cw[e][v]);
-    const double k = static_cast<double>(c.params.size());
-    // log10 of the Bonferroni-adjusted p of a 2 log LR: alpha / m per entry, split over its grid
-    auto log10_adjusted = [&](double lr) {
-      return std::min(0.0, (log_chi2_sf(lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
-    };
-    fe.log10_p = log10_adjusted(fe.lr);
-    fe.kept_lr = kept_lr[s];
-    fe.kept_log10_p = log10_adjusted(fe.kept_lr);
-    fe.delta_bic = fe.lr - (k + (c.scanned() ? 1 : 0)) * std::log(d.n_used);
-    if (c.scanned()) {
-      fe.scan_param = c.scan_param;
-      fe.scan_value = c.scan[v];
-      fe.scan_se = scan_se(d, P, e, v);
-      fe.note = "scanned over " + std::to_string(c.scan.size()) + " values of " + c.scan_param +
-                " (look-elsewhere: its share of alpha is split over them)";
-    }
-    fe.replication = replication(d, chosen, s);
-    confounding(d, o, chosen, m, fe, s);
-    res.effects.push_back(fe);
-  }
+  for (std::size_t s = 0; s < chosen.size(); ++s)
+    res.effects.push_back(chosen_effect(d, o, chosen, kept_lr, fin, cov, m, s, col));
 
-  // ---- detection limits: each non-scanned entry alone with the nuisance; separation limits:
-  // the same given the other non-scanned entry that inflates its SE most (the size at which it
-  // is told from that partner with the same probability), z times
-  //   SE(e | nuisance, f) = SE(e | nuisance) / sqrt(1 - rho^2), rho its partial correlation with f;
-  //   naming limit = 2 z_power SE(e | nuisance, f)  (see SeparationLimit::naming_size) ----
-  {
-    const double z_power = normal_upper_quantile(1 - o.power);
-    const double z = z_two_sided(o.alpha / m) + z_power;
-    auto se_of = [&](const Chosen& model, std::size_t j) {  // SE of the first entry's parameter j
-      const Ols f = ols(model_matrix(d, model), d.yw, d.used);
-      if (!f.ok) return std::numeric_limits<double>::quiet_NaN();
-      const auto ix = q + static_cast<Eigen::Index>(j);
-      return std::sqrt(f.cov_unscaled(ix, ix) * f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size())));
-    };
-    for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
-      const Candidate& c = p.catalogue[e];
-      if (c.scanned() || c.scope_only) continue;
-      const std::string key = c.name + "@" + c.scope.label();
-      for (std::size_t j = 0; j < c.params.size(); ++j) {
-        const double se = se_of({{e, 0}}, j);
-        if (!std::isfinite(se)) continue;
-        res.detection_limits[key][c.params[j]] = z * se;
-        const double inf = std::numeric_limits<double>::infinity();
-        SeparationLimit worst{z * se, "", 0.0, 2 * z_power * se};
-        for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
-          if (f == e || p.catalogue[f].scanned() || p.catalogue[f].scope_only) continue;
-          const double se_f = se_of({{e, 0}, {f, 0}}, j);
-          const Candidate& other = p.catalogue[f];
-          std::string label = other.name + " (" + other.scope.label();
-          for (const auto& pn : other.params) label += "; " + pn;
-          label += ")";
-          if (!std::isfinite(se_f)) {  // inside the partner's span: no size tells them apart
-            worst = {inf, label, 1.0, inf};
-            break;
-          }
-          if (z * se_f > worst.size) worst = {z * se_f, label, std::sqrt(std::max(0.0, 1 - (se / se_f) * (se / se_f))), 2 * z_power * se_f};
-        }
-        res.separation_limits[key][c.params[j]] = worst;
-      }
-    }
-  }
+  detection_limits(d, o, m, res);
 
   // ---- noise findings per channel ----
-  for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
-    ChannelNoise cn;
-    cn.fit = fits[ch];
-    const NoiseParams& np = cn.fit.params;
-    // The scale of the nominal model's structure (its white and nominal correlated parts) against
-    // the nominal variance: 2 log LR = n' (q - 1 - log q), exact when the structure holds (the
-    // whitened residuals are then independent). The chosen model's marginal s^2 is not used: a
-    // slow component the AIC rule admits has a poorly determined variance. Where a further
-    // correlated part was chosen, n' shrinks to the effective size under its lag-one correlation.
-    const double qv = cn.fit.s2_nominal / p.channels[ch].nominal_var();
-    const auto& t = d.times[ch];
-    const double dt = (t.back() - t.front()) / std::max<double>(1, static_cast<double>(t.size()) - 1);
-    const double rho1 = np.lambda > 0 ? (1 - np.nom_share) * np.lambda * std::exp(-dt / np.tau_s) : 0.0;
-    const double n_eff = std::max(2.0, cn.fit.dof_nominal * (1 - rho1) / (1 + rho1));
-    cn.noise_scale = std::sqrt(qv);
-    cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);
-    const double lr = n_eff * (qv - 1 - std::log(qv));
-    cn.log10_p_scale = std::min(0.0, (log_chi2_sf(lr, 1) + std::log(m)) / std::log(10.0));
-    cn.scale_named = cn.log10_p_scale < std::log10(o.alpha);
-    cn.correlated_named = cn.fit.departs_nominal;
-    res.noise.push_back(cn);
-  }
+  noise_findings(d, o, fits, m, res);
 
   if (o.score_holdout) out_of_sample(d, o, res);
-  // outliers named: flags in excess of the Gaussian expectation, a positive held-out gain of the
-  // heavy-tailed mixture over the identified (coloured) noise model, and isolated flags: gross
-  // errors strike single frames (at a rate p a flag has a flagged neighbour with probability
-  // about 2 p), while a burst of coloured noise the model underrates flags runs of frames; at
-  // most a quarter of the flagged frames may have a flagged neighbour.
-  for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
-    ChannelNoise& cn = res.noise[ch];
-    const int flagged = static_cast<int>(d.rows[ch].size()) - cn.fit.n;
-    const double lambda = o.noise.expected_false_flags;
-    const std::vector<char>& f = cn.fit.outlier;
-    int in_runs = 0;
-    for (std::size_t i = 0; i < f.size(); ++i)
-      in_runs += f[i] && ((i > 0 && f[i - 1]) || (i + 1 < f.size() && f[i + 1]));
-    cn.outliers_in_runs = in_runs;
-    cn.outliers_named = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha && cn.outlier_gain > 0 &&
-                        4 * in_runs <= flagged;
-  }
+  name_outliers(d, o, m, res);
 
   // ---- unexplained: whitened residual against whitened covariates ----
-  {
-    const Eigen::VectorXd rw = d.yw - M * fin.beta;
-    const double tests = std::max(1.0, static_cast<double>(p.covariates.size() * d.rows.size()));
-    for (const auto& [name, values] : p.covariates) {
-      if (values.size() != p.size()) throw std::invalid_argument("effect search: covariate " + name + " has the wrong size");
-      const Eigen::VectorXd xw = d.whiten(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())));
-      for (std::size_t ch = 0; ch < d.rows.size(); ++ch) {
-        std::vector<double> a, b;
-        for (auto i : d.rows[ch])
-          if (d.used[i]) a.push_back(xw(static_cast<Eigen::Index>(i))), b.push_back(rw(static_cast<Eigen::Index>(i)));
-        const double r = pearson(a, b);
-        const double z = std::abs(r) * std::sqrt(static_cast<double>(a.size()));
-        if (r != 0 && std::erfc(z / std::sqrt(2.0)) * tests < o.alpha)
-          res.unexplained.push_back(p.channels[ch].name + " residual correlates with " + name + " (r = " + short_num(r) +
-                                    ", after the extended model and its noise model)");
-      }
-    }
-  }
+  unexplained(d, o, M, fin.beta, res);
 
   // ---- scope questions ----
-  for (const auto& sq : p.scope_questions) {
-    ScopeAnswer ans;
-    ans.question = sq.question;
-    std::vector<std::size_t> family;
-    for (const auto& alt : sq.alternatives) family.insert(family.end(), alt.second.begin(), alt.second.end());
-    Chosen base;
-    for (const auto& c : chosen)
-      if (std::find(family.begin(), family.end(), c.first) == family.end()) base.push_back(c);
-    const Eigen::MatrixXd B = model_matrix(d, base);
-    const Projector P(B, d.yw, d.n_used);
-    ScopeAnswer::Alt none{"none", 0, 0, 0};
-    ans.alternatives.push_back(none);
-    double best = 0;
-    ans.supported = "none";
-    for (const auto& [label, entries] : sq.alternatives) {
-      Chosen add;
-      for (auto e : entries) {  // the chosen grid point of a chosen entry, else point 0
-        const auto it = std::find_if(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == e; });
-        add.push_back({e, it != chosen.end() ? it->second : 0});
-      }
-      const Eigen::MatrixXd all = model_matrix(d, add);
-      Eigen::MatrixXd C = all.rightCols(all.cols() - d.Nw.cols());
-      // keep independent columns only (e.g. a common effect inside per-sensor ones)
-      // (columns scaled to unit norm first: their units differ by orders of magnitude)
-      Eigen::VectorXd inv_norm(C.cols());
-      for (Eigen::Index j = 0; j < C.cols(); ++j) inv_norm(j) = C.col(j).norm() > 0 ? 1.0 / C.col(j).norm() : 1.0;
-      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(C * inv_norm.asDiagonal());
-      qr.setThreshold(1e-6);
-      if (qr.rank() < C.cols()) C = Eigen::MatrixXd(C * qr.colsPermutation()).leftCols(qr.rank());
-      ScopeAnswer::Alt a;
-      a.label = label;
-      a.k = static_cast<int>(C.cols());
-      a.lr = std::max(0.0, P.lr(C));
-      a.bic = a.k * std::log(d.n_used) - a.lr;
-      if (a.bic < best) best = a.bic, ans.supported = label;
-      ans.alternatives.push_back(a);
-    }
-    res.scopes.push_back(ans);
-  }
+  for (const auto& sq : p.scope_questions) res.scopes.push_back(scope_answer(d, chosen, sq));
 }
 
 }  // namespace rnav::search_detail

@@ -139,6 +139,85 @@ void check_series(const char* who, const std::vector<double>& t, const std::vect
   if (n < 10) throw std::invalid_argument(w + ": fewer than 10 frames");
 }
 
+// The (lambda, log tau) maximising crit(lambda, tau): the grid, then refined.
+template <class F>
+std::pair<double, double> search_lambda_tau(F crit, double ltau_lo, double ltau_hi) {
+  // grid
+  double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
+  for (int i = 0; i < n_tau; ++i) {
+    const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
+    for (double lam : grid_lambdas) {
+      const double ll = crit(lam, std::exp(lt));
+      if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
+    }
+  }
+  // refine: log tau, then logit lambda, twice
+  const double dlt = (ltau_hi - ltau_lo) / (n_tau - 1);
+  auto logit = [](double x) { return std::log(x / (1 - x)); };
+  auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
+  for (int it = 0; it < 2; ++it) {
+    best_lt = golden_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
+                         std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
+    const double z = golden_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
+                                logit(0.01), logit(0.999), 40);
+    best_lam = expit(z);
+  }
+  return {best_lam, best_lt};
+}
+
+// The frames flagged as outliers under fit.params (sets fit.z_outlier); skip: the frames left out of the fit.
+std::vector<char> outlier_flags(const Series& sr, const NoiseIdOptions& o, const std::vector<char>& skip,
+                                NoiseFit& fit) {
+  const std::vector<double>& t = sr.t;
+  const Eigen::MatrixXd& Xe = sr.Xe;
+  const auto n = static_cast<Eigen::Index>(t.size());
+  // flag: standardized innovations of the GLS residual under the chosen model
+  Eigen::MatrixXd W = Xe;
+  whiten(t, sr.h, fit.params, skip, W);
+  const Eigen::Index k = Xe.cols() - 1;
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(k));
+  const Eigen::VectorXd beta = qr.solve(W.col(k));
+  // raw residual of the mean model, then its innovations over all frames (flags re-decided)
+  const Eigen::VectorXd raw = Xe.col(k) - Xe.leftCols(k) * beta;
+  const NoiseParams& pr = fit.params;
+  fit.z_outlier = z_two_sided(std::min(0.5, o.expected_false_flags / static_cast<double>(n)));
+  // innovations conditioned on the non-flagged past (a flagged frame does not update the state)
+  std::vector<char> next(static_cast<std::size_t>(n), 0);
+  {
+    NoiseFilter f(pr, sr.h);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      NoiseFilter trial = f;
+      const double S = trial.predict(ui, t[ui]), nu = raw(i) - trial.mean();
+      if (std::abs(nu) / std::sqrt(S) > fit.z_outlier) {
+        next[ui] = 1;
+        continue;
+      }
+      trial.update(nu);
+      f = trial;
+    }
+  }
+  return next;
+}
+
+// The outliers of fit (the n frames' flags skip): their count, share and spread in e.
+void set_outliers(const std::vector<char>& skip, const Eigen::VectorXd& e, Eigen::Index n, NoiseFit& fit) {
+  fit.outlier = skip;
+  fit.n = 0;
+  for (char s : skip) fit.n += !s;
+  const int flagged = static_cast<int>(n) - fit.n;
+  if (flagged > 0) {
+    fit.params.p_out = std::min(0.49, static_cast<double>(flagged) / static_cast<double>(n));
+    // outlier spread: their residuals about the mean model's level (robust to a few)
+    std::vector<double> r;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (skip[static_cast<std::size_t>(i)]) r.push_back(e(i));
+    double ss = 0;
+    for (double x : r) ss += x * x;
+    fit.params.s_out2 = std::max(ss / static_cast<double>(r.size()), 4 * fit.params.s2);
+  }
+}
+
 }  // namespace
 
 NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
@@ -161,26 +240,7 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
   for (int round = 0; round < 5; ++round) {
     const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
-    // grid
-    double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
-    for (int i = 0; i < n_tau; ++i) {
-      const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
-      for (double lam : grid_lambdas) {
-        const double ll = crit(lam, std::exp(lt));
-        if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
-      }
-    }
-    // refine: log tau, then logit lambda, twice
-    const double dlt = (ltau_hi - ltau_lo) / (n_tau - 1);
-    auto logit = [](double x) { return std::log(x / (1 - x)); };
-    auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
-    for (int it = 0; it < 2; ++it) {
-      best_lt = golden_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
-                           std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
-      const double z = golden_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
-                                  logit(0.01), logit(0.999), 40);
-      best_lam = expit(z);
-    }
+    const auto [best_lam, best_lt] = search_lambda_tau(crit, ltau_lo, ltau_hi);
     const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
     if (o.profile_ml) {
       // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
@@ -234,49 +294,11 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     }
     fit.loglik_ml = reml(sr, fit.params.nom_share, fit.params.lambda, fit.params.tau_s, skip).ml;
     if (!o.flag_outliers || fixed_skip) break;
-    // flag: standardized innovations of the GLS residual under the chosen model
-    Eigen::MatrixXd W = Xe;
-    whiten(t, h, fit.params, skip, W);
-    const Eigen::Index k = Xe.cols() - 1;
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W.leftCols(k));
-    const Eigen::VectorXd beta = qr.solve(W.col(k));
-    // raw residual of the mean model, then its innovations over all frames (flags re-decided)
-    const Eigen::VectorXd raw = Xe.col(k) - Xe.leftCols(k) * beta;
-    const NoiseParams& pr = fit.params;
-    fit.z_outlier = z_two_sided(std::min(0.5, o.expected_false_flags / static_cast<double>(n)));
-    // innovations conditioned on the non-flagged past (a flagged frame does not update the state)
-    std::vector<char> next(static_cast<std::size_t>(n), 0);
-    {
-      NoiseFilter f(pr, h);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const auto ui = static_cast<std::size_t>(i);
-        NoiseFilter trial = f;
-        const double S = trial.predict(ui, t[ui]), nu = raw(i) - trial.mean();
-        if (std::abs(nu) / std::sqrt(S) > fit.z_outlier) {
-          next[ui] = 1;
-          continue;
-        }
-        trial.update(nu);
-        f = trial;
-      }
-    }
+    const std::vector<char> next = outlier_flags(sr, o, skip, fit);
     if (next == skip) break;
     skip = next;
   }
-  fit.outlier = skip;
-  fit.n = 0;
-  for (char s : skip) fit.n += !s;
-  const int flagged = static_cast<int>(n) - fit.n;
-  if (flagged > 0) {
-    fit.params.p_out = std::min(0.49, static_cast<double>(flagged) / static_cast<double>(n));
-    // outlier spread: their residuals about the mean model's level (robust to a few)
-    std::vector<double> r;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (skip[static_cast<std::size_t>(i)]) r.push_back(e(i));
-    double ss = 0;
-    for (double x : r) ss += x * x;
-    fit.params.s_out2 = std::max(ss / static_cast<double>(r.size()), 4 * fit.params.s2);
-  }
+  set_outliers(skip, e, n, fit);
   return fit;
 }
 
