@@ -71,6 +71,13 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
                       (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
 }
 
+std::vector<Geodetic> positions(const std::vector<GeoSample>& v) {
+  std::vector<Geodetic> g;
+  g.reserve(v.size());
+  for (const auto& s : v) g.push_back(s.g);
+  return g;
+}
+
 void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b) {
   if (a.g.empty() || b.g.empty()) return;
   auto med = [](const NamedPositions& p, double Geodetic::*field) {

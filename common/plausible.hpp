@@ -43,6 +43,8 @@ struct NamedPositions {
   std::string lat_name, lon_name;
   std::vector<Geodetic> g;
 };
+/// The positions of a track, without their times (for coordinates_in_degrees).
+std::vector<Geodetic> positions(const std::vector<GeoSample>& v);
 /// [deg] A coordinate column holding radians: its median m read as radians (m 180/pi) lies within
 /// this of the other file's median, while m as read lies farther than this from it. (Scenes are
 /// tens of kilometres across: a degree of latitude is 111 km. Coordinates within about a degree

@@ -43,10 +43,8 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
   if (d.observer.size() < 2) throw ConfigError(dir + "/observer.csv: fewer than 2 rows");
   if (d.frames.size() < 10) throw ConfigError(dir + "/bearings.csv: fewer than 10 frames");
   // coordinates in radians, named by file and column before validate's "far away"
-  plausible::NamedPositions obs{"observer.csv lat_deg", "observer.csv lon_deg", {}}, tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
-  for (const auto& s : d.observer) obs.g.push_back(s.g);
-  for (const auto& s : d.truth) tru.g.push_back(s.g);
-  plausible::coordinates_in_degrees(obs, tru);
+  plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)},
+                                    {"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)});
   d.validate(dir);
   return d;
 }

@@ -37,10 +37,8 @@ double sd(const std::vector<double>& x) {
   return std::sqrt(s);
 }
 
-}  // namespace
-
-// Weighted least-squares line y = a + b x: (a, b); b NaN where x does not spread.
-static std::pair<double, double> line_fit(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w) {
+// Weighted least-squares line y = a + b x: (a, b); b not finite where x does not spread.
+std::pair<double, double> line_fit(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w) {
   double sw = 0, mx = 0, my = 0;
   for (std::size_t i = 0; i < x.size(); ++i) sw += w[i], mx += w[i] * x[i], my += w[i] * y[i];
   mx /= sw, my /= sw;
@@ -49,6 +47,8 @@ static std::pair<double, double> line_fit(const std::vector<double>& x, const st
   const double b = sxy / sxx;
   return {my - b * mx, b};
 }
+
+}  // namespace
 
 std::string range_unit_of(double q, double tol) {
   for (const auto& [name, f] : std::vector<std::pair<const char*, double>>{

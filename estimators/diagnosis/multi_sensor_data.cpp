@@ -215,11 +215,10 @@ void refuse_raw_autoferry(const std::string& dir) {
 constexpr double kMinCourseSpeedMps = 0.5;  // [m/s] slower, the course over ground is noise
 constexpr double kMetresPerDegree = 111195;  // [m] one degree of a great circle (mean radius)
 void check_units(const MultiSensorData& d) {
-  plausible::NamedPositions obs{"observer.csv lat_deg", "observer.csv lon_deg", {}}, tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
-  for (const auto& s : d.observer) obs.g.push_back(s.g);
+  plausible::NamedPositions tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
   for (const auto& [name, v] : d.truth)
-    for (const auto& s : v) tru.g.push_back(s.g);
-  plausible::coordinates_in_degrees(obs, tru);
+    for (const auto& s : v) tru.g.push_back(s.g);  // every target's samples together
+  plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)}, tru);
   int n = 0, inside = 0, refs = 0, refs_outside = 0;
   for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
     const double h = d.observer_heading_deg[i];

@@ -88,14 +88,9 @@ PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   if (d.nav.size() < 2) throw ConfigError(dir + "/nav.csv: fewer than 2 solutions");
   // Coordinates in radians, by file and column (before validate's "far from the radar site",
   // which would not say which column; truth's heights are checked after nav's, check_truth_heights).
-  const auto positions = [](const std::vector<GeoSample>& v) {
-    std::vector<Geodetic> g;
-    for (const auto& s : v) g.push_back(s.g);
-    return g;
-  };
   const plausible::NamedPositions site{"site.json radar.lat_deg", "site.json radar.lon_deg", {d.radar_site}};
-  plausible::coordinates_in_degrees({"nav.csv lat_deg", "nav.csv lon_deg", positions(d.nav)}, site);
-  plausible::coordinates_in_degrees({"truth.csv lat_deg", "truth.csv lon_deg", positions(d.truth)}, site);
+  plausible::coordinates_in_degrees({"nav.csv lat_deg", "nav.csv lon_deg", plausible::positions(d.nav)}, site);
+  plausible::coordinates_in_degrees({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, site);
   plausible::coordinates_in_degrees({"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}}, site);
   d.validate(dir);
   return d;
