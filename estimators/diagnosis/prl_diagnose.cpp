@@ -165,9 +165,11 @@ Problem prl_problem(const Plots& P, const PrlFlightData& data, const DiagnoseOpt
                           columns(P, 1, [](const Plot& x, V) -> M { return fx::azimuth_elevation_coupling(x.geometry()); })});
   pb.catalogue.push_back({"site_offset", {}, {"east_m", "north_m", "up_m"}, "the geometry's Jacobian (a shifted site)", "", {},
                           columns(P, 3, [R_R_ENU](const Plot& x, V) -> M { return fx::site_offset(x.geometry(), R_R_ENU); })});
-  for (int c = 0; c < kChannels; ++c)
+  for (int c = 0; c < kChannels; ++c) {
     pb.catalogue.push_back({"bias_drift", {}, {kDriftParam[c]}, std::string("time on the ") + kChannelName[c], "", {},
                             columns(P, 1, [c, t_lo](const Plot& x, V) -> M { return fx::bias_drift(x.geometry(), c, t_lo); })});
+    pb.catalogue.back().shape = true;  // a shape in time, not a physical cause
+  }
   std::vector<double> steps, periods;
   for (int k = 0; k < o.step_grid; ++k) steps.push_back(t_lo + span * (0.1 + 0.8 * k / (o.step_grid - 1)));
   for (double T = 4; T <= span / 3; T *= 1.05) periods.push_back(T);

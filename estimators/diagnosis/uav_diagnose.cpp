@@ -205,6 +205,7 @@ Problem uav_problem(const Obs& obs, const UavDiagnoseOptions& o, bool with_truth
                           columns(obs, 1, [](const Ob& x, V) { return one(-x.rate); })});
   pb.catalogue.push_back({"bias_drift", {}, {"rad_per_s"}, "time", "", {},
                           columns(obs, 1, [t0](const Ob& x, V) { return one(x.t - t0); })});
+  pb.catalogue.back().shape = true;  // a shape in time, not a physical cause
   std::vector<double> periods;
   for (double T = 4; T <= span / 3; T *= 1.05) periods.push_back(T);
   if (!periods.empty())

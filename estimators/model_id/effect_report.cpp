@@ -20,17 +20,6 @@ Chosen without(const Chosen& c, std::size_t s) {
   return out;
 }
 
-// The best grid point of entry e given the model `rest` (its LR and index).
-std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P, std::size_t e) {
-  double best = -1;
-  std::size_t arg = 0;
-  for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
-    const double lr = P.lr(d.Cw[e][v]);
-    if (lr > best) best = lr, arg = v;
-  }
-  return {best, arg};
-}
-
 // SE of a scanned value from its profile: half the width of {v : LR(v) >= LR_max - 1}, at
 // least the grid step / sqrt(12).
 double scan_se(const Design& d, const Projector& P, std::size_t e, std::size_t v0) {
@@ -55,19 +44,13 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
     if (f == e || p.catalogue[f].scope_only ||
         std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; }))
       continue;
-    const auto [lr_f, vf] = best_variant(d, P, f);
-    const double corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][vf]);
-    const double k = static_cast<double>(p.catalogue[f].params.size());
-    const bool passes = lr_f > 0 && log_chi2_sf(lr_f, k) + std::log(static_cast<double>(d.Cw[f].size()) * m) < std::log(o.alpha);
-    // "explains as well": the 2 log LR difference is below strong evidence (6 on the
-    // Kass-Raftery scale) or below the look-elsewhere cost of the larger scan, 2 log(grid)
-    const double cost = std::max(6.0, 2 * std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
-    if (corr > o.confound_corr || (passes && lr_self - lr_f < cost)) {
+    const Rival r = rival(d, M, P, e, v, f, o.alpha, o.confound_corr, m);
+    if (r.same) {
       FoundEffect::Confound cf;
       cf.name = p.catalogue[f].name;
       cf.scope = p.catalogue[f].scope;
-      cf.corr = corr;
-      cf.dlr = lr_self - lr_f;
+      cf.corr = r.corr;
+      cf.dlr = lr_self - r.lr;
       cf.entry = f;
       cf.params = p.catalogue[f].params;
       fe.confounded_with.push_back(cf);
@@ -82,7 +65,7 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
     const Candidate& self = p.catalogue[e];
     fe.note += (fe.note.empty() ? "" : "; ") + std::string("explains the same residual here as ") + c.name + " (" +
                c.scope.label() + "; canonical correlation " + short_num(c.corr) + ", 2 log LR difference " +
-               short_num(c.dlr) + ")" + (self.scanned() ? "" : "; named as the physical one-parameter cause") +
+               short_num(c.dlr) + ")" + (self.is_shape() ? "" : "; named as the physical one-parameter cause") +
                ". Data in which " + self.signature + " and " + other.signature +
                " vary differently would separate them";
   }

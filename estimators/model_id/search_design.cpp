@@ -1,7 +1,10 @@
 #include "search_design.hpp"
 
+#include "stats.hpp"
+
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 namespace rnav::search_detail {
 
@@ -208,6 +211,29 @@ double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const 
   if (Qa.cols() == 0 || Qb.cols() == 0) return 1.0;  // inside the rest of the model: not separable
   Eigen::JacobiSVD<Eigen::MatrixXd> s(Qa.transpose() * Qb);
   return std::min(1.0, s.singularValues()(0));
+}
+
+std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P, std::size_t e) {
+  double best = -1;
+  std::size_t arg = 0;
+  for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
+    const double lr = P.lr(d.Cw[e][v]);
+    if (lr > best) best = lr, arg = v;
+  }
+  return {best, arg};
+}
+
+Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
+            double alpha, double confound_corr, double m_family) {
+  Rival r;
+  std::tie(r.lr, r.v) = best_variant(d, P, f);
+  r.corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][r.v]);
+  const double k = static_cast<double>(d.pb->catalogue[f].params.size());
+  const bool passes =
+      r.lr > 0 && log_chi2_sf(r.lr, k) + std::log(static_cast<double>(d.Cw[f].size()) * m_family) < std::log(alpha);
+  const double cost = std::max(6.0, 2 * std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
+  r.same = r.corr > confound_corr || (passes && P.lr(d.Cw[e][v]) - r.lr < cost);
+  return r;
 }
 
 }  // namespace rnav::search_detail

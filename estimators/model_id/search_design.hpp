@@ -66,4 +66,23 @@ double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen:
 /// Largest canonical correlation of the column spaces of A and B after projecting out M.
 double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
 
+/// The best grid point of entry e given the model P projects off: its 2 log LR (-1: none
+/// adds anything) and index.
+std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P, std::size_t e);
+
+/// Entry f as a rival of the chosen entry (e, v) given the model M (whitened, the other chosen
+/// entries; P projects off it): f at its best grid point explains the same residual when their
+/// columns' canonical correlation given M exceeds confound_corr, or when f passes its own
+/// plug-in test (Bonferroni over m_family and its grid at alpha) and its 2 log LR falls short of
+/// e's by less than strong evidence (6 on the Kass-Raftery scale) or the look-elsewhere cost of
+/// the larger scan (2 log grid size).
+struct Rival {
+  std::size_t v = 0;   ///< f's best grid point
+  double lr = -1;      ///< its plug-in 2 log LR given M
+  double corr = 0;     ///< canonical correlation with e's columns given M
+  bool same = false;   ///< explains the same residual
+};
+Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
+            double alpha, double confound_corr, double m_family);
+
 }  // namespace rnav::search_detail
