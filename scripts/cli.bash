@@ -29,32 +29,19 @@ cli_die() {
   exit 2
 }
 
-# The candidate nearest to WORD by edit distance (insertions, deletions, substitutions and swaps
-# of adjacent characters) if it is at most max(1, n / 3) edits away, n the length of WORD without
-# leading '-'; nothing otherwise. The rule of common/did_you_mean.hpp.
+# The candidate nearest to WORD by edit distance if it is close enough, nothing otherwise: the
+# Python package's rule (loggers/rnav/cli_args.py `closest`, the same as common/did_you_mean.hpp),
+# called rather than written again. python3 without numpy does.
+CLI_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 cli_closest() {
   local word=$1; shift
   (($#)) || return 0
-  printf '%s\n' "$@" | awk -v w="$word" '
-    function dist(a, b,    n, m, i, j, c, d, x) {
-      n = length(a); m = length(b)
-      for (i = 0; i <= n; i++) d[i, 0] = i
-      for (j = 0; j <= m; j++) d[0, j] = j
-      for (i = 1; i <= n; i++)
-        for (j = 1; j <= m; j++) {
-          c = substr(a, i, 1) == substr(b, j, 1) ? 0 : 1
-          x = d[i - 1, j] + 1
-          if (d[i, j - 1] + 1 < x) x = d[i, j - 1] + 1
-          if (d[i - 1, j - 1] + c < x) x = d[i - 1, j - 1] + c
-          if (i > 1 && j > 1 && substr(a, i, 1) == substr(b, j - 1, 1) && substr(a, i - 1, 1) == substr(b, j, 1) && d[i - 2, j - 2] + 1 < x)
-            x = d[i - 2, j - 2] + 1
-          d[i, j] = x
-        }
-      return d[n, m]
-    }
-    BEGIN { core = w; sub(/^-+/, "", core); limit = int(length(core) / 3); if (limit < 1) limit = 1; best = ""; bd = limit + 1 }
-    $0 != w { x = dist(w, $0); if (x < bd) { bd = x; best = $0 } }
-    END { if (best != "") print best }'
+  PYTHONPATH="$CLI_DIR${PYTHONPATH:+:$PYTHONPATH}" python3 -c '
+import sys
+from rnav.cli_args import closest
+c = closest(sys.argv[1], sys.argv[2:])
+if c:
+    print(c)' "$word" "$@"
 }
 
 # " (did you mean 'X'?)" for the nearest candidate, or nothing.

@@ -219,9 +219,9 @@ def ex_diagnose_log(tmp):
     text = ""
     for c in commands(lines):
         text += run_ok(c, tmp, "the LCM log example")
-    m = find(r"names `(\w+)` ([−\-\d.]+) ± ([\d.]+) m/s on the range and lists `(\w+)` as "
+    m = find(r"names `(\w+)` ([−\-\d.]+) ± ([\d.]+) \(the [\d.]+ hidden\) and lists `(\w+)` as\s+"
              r"`confounded_with`", after, "the LCM log example's finding")
-    f = find(r"EFFECT +%s: range_mps=(\S+) \+- (\S+) .*confounded with (.*)" % m.group(1), text,
+    f = find(r"EFFECT +%s: g=(\S+) \+- (\S+) .*confounded with (.*)" % m.group(1), text,
              "the named effect in the report")
     agree(m.group(1), m.group(2), float(f.group(1)))
     agree(m.group(1) + " SE", m.group(3), float(f.group(2)))

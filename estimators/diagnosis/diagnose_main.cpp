@@ -167,7 +167,7 @@ void add_search_options(rnav::cli::Parser& p, Options& a) {
       .value("--null-set-q", "Q",
              "a scanned effect's (step, period) test: the null's noise ranges over the models within Q / 2 of "
              "the best REML log-likelihood with the effect in the model; 0: over every noise model (the profile "
-             "likelihood ratio)", "5", num_all("--null-set-q", o.search.null_set_q, uo.search.null_set_q, mo.search.null_set_q))
+             "likelihood ratio)", "5 for prl and uav, 9 for multi", num_all("--null-set-q", o.search.null_set_q, uo.search.null_set_q, mo.search.null_set_q))
       .value("--confound-corr", "C", "canonical correlation above which two effects are reported as confounded, (0, 1)",
              "0.9", num_all("--confound-corr", o.search.confound_corr, uo.search.confound_corr, mo.search.confound_corr));
 }

@@ -1,6 +1,7 @@
 #include "uav_diagnose.hpp"
 
 #include "bearing.hpp"
+#include "bearing_effect_columns.hpp"
 #include "config.hpp"
 #include "gross_check.hpp"
 #include "plane_series.hpp"
@@ -25,6 +26,7 @@ struct Ob {
   double range = 0;  ///< [m] reference horizontal range
   Eigen::Vector4d J = Eigen::Vector4d::Zero();  ///< estimated reference: d bearing / d (p0, v)
   std::size_t k = 0; ///< estimated reference: index into the track observations
+  bearing_effect::FrameGeometry geometry() const { return {t, rate}; }
 };
 using Obs = std::shared_ptr<const std::vector<Ob>>;
 
@@ -45,7 +47,6 @@ std::function<Eigen::MatrixXd(std::size_t)> columns(const Obs& obs, int k, F f) 
   };
 }
 
-Eigen::RowVectorXd one(double x) { return Eigen::RowVectorXd::Constant(1, x); }
 
 double wrapped_nearest(const std::vector<double>& bearings, double ref) {
   double best = std::numeric_limits<double>::infinity();
@@ -199,22 +200,20 @@ Problem uav_problem(const Obs& obs, const UavDiagnoseOptions& o, bool with_truth
   }
   if (!with_truth) pb.nuisance_names = {"object p0_north_m", "object p0_east_m", "object v_north_mps", "object v_east_mps"};
   using V = std::size_t;
+  // The sensor's entries are the simulator's own columns (common/bearing_effect_columns.hpp).
+  namespace fx = bearing_effect;
   pb.catalogue.push_back({"bearing_bias", {}, {"rad"}, "a constant on the bearings", "", {},
-                          columns(obs, 1, [](const Ob&, V) { return one(1.0); })});
+                          columns(obs, 1, [](const Ob& x, V) { return fx::bias(x.geometry()); })});
   pb.catalogue.push_back({"time_offset", {}, {"s"}, "the bearing rate", "", {},
-                          columns(obs, 1, [](const Ob& x, V) { return one(-x.rate); })});
+                          columns(obs, 1, [](const Ob& x, V) { return fx::time_offset(x.geometry()); })});
   pb.catalogue.push_back({"bias_drift", {}, {"rad_per_s"}, "time", "", {},
-                          columns(obs, 1, [t0](const Ob& x, V) { return one(x.t - t0); })});
+                          columns(obs, 1, [t0](const Ob& x, V) { return fx::bias_drift(x.geometry(), t0); })});
   pb.catalogue.back().shape = true;  // a shape in time, not a physical cause
   std::vector<double> periods;
   for (double T = 4; T <= span / 3; T *= 1.05) periods.push_back(T);
   if (!periods.empty())
     pb.catalogue.push_back({"periodic", {}, {"sin_rad", "cos_rad"}, "an oscillation of the bearings", "period_s", periods,
-                            columns(obs, 2, [periods](const Ob& x, V v) {
-                              Eigen::RowVectorXd r(2);
-                              r << std::sin(2 * M_PI * x.t / periods[v]), std::cos(2 * M_PI * x.t / periods[v]);
-                              return r;
-                            })});
+                            columns(obs, 2, [periods](const Ob& x, V v) { return fx::periodic(x.geometry(), periods[v]); })});
   if (!with_truth) {
     std::vector<double> times;
     for (int i = 1; i <= o.maneuver_grid; ++i) times.push_back(t0 + span * i / (o.maneuver_grid + 1));

@@ -1,5 +1,7 @@
 #include "bearing_error_model.hpp"
 
+#include "bearing_effect_columns.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -13,9 +15,13 @@ double CorrelatedBearingNoise::error(const BearingTruth& truth, Rng& rng) {
   return dt > 0 ? gm_.step(dt, rng) : gm_.value();
 }
 
+// The catalogue's columns (common/bearing_effect_columns.hpp) times this sensor's parameters.
 double SystematicBearingError::error(const BearingTruth& truth, Rng&) {
-  double e = o_.bearing_bias_rad - truth.bearing_rate_radps * o_.time_offset_s + o_.bias_drift_radps * truth.t_s;
-  if (o_.periodic_period_s > 0) e += o_.periodic_amplitude_rad * std::sin(2 * M_PI * truth.t_s / o_.periodic_period_s);
+  namespace fx = bearing_effect;
+  const fx::FrameGeometry f{truth.t_s, truth.bearing_rate_radps};
+  double e = fx::bias(f)(0) * o_.bearing_bias_rad + fx::time_offset(f)(0) * o_.time_offset_s +
+             fx::bias_drift(f, 0.0)(0) * o_.bias_drift_radps;
+  if (o_.periodic_period_s > 0) e += fx::periodic(f, o_.periodic_period_s).dot(Eigen::Vector2d(o_.periodic_amplitude_rad, 0));
   return e;
 }
 
