@@ -103,7 +103,7 @@ bool swap_for_better(const Design& d, const SearchOptions& o, double m_family, c
       if (!r.same) continue;
       // a shape for a physical cause: "explains as well" is what rival() calls the same
       const bool shape_for_cause = p.catalogue[f].is_shape() && !p.catalogue[e].is_shape();
-      const double cost = shape_for_cause ? std::max(6.0, 2 * std::log(static_cast<double>(p.catalogue[f].variants()))) : 0.0;
+      const double cost = shape_for_cause ? search_detail::as_well_margin(p.catalogue[f].variants()) : 0.0;
       const double score = tests.profile_lr(f, r.v) - aic(f) - cost;
       if (score > best) best = score, to = {f, r.v};
     }
@@ -155,12 +155,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     std::vector<Candidate> ranked;
     for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
       if (taken[e] || p.catalogue[e].scope_only) continue;
-      double lr_v = 0;
-      std::size_t v_best = 0;
-      for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
-        const double lr = P.lr(d.Cw[e][v]);
-        if (lr > lr_v) lr_v = lr, v_best = v;
-      }
+      const auto [lr_v, v_best] = search_detail::best_variant(d, P, e);
       if (lr_v <= 0) continue;  // nothing to test (no gain, or inside the model)
       ranked.push_back({e, v_best, adjusted_log_p(e, lr_v)});
     }

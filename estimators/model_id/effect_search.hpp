@@ -88,8 +88,8 @@ struct Candidate {
   std::vector<std::size_t> replicates;
   /// A shape in time (a drift) rather than a physical cause; every scanned entry (a step, a
   /// period, a manoeuvre time) is one as well (is_shape). Of two entries that explain the same
-  /// residual, a shape replaces a physical cause only by more than its scan's look-elsewhere
-  /// cost (effect_search.cpp, swap_for_better).
+  /// residual, a shape replaces a physical cause only by more than explaining as well
+  /// (search_design.hpp's as_well_margin; effect_search.cpp, swap_for_better).
   bool shape = false;
   bool scanned() const { return !scan.empty(); }
   bool is_shape() const { return shape || scanned(); }

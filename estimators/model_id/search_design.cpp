@@ -2,6 +2,7 @@
 
 #include "stats.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
@@ -223,6 +224,8 @@ std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P,
   return {best, arg};
 }
 
+double as_well_margin(std::size_t grid) { return std::max(6.0, 2 * std::log(static_cast<double>(grid))); }
+
 Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
             double alpha, double confound_corr, double m_family) {
   Rival r;
@@ -231,8 +234,7 @@ Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::
   const double k = static_cast<double>(d.pb->catalogue[f].params.size());
   const bool passes =
       r.lr > 0 && log_chi2_sf(r.lr, k) + std::log(static_cast<double>(d.Cw[f].size()) * m_family) < std::log(alpha);
-  const double cost = std::max(6.0, 2 * std::log(static_cast<double>(std::max(d.Cw[e].size(), d.Cw[f].size()))));
-  r.same = r.corr > confound_corr || (passes && P.lr(d.Cw[e][v]) - r.lr < cost);
+  r.same = r.corr > confound_corr || (passes && P.lr(d.Cw[e][v]) - r.lr < as_well_margin(std::max(d.Cw[e].size(), d.Cw[f].size())));
   return r;
 }
 

@@ -70,12 +70,16 @@ double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const 
 /// adds anything) and index.
 std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P, std::size_t e);
 
+/// What "explains as well" allows in 2 log LR between two entries, the larger of whose grids has
+/// `grid` points: strong evidence (6 on the Kass-Raftery scale) or that scan's look-elsewhere
+/// cost (2 log grid), whichever is larger.
+double as_well_margin(std::size_t grid);
+
 /// Entry f as a rival of the chosen entry (e, v) given the model M (whitened, the other chosen
 /// entries; P projects off it): f at its best grid point explains the same residual when their
 /// columns' canonical correlation given M exceeds confound_corr, or when f passes its own
 /// plug-in test (Bonferroni over m_family and its grid at alpha) and its 2 log LR falls short of
-/// e's by less than strong evidence (6 on the Kass-Raftery scale) or the look-elsewhere cost of
-/// the larger scan (2 log grid size).
+/// e's by less than as_well_margin of the larger grid.
 struct Rival {
   std::size_t v = 0;   ///< f's best grid point
   double lr = -1;      ///< its plug-in 2 log LR given M
