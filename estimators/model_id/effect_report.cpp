@@ -92,9 +92,9 @@ FoundEffect chosen_effect(const Design& d, const SearchOptions& o, const Chosen&
   const Projector P(model_matrix(d, rest), d.yw, d.n_used);
   fe.lr = P.lr(d.Cw[e][v]);
   const double k = static_cast<double>(c.params.size());
-  // log10 of the Bonferroni-adjusted p of a 2 log LR: alpha / m per entry, split over its grid
+  // log10 of the Bonferroni-adjusted p of a 2 log LR, at most 0 (p = 1)
   auto log10_adjusted = [&](double lr) {
-    return std::min(0.0, (log_chi2_sf(lr, k) + std::log(static_cast<double>(c.variants()) * m)) / std::log(10.0));
+    return std::min(0.0, bonferroni_log_p(lr, k, static_cast<double>(c.variants()), m) / std::log(10.0));
   };
   fe.log10_p = log10_adjusted(fe.lr);
   fe.kept_lr = kept_lr[s];
@@ -178,7 +178,7 @@ void noise_findings(const Design& d, const SearchOptions& o, const std::vector<N
     cn.noise_scale = std::sqrt(qv);
     cn.noise_scale_se = cn.noise_scale / std::sqrt(2 * n_eff);
     const double lr = n_eff * (qv - 1 - std::log(qv));
-    cn.log10_p_scale = std::min(0.0, (log_chi2_sf(lr, 1) + std::log(m)) / std::log(10.0));
+    cn.log10_p_scale = std::min(0.0, bonferroni_log_p(lr, 1, 1, m) / std::log(10.0));
     cn.scale_named = cn.log10_p_scale < std::log10(o.alpha);
     cn.correlated_named = cn.fit.departs_nominal;
     res.noise.push_back(cn);

@@ -127,10 +127,9 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
   Chosen chosen;
   std::vector<char> taken = excluded;
   const double log_alpha = std::log(o.alpha);
-  // the Bonferroni-adjusted log p of entry e's 2 log LR: alpha / m per entry, split over its grid
+  // the Bonferroni-adjusted log p of entry e's 2 log LR
   auto adjusted_log_p = [&](std::size_t e, double lr) {
-    const double k = static_cast<double>(p.catalogue[e].params.size());
-    return log_chi2_sf(lr, k) + std::log(static_cast<double>(d.Cw[e].size())) + std::log(m_family);
+    return bonferroni_log_p(lr, static_cast<double>(p.catalogue[e].params.size()), static_cast<double>(d.Cw[e].size()), m_family);
   };
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);

@@ -233,7 +233,7 @@ Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::
   r.corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][r.v]);
   const double k = static_cast<double>(d.pb->catalogue[f].params.size());
   const bool passes =
-      r.lr > 0 && log_chi2_sf(r.lr, k) + std::log(static_cast<double>(d.Cw[f].size()) * m_family) < std::log(alpha);
+      r.lr > 0 && bonferroni_log_p(r.lr, k, static_cast<double>(d.Cw[f].size()), m_family) < std::log(alpha);
   r.same = r.corr > confound_corr || (passes && P.lr(d.Cw[e][v]) - r.lr < as_well_margin(std::max(d.Cw[e].size(), d.Cw[f].size())));
   return r;
 }

@@ -49,6 +49,10 @@ double gamma_q(double a, double x) { return std::exp(log_gamma_q(a, x)); }
 double chi2_sf(double x, double k) { return x <= 0 ? 1.0 : gamma_q(k / 2, x / 2); }
 double log_chi2_sf(double x, double k) { return x <= 0 ? 0.0 : log_gamma_q(k / 2, x / 2); }
 
+double bonferroni_log_p(double lr, double k, double grid, double m_family) {
+  return log_chi2_sf(lr, k) + std::log(grid) + std::log(m_family);
+}
+
 double normal_upper_quantile(double p) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument("normal_upper_quantile: p must be in (0, 1)");
   // Bisection on erfc (monotone); 200 halvings of [-40, 40] reach double precision.

@@ -16,6 +16,11 @@ double log_gamma_q(double a, double x);
 double chi2_sf(double x, double k);
 /// log of chi2_sf.
 double log_chi2_sf(double x, double k);
+/// log of the Bonferroni-adjusted p of a 2 log LR `lr` with k degrees of freedom, for an entry
+/// scanned over `grid` points (1: not scanned) in a family of m_family entries (alpha / m per
+/// entry, split over its grid):  log p_adj = log chi2_sf(lr, k) + log grid + log m.  Not
+/// capped at 0 (log 1): the caller compares it with log alpha or caps it for display.
+double bonferroni_log_p(double lr, double k, double grid, double m_family);
 /// Upper normal quantile: z with P(Z > z) = p, p in (0, 1).
 double normal_upper_quantile(double p);
 /// Two-sided normal quantile: z with P(|Z| > z) = p, p in (0, 1).
