@@ -124,8 +124,8 @@ struct SnsinsOptions {
   std::vector<std::pair<double, double>> dropouts;  ///< [s] intervals with no solutions sent
 };
 
-/// The navigation data link from the aircraft to the ground receiver at the radar (issue 13;
-/// sim/datalink/link_budget.hpp has the equations). Off by default: snsins then publishes
+/// The navigation data link from the aircraft to the ground receiver at the radar
+/// (sim/datalink/link_budget.hpp has the equations). Off by default: snsins then publishes
 /// NAV_SOLUTION itself, as before. On: snsins publishes what the aircraft sends on
 /// NAV_SOLUTION_TX and the node "datalink" republishes on NAV_SOLUTION the messages that survive,
 /// each lost with probability p_loss(d) at the slant range d from the nav solution's position to

@@ -1,4 +1,4 @@
-// Unit tests of sim/datalink's codes library (issue 13, part 1): m-sequence period and balance,
+// Unit tests of sim/datalink's codes library: m-sequence period and balance,
 // Gold correlations against the three-valued theory, the exact Bernoulli-map (AB) codes, the
 // filters' band edges, the band-limited waveform against an independent Fourier series, the
 // peak factor, and the input checks.

@@ -1,4 +1,4 @@
-// Unit tests of the navigation data link's budget (issue 13, part 2; sim/datalink/link_budget.hpp,
+// Unit tests of the navigation data link's budget (sim/datalink/link_budget.hpp,
 // nav_link.hpp): reference values computed by hand, the equations' scalings, the loss rate
 // drawn against the configured SNR curve (binomial band), and the scenario keys' validation.
 #include "code_family.hpp"

@@ -1,4 +1,4 @@
-// The node "datalink" in the lock-step chain, in one process (issue 13, part 2): what it passes
+// The node "datalink" in the lock-step chain, in one process: what it passes
 // on is what snsins sent minus the lost messages, the number lost matches the configured
 // p_loss of each message's range, the same seed drops the same messages whatever the windowing,
 // and a link that loses nothing leaves the paper run's results byte-identical.

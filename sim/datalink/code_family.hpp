@@ -1,4 +1,4 @@
-// A family's codes by name, and the peak factor the data link takes from them (issue 13).
+// A family's codes by name, and the peak factor the data link takes from them.
 //
 // Families: "gold" (GoldFamily::preferred), "gold-qpsk" (two Gold codes on I and Q),
 // "abR" / "tent" (Bernoulli-map binary codes, ab_codes.hpp), "abR-phase" / "tent-phase"

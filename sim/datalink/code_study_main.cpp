@@ -1,5 +1,5 @@
 // rnav_code_study: peak factor and correlation peaks of Gold codes and of nonlinear noise-like
-// (AB, Bernoulli-map) codes after band-limiting (issue 13, part 1). Prints CSV on stdout:
+// (AB, Bernoulli-map) codes after band-limiting. Prints CSV on stdout:
 //   per code (default):  family,length,filter,bandwidth,rolloff,code,peak_factor,max_auto_offpeak,max_cross
 //   --spectrum:          family,length,filter,bandwidth,rolloff,f_over_rc,psd_db
 // scripts/code_study runs it and writes the table and plots.

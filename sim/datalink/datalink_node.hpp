@@ -1,4 +1,4 @@
-// Node "datalink": the navigation data link between the aircraft and the ground (issue 13).
+// Node "datalink": the navigation data link between the aircraft and the ground.
 // Reads NAV_SOLUTION_TX (what snsins has the aircraft send, when datalink.enabled) and publishes
 // on NAV_SOLUTION the solutions that survive the link, in the same window and order: each
 // message is lost with probability p_loss(d) of its slant range d (NavLink), decided by one

@@ -1,4 +1,4 @@
-// The navigation data link's budget (issue 13, part 2): from the transmitter's peak power to the
+// The navigation data link's budget: from the transmitter's peak power to the
 // probability that one navigation message is lost at slant range d. Pure functions, SI units.
 //
 // The chain, each step implemented under the equation it states (link_budget.cpp):

@@ -1,4 +1,4 @@
-// The data link applied to navigation messages (issue 13, part 2): the link budget of a
+// The data link applied to navigation messages: the link budget of a
 // scenario's `datalink` section, the slant range from a message's position to the ground
 // receiver at the radar antenna, and each message's fate from one uniform draw.
 #pragma once
