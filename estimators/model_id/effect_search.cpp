@@ -224,13 +224,18 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     else
       dropped.push_back(e);
   }
-  // A hardware entry whose replicates (recordings) no longer agree, given all the others, leaves.
-  for (std::size_t i = out.chosen.size(); i-- > 0;) {
-    Chosen rest = out.chosen;
-    rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    if (!replicates_agree(d, rest, out.chosen[i].first, out.chosen[i].second, o.alpha)) {
-      out.chosen.erase(out.chosen.begin() + static_cast<std::ptrdiff_t>(i));
-      out.kept_lr.erase(out.kept_lr.begin() + static_cast<std::ptrdiff_t>(i));
+  // A hardware entry whose replicates (recordings) no longer agree, given all the others, leaves;
+  // one leaving changes the others' per-recording values, so until every one left agrees.
+  for (bool removed = true; removed;) {
+    removed = false;
+    for (std::size_t i = out.chosen.size(); i-- > 0;) {
+      Chosen rest = out.chosen;
+      rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
+      if (!replicates_agree(d, rest, out.chosen[i].first, out.chosen[i].second, o.alpha)) {
+        out.chosen.erase(out.chosen.begin() + static_cast<std::ptrdiff_t>(i));
+        out.kept_lr.erase(out.kept_lr.begin() + static_cast<std::ptrdiff_t>(i));
+        removed = true;
+      }
     }
   }
   return out;
