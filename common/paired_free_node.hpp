@@ -66,6 +66,7 @@ template <class BatchA, class SampleA, class BatchB, class SampleB> class Paired
   /// The summary line's end: what the node published ("N plot(s) estimated and published").
   virtual std::string output_summary() const = 0;
 
+  /// The bus the node listens and publishes on.
   Bus& bus() { return bus_; }
 
  private:
