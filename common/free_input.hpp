@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <deque>
+#include <limits>
 #include <string>
 #include <unordered_set>
 #include <tuple>
@@ -83,6 +84,33 @@ class RecentCopies {
  private:
   std::deque<std::uint64_t> order_;
   std::unordered_set<std::uint64_t> set_;
+};
+
+/// The time stamps of one input's single samples, which must run forward: a step back means the
+/// samples of another flight, and a free-running node keeps one flight's state.
+class ForwardTimes {
+ public:
+  enum class Ties {
+    kAllowed,  ///< several samples may share a time stamp (e.g. bearings of one frame)
+    kRefused,  ///< each sample is later than the previous one
+  };
+  ForwardTimes(std::string channel, Ties ties) : channel_(std::move(channel)), ties_(ties) {}
+  /// [us] Take time `t`. On a step back (or a repeat, with kRefused) throws std::runtime_error
+  /// "CHANNEL: WHAT (a new flight needs a new estimator)", WHAT = describe(last()).
+  template <class Describe> void take(std::int64_t t, Describe&& describe) {
+    if (t < last_ || (ties_ == Ties::kRefused && t == last_))
+      throw std::runtime_error(channel_ + ": " + describe(last_) + " (a new flight needs a new estimator)");
+    last_ = t;
+  }
+  /// [us] The latest time taken; std::numeric_limits<std::int64_t>::min() before the first.
+  std::int64_t last() const { return last_; }
+  /// Whether a time has been taken.
+  bool any() const { return last_ != std::numeric_limits<std::int64_t>::min(); }
+
+ private:
+  std::string channel_;
+  Ties ties_;
+  std::int64_t last_ = std::numeric_limits<std::int64_t>::min();
 };
 
 /// The error for a message whose fingerprint is neither the batch nor the sample type.

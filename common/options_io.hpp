@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -110,6 +111,41 @@ template <class O> void read_section(Section& root, const char* name, O& o) {
 template <class O> void write_section(nlohmann::json& root, const char* name, O& o) {
   Writer w{root[name]};
   visit(o, w);
+}
+
+// What for_each_section(sc, f) calls f with, for every section of a scenario type.
+struct SectionReader {
+  Section& root;
+  template <class O> void operator()(const char* name, O& o) const { read_section(root, name, o); }
+};
+struct SectionWriter {
+  nlohmann::json& root;
+  template <class O> void operator()(const char* name, O& o) const { write_section(root, name, o); }
+};
+
+/// Parse the document `doc` of a scenario of kind `kind` into `sc` (its defaults set): "name",
+/// "kind" (`kind` when absent, else must be it), `read_top(root)` for the keys outside the
+/// sections, then every section of sc in for_each_section(Sc&, F&&) (found by ADL through
+/// SectionReader); any key left unread is a ConfigError.
+template <class Sc, class ReadTop>
+void read_scenario(const nlohmann::json& doc, const std::string& kind, Sc& sc, ReadTop&& read_top) {
+  Section root(doc, "");
+  sc.name = root.string("name", sc.name);
+  const std::string given = root.string("kind", kind);
+  if (given != kind) throw ConfigError("scenario key 'kind': expected \"" + kind + "\", got \"" + given + "\"");
+  read_top(root);
+  for_each_section(sc, SectionReader{root});
+  root.finish();
+}
+
+/// Print scenario `sc` as JSON (two-space indent, a newline after): "name", what
+/// `write_top(j)` adds, then every section of sc.
+template <class Sc, class WriteTop> void print_scenario(Sc sc, std::ostream& os, WriteTop&& write_top) {
+  nlohmann::json j;
+  j["name"] = sc.name;
+  write_top(j);
+  for_each_section(sc, SectionWriter{j});
+  os << j.dump(2) << "\n";
 }
 
 // t must be an integer multiple of step (both in us).

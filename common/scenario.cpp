@@ -177,12 +177,7 @@ void check_datalink(const Scenario& sc) {
 
 Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;
-  Section root(doc, "");
-  sc.name = root.string("name", sc.name);
-  const std::string kind = root.string("kind", "prl");
-  if (kind != "prl") throw ConfigError("scenario key 'kind': expected \"prl\", got \"" + kind + "\"");
-  for_each_section(sc, [&](const char* name, auto& o) { read_section(root, name, o); });
-  root.finish();
+  read_scenario(doc, "prl", sc, [](Section&) {});
 
   if (sc.radar.azimuth_reference_deg < 0)
     sc.radar.azimuth_reference_deg = std::fmod(sc.runway.heading_deg + 180.0, 360.0);
@@ -241,11 +236,7 @@ std::vector<std::string> Scenario::node_names() const {
 }
 
 void Scenario::print(std::ostream& os) const {
-  Scenario c = *this;
-  nlohmann::json j;
-  j["name"] = c.name;
-  for_each_section(c, [&](const char* name, auto& o) { write_section(j, name, o); });
-  os << j.dump(2) << "\n";
+  print_scenario(*this, os, [](nlohmann::json&) {});
 }
 
 }  // namespace rnav

@@ -97,20 +97,14 @@ using namespace options_io;
 UavScenario UavScenario::from_json(const nlohmann::json& doc) {
   UavScenario sc;
   sc.runner.window_s = 20;  // keeps every batch of estimates well under LCM's 64 KB datagram
-  Section root(doc, "");
-  sc.name = root.string("name", sc.name);
-  const std::string kind = root.string("kind", "uav");
-  if (kind != "uav") throw ConfigError("scenario key 'kind': expected \"uav\", got \"" + kind + "\"");
-  {
+  read_scenario(doc, "uav", sc, [&](Section& root) {
     Section o = root.section("origin");
     sc.origin.lat_deg = o.number("lat_deg", sc.origin.lat_deg, -89, 89);
     sc.origin.lon_deg = o.number("lon_deg", sc.origin.lon_deg, -180, 180);
     sc.origin.h_m = o.number("h_m", sc.origin.h_m, -500, 9000);
     o.finish();
-  }
-  sc.duration_s = root.number("duration_s", sc.duration_s, -1, 1e6);
-  for_each_section(sc, [&](const char* name, auto& o) { read_section(root, name, o); });
-  root.finish();
+    sc.duration_s = root.number("duration_s", sc.duration_s, -1, 1e6);
+  });
 
   if (sc.duration_s != -1 && sc.duration_s <= 0)
     throw ConfigError("scenario key 'duration_s' must be > 0 (or -1: two orbits)");
@@ -175,14 +169,11 @@ double UavScenario::orbit_period_s() const { return 2 * M_PI * uav.radius_m / ua
 double UavScenario::eval_time_s() const { return logger.eval_time_s; }
 
 void UavScenario::print(std::ostream& os) const {
-  UavScenario c = *this;
-  nlohmann::json j;
-  j["name"] = c.name;
-  j["kind"] = "uav";
-  j["origin"] = {{"lat_deg", c.origin.lat_deg}, {"lon_deg", c.origin.lon_deg}, {"h_m", c.origin.h_m}};
-  j["duration_s"] = c.duration_s;
-  for_each_section(c, [&](const char* name, auto& o) { write_section(j, name, o); });
-  os << j.dump(2) << "\n";
+  print_scenario(*this, os, [this](nlohmann::json& j) {
+    j["kind"] = "uav";
+    j["origin"] = {{"lat_deg", origin.lat_deg}, {"lon_deg", origin.lon_deg}, {"h_m", origin.h_m}};
+    j["duration_s"] = duration_s;
+  });
 }
 
 }  // namespace rnav

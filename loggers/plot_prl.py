@@ -31,19 +31,14 @@ import math
 import os
 import sys
 
-try:
-    import numpy as np
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.patches
-    import matplotlib.pyplot as plt
-    import matplotlib.ticker
-except ImportError as e:  # the python3 on PATH may be a build without numpy/matplotlib
-    sys.exit("plot_prl.py: %s; run with /usr/bin/python3 (Debian python3-numpy, "
-             "python3-matplotlib)" % e)
+from rnav import figures
 
 PROG = "plot_prl.py"
+plt = figures.pyplot(PROG)
+import matplotlib.patches  # noqa: E402  (after figures.pyplot: it checks them and sets Agg)
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
 COORDS = ("x", "z", "y")
 COORD_NAME = {"x": "X (along the runway axis)", "z": "Z (lateral)", "y": "Y (vertical)"}
 CHANNELS = (("range", "m", "range D"), ("course", "deg", "course angle Ek"),
@@ -54,9 +49,7 @@ C_APOI = "#d62728"   # raw plots
 C_TOI = "#1f77b4"    # compensated plots
 C_PAPER = "black"
 
-
-class InputError(Exception):
-    pass
+InputError = figures.InputError
 
 
 # ----------------------------------------------------------------------------- input

@@ -30,18 +30,13 @@ import os
 import re
 import sys
 
-try:
-    import numpy as np
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import plot_uav_geometry
-except ImportError as e:  # the python3 on PATH may be a build without numpy/matplotlib
-    sys.exit("plot_uav.py: %s; run with /usr/bin/python3 (Debian python3-numpy, "
-             "python3-matplotlib)" % e)
+from rnav import figures
 
 PROG = "plot_uav.py"
+plt = figures.pyplot(PROG)
+import numpy as np  # noqa: E402  (after figures.pyplot: it checks numpy and matplotlib, sets Agg)
+import plot_uav_geometry  # noqa: E402
+
 CSV_NAME = "uav_stats_time.csv"
 SUMMARY_NAME = "summary.json"
 BASE_COLS = ("t_s", "pcrb_pos_m", "pcrb_vel_mps", "nees_band_lo", "nees_band_hi",
@@ -59,9 +54,7 @@ C_PCRB = "black"
 C_BAND = "#9e9e9e"
 C_EVAL = "#555555"
 
-
-class InputError(Exception):
-    pass
+InputError = figures.InputError
 
 
 # ----------------------------------------------------------------------------- input

@@ -5,19 +5,10 @@
 #include <rnav/prl_error_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>
 
-#include "atomic_file.hpp"
-
-#include <iostream>
-#include <sstream>
-
 namespace rnav {
 
 PrlLoggerNode::PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir)
-    : LockstepNode(bus, "logger", sc.runner.peer_timeout_s),
-      sc_(sc),
-      out_dir_(std::move(out_dir)),
-      T_L_R_(transform(sc.landing_frame(), sc.radar_frame())),
-      stats_(sc) {
+    : EnsembleLoggerNode(bus, "logger", sc, std::move(out_dir)), T_L_R_(transform(sc.landing_frame(), sc.radar_frame())) {
   add_input<aircraft_truth_batch_t>(ch::kTruth);
   add_input<prl_plot_batch_t>(ch::kApoi);
   add_input<prl_error_batch_t>(ch::kPrlError);
@@ -25,15 +16,12 @@ PrlLoggerNode::PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir)
   add_input<prl_bias_batch_t>(ch::kBias);
 }
 
-void PrlLoggerNode::reset(const sim_window_t& w) {
-  seed_ = w.seed;
-  realization_ = w.realization;
+void PrlLoggerNode::start_realization(const sim_window_t& /*w*/) {
   truth_.clear();
   apoi_.clear();
   toi_.clear();
   err_.clear();
   bias_.clear();
-  current_.clear();
 }
 
 int PrlLoggerNode::process(const sim_window_t& w) {
@@ -90,25 +78,6 @@ int PrlLoggerNode::process(const sim_window_t& w) {
         " compensated, " + std::to_string(bias_.size()) + " estimates, " +
         std::to_string(err_.size()) + " error records left over");
   return static_cast<int>(current_.size());
-}
-
-void PrlLoggerNode::commit() {
-  stats_.add_realization(current_, realization_);
-  current_.clear();
-}
-
-void PrlLoggerNode::finish(const sim_window_t& w) {
-  if (stats_.realizations() != w.n_realizations)
-    throw std::runtime_error("logger holds " + std::to_string(stats_.realizations()) +
-                             " complete realizations, the clock ran " +
-                             std::to_string(w.n_realizations));
-  if (out_dir_.empty()) return;
-  stats_.write(out_dir_, seed_);
-  // The effective scenario, every default filled in and the overrides applied: `scripts/run
-  // DIR/scenario.json` with the same seed and realizations repeats the run.
-  std::ostringstream sc;
-  sc_.print(sc);
-  write_file_atomic(out_dir_, "scenario.json", sc.str());
 }
 
 }  // namespace rnav

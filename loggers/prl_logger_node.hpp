@@ -1,11 +1,12 @@
 // Node "logger": joins, per plot, the truth (TRUTH_AIRCRAFT), the raw plot (PRL_APOI), the
 // injected error (TRUTH_PRL_ERROR), the compensated plot (PRL_TOI) and the bias estimate
 // (PRL_BIAS); keeps a realization until the clock moves past it, then adds it to PrlStats; on
-// FINISH writes the result files. A plot missing any part at the end of its realization, or
-// an ensemble short of realizations, is an error: nothing is averaged silently over less.
+// FINISH writes the result files (ensemble_logger_node.hpp). A plot missing any part at the end
+// of its realization, or an ensemble short of realizations, is an error: nothing is averaged
+// silently over less.
 #pragma once
 
-#include "lockstep_node.hpp"
+#include "ensemble_logger_node.hpp"
 #include "prl_stats.hpp"
 
 #include <rnav/prl_bias_estimate_t.hpp>
@@ -16,29 +17,20 @@
 
 namespace rnav {
 
-class PrlLoggerNode : public LockstepNode {
+class PrlLoggerNode : public EnsembleLoggerNode<Scenario, PrlStats, std::vector<PlotErrors>> {
  public:
   PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir);
-  const PrlStats& stats() const { return stats_; }
 
  protected:
-  void reset(const sim_window_t& w) override;
+  void start_realization(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
-  void commit() override;
-  void finish(const sim_window_t& w) override;
 
  private:
-  Scenario sc_;
-  std::string out_dir_;
   Eigen::Isometry3d T_L_R_;  // radar frame R -> landing frame L
-  PrlStats stats_;
-  std::int64_t seed_ = 0;
-  long realization_ = 0;  // the current realization's index in the ensemble
   std::map<std::int64_t, Eigen::Vector3d> truth_;  // utime -> p_TA_L
   std::map<std::int64_t, prl_plot_t> apoi_, toi_;   // plot_id -> plot
   std::map<std::int64_t, prl_error_t> err_;
   std::map<std::int64_t, prl_bias_estimate_t> bias_;
-  std::vector<PlotErrors> current_;
 };
 
 }  // namespace rnav

@@ -11,25 +11,18 @@
 
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 namespace rnav {
 
 UavLoggerNode::UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir)
-    : LockstepNode(bus, "uav_logger", sc.runner.peer_timeout_s),
-      sc_(sc),
-      out_dir_(std::move(out_dir)),
-      stats_(sc) {
+    : EnsembleLoggerNode(bus, "uav_logger", sc, std::move(out_dir)) {
   add_input<target_truth_batch_t>("TRUTH_TARGET");
   add_input<observer_batch_t>("TRUTH_UAV");
   add_input<bearing_batch_t>("UAV_BEARING");
   add_input<tma_batch_t>("UAV_TMA");
 }
 
-void UavLoggerNode::reset(const sim_window_t& w) {
-  seed_ = w.seed;
-  realization_ = w.realization;
-  cur_ = TmaRealization{};
+void UavLoggerNode::start_realization(const sim_window_t& w) {
   tracking_ = !out_dir_.empty() && w.realization == sc_.logger.track_realization;
   track_.clear();  // also what a failed attempt of the tracked realization left
 }
@@ -43,7 +36,7 @@ int UavLoggerNode::process(const sim_window_t& /*w*/) {
   for (const auto& o : input<observer_batch_t>("TRUTH_UAV").states)
     uav[o.utime] = Eigen::Vector2d(o.p_OU_F[0], o.p_OU_F[2]);
   for (const auto& [utime, p_U] : uav)
-    if (const auto t = truth.find(utime); t != truth.end()) cur_.add_range((t->second.head<2>() - p_U).norm());
+    if (const auto t = truth.find(utime); t != truth.end()) current_.add_range((t->second.head<2>() - p_U).norm());
   if (tracking_) {
     for (const auto& [t, x] : truth) track_.add_object(t, x);
     for (const auto& [t, p] : uav) track_.add_uav(t, p);
@@ -59,17 +52,17 @@ int UavLoggerNode::process(const sim_window_t& /*w*/) {
     // Fisher information of this bearing at the truth, with the noise the estimators assume.
     const double D = tma::range(t->second, u->second);
     const double R = sc_.tma.add_nav_noise ? tma::bearing_variance(sb, sn, D) : sb * sb;
-    if (cur_.first_utime < 0) {
+    if (current_.first_utime < 0) {
       // The estimators' prior, exactly as they build it: bearing variance at the prior range.
       const double R0 = sc_.tma.add_nav_noise ? tma::bearing_variance(sb, sn, sc_.tma.range_prior_m) : sb * sb;
-      cur_.first_utime = b.utime;
-      cur_.J0 = tma::prior_information(tma::bearing(t->second, u->second), sc_.tma.range_prior_m,
+      current_.first_utime = b.utime;
+      current_.J0 = tma::prior_information(tma::bearing(t->second, u->second), sc_.tma.range_prior_m,
                                        sc_.tma.range_sigma_m, R0, sc_.tma.vel_sigma_mps);
     }
     const tma::Row4 H = tma::bearing_jacobian(t->second, u->second);
-    auto it = cur_.info.find(b.utime);
+    auto it = current_.info.find(b.utime);
     const tma::Mat4 I = H.transpose() * H / R;
-    if (it == cur_.info.end()) cur_.info.emplace(b.utime, I);
+    if (it == current_.info.end()) current_.info.emplace(b.utime, I);
     else it->second += I;
   }
   int n = 0;
@@ -97,36 +90,30 @@ int UavLoggerNode::process(const sim_window_t& /*w*/) {
     }
     s.updated = m.updated;
     s.nis = m.nis;
-    cur_.samples.push_back(s);
+    current_.samples.push_back(s);
     ++n;
   }
   return n;
 }
 
-void UavLoggerNode::commit() {
-  stats_.add_realization(cur_, realization_);  // validates first: a rejected realization writes no rows
+// The statistics validated the realization first: a rejected one writes no rows.
+void UavLoggerNode::committed() {
   if (!out_dir_.empty()) {
     if (!rows_) {
       std::filesystem::create_directories(out_dir_);  // as the results at FINISH (a caller may not have made it)
       rows_ = std::make_unique<AtomicFileWriter>(out_dir_, "realizations.csv");
       rows_->append(csv_header(uav_realizations_columns()));
     }
-    rows_->append(uav_realization_rows(sc_, realization_, cur_));
+    rows_->append(uav_realization_rows(sc_, realization_, current_));
     if (tracking_) {
       track_csv_ = track_.csv(sc_.runner.epoch_utime, realization_);
       track_columns_ = UavTrack::columns(track_.estimators());
     }
   }
-  cur_ = TmaRealization{};
   track_.clear();
 }
 
-void UavLoggerNode::finish(const sim_window_t& w) {
-  if (stats_.realizations() != w.n_realizations)
-    throw std::runtime_error("uav_logger holds " + std::to_string(stats_.realizations()) +
-                             " complete realizations, the clock ran " + std::to_string(w.n_realizations));
-  if (out_dir_.empty()) return;
-  stats_.write(out_dir_, seed_);
+void UavLoggerNode::write_own(const sim_window_t& w) {
   if (rows_) {
     rows_->commit();
     write_csv_units(out_dir_, "realizations.csv", uav_realizations_columns());
@@ -140,11 +127,6 @@ void UavLoggerNode::finish(const sim_window_t& w) {
     write_file_atomic(out_dir_, "track.csv", track_csv_);
     write_csv_units(out_dir_, "track.csv", track_columns_);
   }
-  // The effective scenario, every default filled in and the overrides applied: `scripts/run
-  // DIR/scenario.json` with the same seed and realizations repeats the run.
-  std::ostringstream sc;
-  sc_.print(sc);
-  write_file_atomic(out_dir_, "scenario.json", sc.str());
 }
 
 }  // namespace rnav

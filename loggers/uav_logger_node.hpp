@@ -2,12 +2,13 @@
 // realization until the clock moves past it, adds it to UavStats and its rows to
 // realizations.csv (uav_realizations.hpp; written as it goes, renamed into place on FINISH);
 // keeps realization logger.track_realization's geometry for track.csv (uav_track.hpp);
-// writes the results and scenario.json on FINISH, each CSV with its NAME.units.json.
+// writes the results and scenario.json on FINISH, each CSV with its NAME.units.json
+// (ensemble_logger_node.hpp).
 // An estimate without truth at its time, or an ensemble short of realizations, is an error.
 #pragma once
 
 #include "atomic_file.hpp"
-#include "lockstep_node.hpp"
+#include "ensemble_logger_node.hpp"
 #include "uav_stats.hpp"
 #include "uav_track.hpp"
 
@@ -18,24 +19,18 @@
 
 namespace rnav {
 
-class UavLoggerNode : public LockstepNode {
+class UavLoggerNode : public EnsembleLoggerNode<UavScenario, UavStats, TmaRealization> {
  public:
   UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir);
 
  protected:
-  void reset(const sim_window_t& w) override;
+  void start_realization(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
-  void commit() override;
-  void finish(const sim_window_t& w) override;
+  void committed() override;
+  void write_own(const sim_window_t& w) override;
 
  private:
-  UavScenario sc_;
-  std::string out_dir_;
-  UavStats stats_;
-  std::int64_t seed_ = 0;
-  long realization_ = 0;                    // of the realization being assembled
   std::unique_ptr<AtomicFileWriter> rows_;  // realizations.csv, a realization's rows at each commit
-  TmaRealization cur_;
   bool tracking_ = false;   // the realization being assembled is logger.track_realization
   UavTrack track_;          // its frames
   std::string track_csv_;   // track.csv's text once that realization is committed

@@ -14,16 +14,14 @@
 //    (a step back is an error naming the channel: restart the node for a new flight).
 #pragma once
 
-#include "free_input.hpp"
-#include "free_node.hpp"
 #include "bus.hpp"
+#include "paired_free_node.hpp"
 #include "prl_bias_stream.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>
 
 #include <cstdint>
-#include <deque>
 #include <limits>
 
 namespace rnav {
@@ -35,47 +33,29 @@ struct PrlBiasFreeOptions {
   double nav_lateness_s = 1.0;
 };
 
-class PrlBiasFreeNode : public FreeNode {
+class PrlBiasFreeNode : public PairedFreeNode<prl_plot_batch_t, prl_plot_t, nav_batch_t, nav_solution_t> {
  public:
   PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o);
-  void flush() override;
-  std::string summary() const override;
 
  private:
-  void on_apoi(const void* data, int size);
-  void on_nav(const void* data, int size);
-  /// A batch of flight `f` arrived: a newer flight ends the current one.
-  void enter_flight(const FlightKey& f);
-  /// What a batch that is the next of its flight does: it enters its flight (enter_flight), is
-  /// queued on `q`, and every window both inputs hold is processed (drain_windows).
-  template <class B> auto queue(std::deque<B>& q) {
-    return [this, &q](B&& b) {
-      enter_flight({b.header.realization, b.header.attempt});
-      q.push_back(std::move(b));
-      drain_windows();
-    };
-  }
-  /// Batches: process every window both inputs hold.
-  void drain_windows();
+  void on_window(const prl_plot_batch_t& apoi, const nav_batch_t& nav) override;
+  void on_sample_a(const prl_plot_t& p) override;
+  void on_sample_b(const nav_solution_t& n) override;
+  void on_end_of_samples() override;
+  void on_new_flight(const FlightKey& f) override;
+  bool holds_undecided() const override { return stream_.pending() > 0; }
+  std::string output_summary() const override;
   /// Samples: process what is decided by `now_utime` and publish one message per plot.
   void step_samples(std::int64_t now_utime);
 
-  Bus& bus_;
   PrlBiasFreeOptions o_;
   PrlBiasStream stream_;
-  InputForm form_;    // the form of every input (the first message sets it)
-  FreeSkips skips_;   // resends and stale batches skipped, over both inputs
-  FreeInput<prl_plot_batch_t, prl_plot_t> apoi_in_;
-  FreeInput<nav_batch_t, nav_solution_t> nav_in_;
-  FlightKey flight_{-1, -1};
-  std::deque<prl_plot_batch_t> apoi_q_;  // batches of the current flight not yet processed
-  std::deque<nav_batch_t> nav_q_;
   std::int64_t bias_seq_ = 0, toi_seq_ = 0;
   std::int64_t nav_known_ = std::numeric_limits<std::int64_t>::min();  // [us] see file comment
-  std::int64_t last_plot_utime_ = std::numeric_limits<std::int64_t>::min();
-  std::int64_t last_nav_link_ = std::numeric_limits<std::int64_t>::min();
+  ForwardTimes plot_times_;  // [us] the single plots' utime
+  ForwardTimes nav_links_;   // [us] the single solutions' link_utime
   std::vector<PrlBiasEstimator::Output> out_;
-  long flights_ = 0, incomplete_flights_ = 0, published_ = 0;
+  long published_ = 0;
 };
 
 }  // namespace rnav

@@ -14,12 +14,10 @@
 #pragma once
 
 #include "bus.hpp"
-#include "free_input.hpp"
-#include "free_node.hpp"
+#include "paired_free_node.hpp"
 #include "uav_tma_node.hpp"
 
 #include <deque>
-#include <limits>
 #include <map>
 
 namespace rnav {
@@ -34,49 +32,30 @@ struct UavTmaFreeOptions {
   long long seed = 1;
 };
 
-class UavTmaFreeNode : public FreeNode {
+class UavTmaFreeNode : public PairedFreeNode<observer_batch_t, observer_state_t, bearing_batch_t, bearing_t> {
  public:
   UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFreeOptions& o);
-  void flush() override;
-  std::string summary() const override;
 
  private:
-  void on_nav(const void* data, int size);
-  void on_bearing(const void* data, int size);
-  /// A batch of flight `f` arrived: a newer flight ends the current one.
-  void enter_flight(const FlightKey& f);
-  /// Batches: process every window both inputs hold.
-  void drain_windows();
-  /// What a batch that is the next of its flight does: it enters its flight (enter_flight), is
-  /// queued on `q`, and every window both inputs hold is processed (drain_windows).
-  template <class B> auto queue(std::deque<B>& q) {
-    return [this, &q](B&& b) {
-      enter_flight({b.header.realization, b.header.attempt});
-      q.push_back(std::move(b));
-      drain_windows();
-    };
-  }
+  void on_window(const observer_batch_t& nav, const bearing_batch_t& bearings) override;
+  void on_sample_a(const observer_state_t& o) override;
+  void on_sample_b(const bearing_t& b) override;
+  void on_end_of_samples() override { step_samples(true); }
+  void on_new_flight(const FlightKey& f) override;
+  std::string output_summary() const override;
   /// Samples: process every frame whose bearings are all in, given the latest times seen.
   void step_samples(bool end_of_input);
 
-  Bus& bus_;
   UavScenario sc_;
   UavTmaFreeOptions o_;
   std::vector<std::unique_ptr<tma::TmaEstimator>> est_;
-  InputForm form_;    // the form of every input (the first message sets it)
-  FreeSkips skips_;   // resends and stale batches skipped, over both inputs
-  FreeInput<observer_batch_t, observer_state_t> nav_in_;
-  FreeInput<bearing_batch_t, bearing_t> bearing_in_;
-  FlightKey flight_{-1, -1};
-  std::deque<observer_batch_t> nav_q_;
-  std::deque<bearing_batch_t> bearing_q_;
   std::int64_t seq_ = 0;
   std::deque<observer_state_t> frames_;             // single nav states not yet processed
   std::multimap<std::int64_t, bearing_t> bearings_;  // single bearings not yet processed
-  std::int64_t last_nav_utime_ = std::numeric_limits<std::int64_t>::min();
-  std::int64_t last_bearing_utime_ = std::numeric_limits<std::int64_t>::min();
+  ForwardTimes nav_times_;      // [us] the single nav states' utime
+  ForwardTimes bearing_times_;  // [us] the single bearings' utime
   std::vector<tma_estimate_t> out_;
-  long flights_ = 0, incomplete_flights_ = 0, frames_done_ = 0;
+  long frames_done_ = 0;
 };
 
 }  // namespace rnav

@@ -14,9 +14,11 @@ Every Table is {column: numpy array} with `units`, `meanings` and `frame()`. Fro
 or log holds and converts a log to CSV; see `python3 -m rnav --help`.
 
 Modules: tables (reading), csvio (the CSV + units.json format every writer follows), lcmlog (LCM
-event logs), effect_labels (the diagnosis's effects as legend text); for the programs in scripts/
-(which import the package through the link scripts/rnav): cli_args (their command lines and
-messages), study_runner (the runner of every study's jobs), clopper_pearson (binomial intervals).
+event logs), effect_labels (the diagnosis's effects as legend text), figures (what the figure
+programs plot_prl.py and plot_uav.py share: matplotlib without a display, their input error); for
+the programs in scripts/ (which import the package through the link scripts/rnav): cli_args (their
+command lines and messages), study_runner (the runner of every study's jobs), clopper_pearson
+(binomial intervals).
 """
 import importlib
 import sys
