@@ -224,19 +224,21 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     else
       dropped.push_back(e);
   }
-  // A hardware entry whose replicates (recordings) no longer agree, given all the others, leaves;
-  // one leaving changes the others' per-recording values, so until every one left agrees.
-  for (bool removed = true; removed;) {
-    removed = false;
-    for (std::size_t i = out.chosen.size(); i-- > 0;) {
-      Chosen rest = out.chosen;
-      rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-      if (!replicates_agree(d, rest, out.chosen[i].first, out.chosen[i].second, o.alpha)) {
-        out.chosen.erase(out.chosen.begin() + static_cast<std::ptrdiff_t>(i));
-        out.kept_lr.erase(out.kept_lr.begin() + static_cast<std::ptrdiff_t>(i));
-        removed = true;
-      }
+  // A hardware entry whose replicates (recordings) no longer agree, given all the others, leaves:
+  // the one that agrees least (largest replication p) first, as the backward check above, then
+  // the others are tested again without it (one leaving changes the others' per-recording
+  // values), until every one left agrees.
+  while (!out.chosen.empty()) {
+    double worst = std::log10(o.alpha);
+    std::size_t wi = out.chosen.size();
+    for (std::size_t i = 0; i < out.chosen.size(); ++i) {
+      if (p.catalogue[out.chosen[i].first].replicates.empty()) continue;
+      const Replication r = search_detail::replication(d, out.chosen, i);
+      if (r.tested && r.log10_p >= worst) worst = r.log10_p, wi = i;
     }
+    if (wi == out.chosen.size()) break;
+    out.chosen.erase(out.chosen.begin() + static_cast<std::ptrdiff_t>(wi));
+    out.kept_lr.erase(out.kept_lr.begin() + static_cast<std::ptrdiff_t>(wi));
   }
   return out;
 }
