@@ -272,40 +272,34 @@ def band_fill(ax, t, lo, hi, label):
     ax.fill_between(t[ok], lo[ok], hi[ok], color=C_BAND, alpha=0.35, lw=0, label=label, zorder=0)
 
 
+def consistency_panel(ax, c, t, te, names, n_runs, kind, dof, expected, **line):
+    """One panel of fig_nees: each estimator's mean `kind` ("nees" or "nis") against the 95 %
+    band of the mean of n_runs chi2(dof) and its expected value dof, on a log scale."""
+    lo, hi = c[kind + "_band_lo"], c[kind + "_band_hi"]
+    band_fill(ax, t, lo, hi,
+              "95 %% band of the mean of %s chi2(%d)  [%s, %s]"
+              % (n_runs or "?", dof, fmt(value_at(t, lo, te)), fmt(value_at(t, hi, te))))
+    ax.axhline(float(dof), color="black", lw=0.8, ls=":", label=expected)
+    curves = [lo, hi]
+    for i, n in enumerate(names):
+        lab, col = style(n, i)
+        y = c[n + "_" + kind + "_mean"]
+        curves.append(y)
+        ax.plot(t, y, color=col, label="%s  (%s at t_eval)" % (lab, fmt(value_at(t, y, te))), **line)
+    set_log_y(ax, log_limits(curves))
+
+
 def fig_nees(c, names, summ, n_runs, path):
     t, te = c["t_s"], summ["eval_time_s"]
     fig, axes = plt.subplots(2, 1, figsize=(9.5, 7.6), sharex=True)
     ax = axes[0]
-    band_fill(ax, t, c["nees_band_lo"], c["nees_band_hi"],
-              "95 %% band of the mean of %s chi2(4)  [%s, %s]"
-              % (n_runs or "?", fmt(value_at(t, c["nees_band_lo"], te)),
-                 fmt(value_at(t, c["nees_band_hi"], te))))
-    ax.axhline(4.0, color="black", lw=0.8, ls=":", label="expected value 4 (state dim.)")
-    curves = [c["nees_band_lo"], c["nees_band_hi"]]
-    for i, n in enumerate(names):
-        lab, col = style(n, i)
-        y = c[n + "_nees_mean"]
-        curves.append(y)
-        ax.plot(t, y, color=col, lw=1.2, label="%s  (%s at t_eval)" % (lab, fmt(value_at(t, y, te))))
-    set_log_y(ax, log_limits(curves))
+    consistency_panel(ax, c, t, te, names, n_runs, "nees", 4, "expected value 4 (state dim.)", lw=1.2)
     mark_eval(ax, te)
     ax.set_ylabel("mean NEES (position + velocity)")
     ax.legend(loc="best", fontsize=8.5, framealpha=0.9)
 
     ax = axes[1]
-    band_fill(ax, t, c["nis_band_lo"], c["nis_band_hi"],
-              "95 %% band of the mean of %s chi2(1)  [%s, %s]"
-              % (n_runs or "?", fmt(value_at(t, c["nis_band_lo"], te)),
-                 fmt(value_at(t, c["nis_band_hi"], te))))
-    ax.axhline(1.0, color="black", lw=0.8, ls=":", label="expected value 1")
-    curves = [c["nis_band_lo"], c["nis_band_hi"]]
-    for i, n in enumerate(names):
-        lab, col = style(n, i)
-        y = c[n + "_nis_mean"]
-        curves.append(y)
-        ax.plot(t, y, color=col, lw=0.9, alpha=0.85,
-                label="%s  (%s at t_eval)" % (lab, fmt(value_at(t, y, te))))
-    set_log_y(ax, log_limits(curves))
+    consistency_panel(ax, c, t, te, names, n_runs, "nis", 1, "expected value 1", lw=0.9, alpha=0.85)
     mark_eval(ax, te, label=False)
     ax.set_ylabel("mean NIS (bearing innovation)")
     ax.set_xlabel("time since start [s]")
