@@ -10,15 +10,9 @@
 # the check is that some were counted, and the count is printed). B's own LCM log, which heard
 # the replay too, is refused by the diagnosis's log reader and by rnav.read_log, naming the two runs.
 # Usage: check_foreign_run.sh SOURCE_DIR BUILD_DIR
-set -u
-SRC=$(cd "$1" && pwd)
-export RNAV_BUILD=$(cd "$2" && pwd)
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"  # SRC, RNAV_BUILD, T, fail, in_private_net
 
-unshare -n bash -c '
-  ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 9
+in_private_net '
   url="udpm://239.255.76.67:7667?ttl=0"
   "$0/scripts/run" paper --realizations 2 --seed 2 --net host --no-plots --lcm-log "$1/a.lcmlog" --out "$1/a" >"$1/a.log" 2>&1 || exit 8
   ( while true; do lcm-logplayer --lcm-url="$url" "$1/a.lcmlog" >/dev/null 2>&1; done ) & player=$!
@@ -27,7 +21,6 @@ unshare -n bash -c '
   pkill -P $player 2>/dev/null; kill $player 2>/dev/null; wait
   exit $rc' "$SRC" "$T"
 rc=$?
-((rc != 9)) || fail "cannot set up the private network namespace (needs root: unshare -n, ip)"
 ((rc != 8)) || { tail -5 "$T/a.log"; fail "run A failed"; }
 ((rc == 0)) || { tail -15 "$T/b.log"; fail "run B failed (exit $rc) with another run's traffic replayed into its network"; }
 "$SRC/scripts/run" paper --realizations 10 --seed 1 --inproc --no-plots --out "$T/c" >"$T/c.log" 2>&1 || { tail -5 "$T/c.log"; fail "run C failed"; }
