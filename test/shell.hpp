@@ -1,7 +1,9 @@
-// Shell helpers of the tests that run the project's scripts and programs (integration, MPI):
-// a command's exit status and output, a file's bytes. RNAV_SOURCE_DIR and RNAV_BINARY_DIR come
-// from CMake.
+// Shell helpers of the tests that run the project's scripts and programs (integration, MPI,
+// free-running, Python log reader): a command's exit status and output, a file's bytes (from
+// test_support.hpp). RNAV_SOURCE_DIR and RNAV_BINARY_DIR come from CMake.
 #pragma once
+
+#include "test_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -10,8 +12,6 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 namespace rnav_test {
@@ -34,19 +34,17 @@ inline Result sh(const std::string& cmd) {
   return r;
 }
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+/// The output (stdout and stderr) of `cmd` run as sh() does; the test stops unless it exits 0.
+inline std::string sh_ok(const std::string& cmd) {
+  const Result r = sh(cmd);
+  INFO(cmd << "\n" << r.output);
+  REQUIRE(r.status == 0);
+  return r.output;
 }
 
 /// A fresh directory per test under the build (ctest may run tests in parallel).
 inline std::filesystem::path scratch(const std::string& name) {
-  const auto d = std::filesystem::path(RNAV_BINARY_DIR) / "test_scratch" / name;
-  std::filesystem::remove_all(d);
-  std::filesystem::create_directories(d);
-  return d;
+  return fresh_dir(std::filesystem::path(RNAV_BINARY_DIR) / "test_scratch" / name);
 }
 
 }  // namespace rnav_test

@@ -1,6 +1,7 @@
 // Writing results: never through a planted link, never over a user's folder, every byte checked.
 #include "atomic_file.hpp"
 #include "config.hpp"
+#include "test_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,21 +12,12 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
+using rnav_test::slurp;
 
 namespace {
 
 fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_atomic_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  return rnav_test::fresh_dir(fs::temp_directory_path() / ("rnav_test_atomic_" + name + "_" + std::to_string(::getpid())));
 }
 
 }  // namespace

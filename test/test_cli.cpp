@@ -1,6 +1,7 @@
 // Unit tests of common/did_you_mean.hpp and common/cli.hpp: the edit distance, the nearest-name
 // rule, and the option table that both parses and prints --help.
 #include "cli.hpp"
+#include "config_error.hpp"
 #include "decimal.hpp"
 #include "did_you_mean.hpp"
 
@@ -13,18 +14,9 @@
 using Catch::Contains;
 using Catch::StartsWith;
 using rnav::ConfigError;
+using rnav_test::config_error;
 
 namespace {
-
-// The message of the ConfigError thrown by f ("<no exception>" if none).
-template <class F> std::string config_error(F&& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "<no exception>";
-}
 
 // A small program's options, parsed from a list of arguments.
 struct Program {

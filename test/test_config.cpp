@@ -1,6 +1,7 @@
 // Unit tests of common/config.hpp and common/scenario.hpp: strict scenario validation with
 // errors naming the key, overrides, and JSON file loading.
 #include "config.hpp"
+#include "config_error.hpp"
 #include "scenario.hpp"
 
 #include <catch2/catch.hpp>
@@ -15,20 +16,10 @@ using Catch::Contains;
 using nlohmann::json;
 using rnav::ConfigError;
 using rnav::Scenario;
+using rnav_test::config_error;
 
 namespace {
 
-// The message of the ConfigError thrown by f (empty if none / another exception type).
-template <class F> std::string config_error(F&& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  } catch (...) {
-    return "<other exception>";
-  }
-  return "<no exception>";
-}
 std::string from_json_error(const json& j) { return config_error([&] { Scenario::from_json(j); }); }
 
 struct TempDir {

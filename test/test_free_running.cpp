@@ -9,6 +9,7 @@
 #include "lcm_event_reader.hpp"
 #include "lcm_log_export.hpp"
 #include "prl_bias_free_node.hpp"
+#include "shell.hpp"
 #include "uav_tma_free_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
@@ -33,6 +34,8 @@
 
 namespace fs = std::filesystem;
 using namespace rnav;
+using rnav_test::sh_ok;
+using rnav_test::slurp;
 
 namespace {
 
@@ -43,10 +46,7 @@ const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.
 const std::vector<std::string> kDropouts = {"snsins.dropouts=[[100,130],[250,252.5]]", "runner.window_s=100"};
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_free_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return rnav_test::fresh_dir(fs::temp_directory_path() / ("rnav_test_free_" + name + "_" + std::to_string(::getpid())));
 }
 
 std::vector<LcmEvent> read_log(const std::string& file) {
@@ -313,20 +313,8 @@ TEST_CASE("rnav_prl_bias --free fed by lcm-logplayer from a lock-step run's log,
   const std::string run_log = (d / "run.lcmlog").string(), free_log = (d / "free.lcmlog").string();
   const std::vector<std::string> dropouts = {"snsins.dropouts=[[100,130]]", "runner.window_s=100"};  // several windows
   REQUIRE(export_lcm_log(kPaper, dropouts, 2, 3, run_log) == 0);
-  auto sh = [&](const std::string& cmd) {
-    std::string out;
-    FILE* p = popen(("RNAV_BUILD='" + std::string(RNAV_BINARY_DIR) + "' " + cmd + " 2>&1").c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::array<char, 4096> buf{};
-    while (fgets(buf.data(), buf.size(), p)) out += buf.data();
-    const int st = pclose(p);
-    INFO(cmd << "\n" << out);
-    REQUIRE(WIFEXITED(st));
-    REQUIRE(WEXITSTATUS(st) == 0);
-    return out;
-  };
-  const std::string rep = sh(std::string(RNAV_SOURCE_DIR) + "/scripts/replay paper " + run_log + " --set '" +
-                             dropouts[0] + "' --out " + free_log);
+  const std::string rep = sh_ok(std::string(RNAV_SOURCE_DIR) + "/scripts/replay paper " + run_log + " --set '" +
+                                dropouts[0] + "' --out " + free_log);
   CHECK(rep.find("3 flight(s), 0 of them incomplete") != std::string::npos);
   const auto expected = lockstep_bias_messages(read_log(run_log));
   std::vector<std::vector<std::uint8_t>> got;
@@ -375,29 +363,6 @@ long missing_from(const std::vector<std::vector<std::uint8_t>>& part, const std:
   return static_cast<long>(all.size() - part.size());
 }
 
-std::string read_text(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-}  // namespace
-
-namespace {
-
-// Exit status 0 required; the output (stdout and stderr) of a shell command.
-std::string sh_ok(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(("RNAV_BUILD='" + std::string(RNAV_BINARY_DIR) + "' " + cmd + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int st = pclose(p);
-  INFO(cmd << "\n" << out);
-  REQUIRE(WIFEXITED(st));
-  REQUIRE(WEXITSTATUS(st) == 0);
-  return out;
-}
-
 std::size_t count_on(const std::vector<LcmEvent>& log, const std::string& channel) {
   return static_cast<std::size_t>(std::count_if(log.begin(), log.end(), [&](const LcmEvent& e) { return e.channel == channel; }));
 }
@@ -437,7 +402,7 @@ TEST_CASE("scripts/run --realtime over LCM speaks per sample and gives the batch
   sh_ok(run + "--realtime --speed 100 --lcm-log " + rt_log + " --out " + (d / "rt").string());
   sh_ok(run + "--inproc --out " + (d / "batch").string());
   for (const char* f : {"table2.json", "stats_time.csv", "stats_range.csv"})
-    CHECK(read_text(d / "rt" / f) == read_text(d / "batch" / f));
+    CHECK(slurp(d / "rt" / f) == slurp(d / "batch" / f));
   REQUIRE(export_lcm_log(kPaper, {}, 3, 1, batch_log) == 0);
   const auto rt = read_log(rt_log), batch = read_log(batch_log);
   // lcm-logger's recording: the batch run's samples, one per message, in order. lcm-logger itself

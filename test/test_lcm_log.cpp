@@ -14,6 +14,7 @@
 #include "prl_diagnose.hpp"
 #include "prl_export.hpp"
 #include "target_node.hpp"
+#include "test_support.hpp"
 #include "uav_diagnose.hpp"
 #include "uav_node.hpp"
 
@@ -35,6 +36,7 @@
 
 namespace fs = std::filesystem;
 using namespace rnav;
+using rnav_test::slurp;
 
 namespace {
 
@@ -42,17 +44,7 @@ const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.
 const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json";
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_lcm_log_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  return rnav_test::fresh_dir(fs::temp_directory_path() / ("rnav_test_lcm_log_" + name));
 }
 
 struct Event {

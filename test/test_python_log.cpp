@@ -10,6 +10,7 @@
 #include "lcm_event_reader.hpp"
 #include "lcm_log_export.hpp"
 #include "lcm_log_streams.hpp"
+#include "shell.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/bearing_batch_t.hpp>
@@ -40,6 +41,8 @@
 
 namespace fs = std::filesystem;
 using namespace rnav;
+using rnav_test::sh;
+using rnav_test::slurp;
 
 namespace {
 
@@ -48,27 +51,7 @@ const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json
 const std::string kLog2csv = std::string(RNAV_SOURCE_DIR) + "/scripts/rnav_log2csv ";
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_py_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// Exit status and output (stdout and stderr) of a shell command.
-std::pair<int, std::string> sh(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(("RNAV_BUILD='" + std::string(RNAV_BINARY_DIR) + "' " + cmd + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int st = pclose(p);
-  REQUIRE(WIFEXITED(st));
-  return {WEXITSTATUS(st), out};
-}
-
-std::string read_bytes(const fs::path& f) {
-  std::ifstream in(f, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  return rnav_test::fresh_dir(fs::temp_directory_path() / ("rnav_test_py_" + name + "_" + std::to_string(::getpid())));
 }
 
 // One CSV line's cells (RFC 4180 quoting, as Python's csv module writes).
@@ -329,7 +312,7 @@ TEST_CASE("sample_wire", "[python][lcm_log]") {
   CHECK(read_csv(d / "s" / "TRUTH_AIRCRAFT.csv").rows.size() > read_csv(d / "s" / "PRL_APOI.csv").rows.size());
   // A sample message lost (the log's first PRL_APOI plot after window 0's grant): named by the
   // count the publisher's OK ack lists.
-  std::string bytes = read_bytes(sample), cut;
+  std::string bytes = slurp(sample), cut;
   LcmEventReader r(sample);
   LcmEvent e;
   bool done = false;
@@ -398,7 +381,7 @@ TEST_CASE("corrupt_log", "[python][lcm_log][input]") {
   const fs::path d = scratch("corrupt");
   const std::string good = (d / "good.lcmlog").string();
   REQUIRE(export_lcm_log(kPaper, {"runner.window_s=100"}, 3, 1, good) == 0);  // several windows: a batch well inside
-  const std::string bytes = read_bytes(good);
+  const std::string bytes = slurp(good);
   // The events' offsets and sizes, from the C++ reader.
   std::vector<LcmEvent> ev;
   {
@@ -486,7 +469,7 @@ TEST_CASE("log2csv", "[python][lcm_log][input]") {
   CHECK(text == "rnav_log2csv: error: --out " + out.string() + ": the folder is not empty (it holds notes.txt) and "
                 "is not an earlier output of this project (no .rnav-output): choose an empty or new folder, or add "
                 "--force to replace it\n");
-  CHECK(read_bytes(out / "notes.txt") == "mine\n");
+  CHECK(slurp(out / "notes.txt") == "mine\n");
   log2csv(log, out, " --force");
   CHECK(!fs::exists(out / "notes.txt"));
   std::set<std::string> files;

@@ -9,6 +9,7 @@
 #include "scenario.hpp"
 #include "folder_pack.hpp"
 #include "shard_merge.hpp"
+#include "test_support.hpp"
 #include "uav_scenario.hpp"
 
 #include <filesystem>
@@ -20,6 +21,7 @@
 
 namespace fs = std::filesystem;
 using namespace rnav;
+using rnav_test::slurp;
 
 namespace {
 
@@ -27,17 +29,7 @@ const std::string kPaper = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/paper.
 const std::string kUav = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/uav.json";
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rnav_test_shard_merge_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return rnav_test::fresh_dir(fs::temp_directory_path() / ("rnav_test_shard_merge_" + name));
 }
 
 // Every file of `ref` is in `got` with the same bytes, and `got` holds no other file.
