@@ -1,5 +1,5 @@
 // The message of the ConfigError a piece of test code throws, for the tests of configuration
-// and command-line errors (test_config, test_cli).
+// and command-line errors (test_config, test_cli, test_datalink_link).
 #pragma once
 
 #include "config.hpp"

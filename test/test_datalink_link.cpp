@@ -3,6 +3,7 @@
 // drawn against the configured SNR curve (binomial band), and the scenario keys' validation.
 #include "code_family.hpp"
 #include "config.hpp"
+#include "config_error.hpp"
 #include "link_budget.hpp"
 #include "nav_link.hpp"
 #include "random.hpp"
@@ -17,22 +18,12 @@
 namespace dl = rnav::datalink;
 using Catch::Contains;
 using nlohmann::json;
+using rnav_test::config_error;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The message of the ConfigError f throws ("<no exception>" / "<other exception>" otherwise).
-template <class F> std::string config_error(F&& f) {
-  try {
-    f();
-  } catch (const rnav::ConfigError& e) {
-    return e.what();
-  } catch (...) {
-    return "<other exception>";
-  }
-  return "<no exception>";
-}
 std::string scenario_error(const std::string& text) {
   return config_error([&] { rnav::Scenario::from_json(json::parse(text)); });
 }
