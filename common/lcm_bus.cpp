@@ -1,5 +1,8 @@
 #include "lcm_bus.hpp"
 
+#include <functional>
+#include <string_view>
+
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -68,6 +71,8 @@ void LcmBus::publish_raw(const std::string& channel, const void* data, int size)
   for (int attempt = 0; attempt < kPublishAttempts; ++attempt) {
     errno = 0;
     if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) == 0) {
+      published_[channel].insert(std::hash<std::string_view>{}(std::string_view(static_cast<const char*>(data),
+                                                                               static_cast<std::size_t>(size))));
       if (record_) record(channel, data, size);
       return;
     }
@@ -76,6 +81,12 @@ void LcmBus::publish_raw(const std::string& channel, const void* data, int size)
   }
   throw std::runtime_error("LCM publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) " +
                            std::to_string(kPublishAttempts) + " times: " + (err ? std::strerror(err) : "no reason given"));
+}
+
+std::map<std::string, long> LcmBus::published_counts() const {
+  std::map<std::string, long> n;
+  for (const auto& [channel, digests] : published_) n[channel] = static_cast<long>(digests.size());
+  return n;
 }
 
 void LcmBus::record_publishes(const std::string& file) {

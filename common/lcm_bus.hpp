@@ -5,9 +5,13 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include <list>
+#include <cstdint>
 #include <exception>
+#include <list>
+#include <map>
 #include <memory>
+#include <string>
+#include <unordered_set>
 
 namespace rnav {
 
@@ -32,6 +36,10 @@ class LcmBus : public Bus {
   void record_publishes(const std::string& file);
   /// Flush and close the record; throws naming the file on a write error (e.g. a full disk).
   void finish_record();
+  /// Distinct messages this bus has published (sent to LCM), per channel: a resend of the same
+  /// bytes counts once. What a complete recording of the run holds (scripts/run --lcm-log checks
+  /// lcm-logger's recording against the nodes' sums).
+  std::map<std::string, long> published_counts() const;
 
  private:
   struct Sub {
@@ -46,6 +54,7 @@ class LcmBus : public Bus {
   std::unique_ptr<lcm::LogFile> record_;
   std::string record_file_;
   std::int64_t record_events_ = 0;
+  std::map<std::string, std::unordered_set<std::uint64_t>> published_;  // per channel: digests of the messages sent
 };
 
 }  // namespace rnav

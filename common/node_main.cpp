@@ -1,8 +1,16 @@
 #include "node_main.hpp"
 
 #include <chrono>
+#include <ostream>
 
 namespace rnav {
+
+void print_published(std::ostream& os, const std::string& name, const std::map<std::string, long>& counts) {
+  std::string line;
+  for (const auto& [channel, n] : counts)
+    if (channel.rfind("SIM_", 0) != 0) line += " " + channel + "=" + std::to_string(n);
+  if (!line.empty()) os << name << ": published" << line << "\n";
+}
 
 double wall_seconds() {
   using namespace std::chrono;

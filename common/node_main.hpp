@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -38,6 +39,12 @@ double wall_seconds();
 /// --out for a logger), filling `args`; `print_options` is set by --print-options.
 cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_options);
 
+/// The line "NAME: published CHANNEL=N ..." of the distinct messages (a resend counted once) a
+/// node published on its data channels (the clock's SIM_* control channels left out: a node's first HELLOs may go out
+/// before a recorder listens). scripts/run --lcm-log sums these lines over the nodes' logs and
+/// names every channel lcm-logger's recording holds fewer messages of. Nothing if none.
+void print_published(std::ostream& os, const std::string& name, const std::map<std::string, long>& counts);
+
 /// Usage: PROGRAM --scenario FILE [--set k=v]... [--drop CH:R:W[:A[:K]]]... [--lcm-url URL] [--out DIR]
 /// Sc is the scenario type (Scenario, UavScenario): Sc::load(file, overrides), Sc::print(os).
 /// `make` builds the node on the bus. Returns the process exit code; never calls exit().
@@ -66,9 +73,11 @@ int run_node_main(int argc, char** argv, const NodeProgram& p,
       bus.handle(20);
       node->poll(wall_seconds());
     }
-    if (node->exit_code() == 0)
+    if (node->exit_code() == 0) {
       std::cerr << p.name << ": finished (" << node->duplicates_ignored() << " resent batch(es) ignored, "
                 << node->republished() << " republished)\n";
+      print_published(std::cerr, p.name, bus.published_counts());
+    }
     else if (node->exit_code() == 3)  // aborted by the clock, which says why
       std::cerr << p.name << ": " << node->failure() << "\n";
     else

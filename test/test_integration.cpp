@@ -2,6 +2,7 @@
 // network namespace, so no packet leaves the machine), the single-process ensemble, and the
 // failure paths: a lost message, a killed process, bad input.
 #include <catch2/catch.hpp>
+#include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
 #include "shell.hpp"
@@ -15,6 +16,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
+#include <algorithm>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -315,6 +319,75 @@ TEST_CASE("random multicast loss of 1 % and 5 % and 20 % is recovered: the stati
     CHECK(slurp(out / "stats_range.csv") == slurp(d / "clean" / "stats_range.csv"));
     CHECK(slurp(out / "table2.json") == slurp(d / "clean" / "table2.json"));
   }
+}
+
+namespace {
+// Distinct messages per channel of an LCM event log (a resent copy counted once; lcm::LogFile,
+// independent of the run's own check).
+std::map<std::string, long> distinct_per_channel(const std::string& file) {
+  lcm::LogFile log(file, "r");
+  REQUIRE(log.good());
+  std::map<std::string, std::set<std::string>> seen;
+  while (const lcm::LogEvent* e = log.readNextEvent())
+    seen[e->channel].insert(std::string(static_cast<const char*>(e->data), static_cast<std::size_t>(e->datalen)));
+  std::map<std::string, long> n;
+  for (const auto& [channel, messages] : seen) n[channel] = static_cast<long>(messages.size());
+  return n;
+}
+}  // namespace
+
+TEST_CASE("an LCM log recorded under multicast loss holds every message the nodes published and a copy lacking some is named",
+          "[integration][loss][lcm_log]") {
+  // --loss drops a packet before any receiver sees it, so lcm-logger misses what the nodes miss
+  // and records the resends that repair it: the recording holds every distinct data message the
+  // nodes published (their "published" lines, summed), exactly, and the run warns of none. A copy
+  // of it without every third PRL_APOI message (what a recorder whose socket buffer overflows
+  // leaves) is named by the same check (rnav.lcmlog.recording_warnings, which scripts/run calls)
+  // with both counts, and no other channel is.
+  const fs::path d = scratch("loss_lcm_log");
+  const std::string log = (d / "run.lcmlog").string(), cut = (d / "cut.lcmlog").string();
+  const auto r = sh(kRun + "--realizations 10 --seed 4 --loss 0.2 --lcm-log " + log + " --out " + (d / "out").string());
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK(r.output.find("run: warning: the LCM log") == std::string::npos);
+  std::map<std::string, long> published;
+  const std::regex line(R"(^[a-z_]+: published (.*)$)"), pair(R"(([A-Z0-9_]+)=(\d+))");
+  for (const auto& f : fs::directory_iterator(d / "out" / "logs")) {
+    std::istringstream in(slurp(f.path()));
+    std::smatch m;
+    for (std::string l; std::getline(in, l);)
+      if (std::regex_match(l, m, line)) {
+        const std::string rest = m[1];
+        for (std::sregex_iterator it(rest.begin(), rest.end(), pair), end; it != end; ++it)
+          published[(*it)[1]] += std::stol((*it)[2]);
+      }
+  }
+  CHECK(published.size() == 6);  // TRUTH_AIRCRAFT, NAV_SOLUTION, PRL_APOI, TRUTH_PRL_ERROR, PRL_BIAS, PRL_TOI
+  CHECK(published["PRL_APOI"] == 10);  // one batch per realization (one window each)
+  const auto recorded = distinct_per_channel(log);
+  for (const auto& [channel, n] : published) {
+    INFO(channel);
+    CHECK(recorded.count(channel) == 1);
+    if (recorded.count(channel)) CHECK(recorded.at(channel) == n);
+  }
+  {
+    lcm::LogFile in(log, "r"), out(cut, "w");
+    REQUIRE((in.good() && out.good()));
+    long apoi = 0;
+    while (const lcm::LogEvent* e = in.readNextEvent())
+      if (e->channel != "PRL_APOI" || ++apoi % 3 != 0) REQUIRE(out.writeEvent(const_cast<lcm::LogEvent*>(e)) == 0);
+  }
+  const long kept = distinct_per_channel(cut).at("PRL_APOI");
+  REQUIRE(kept < published["PRL_APOI"]);
+  const auto c = sh("PYTHONPATH='" + std::string(RNAV_SOURCE_DIR) + "/loggers' /usr/bin/python3 -c 'import sys; from rnav import "
+                    "lcmlog; print(\"\\n\".join(lcmlog.recording_warnings(sys.argv[1], sys.argv[2])))' " + cut + " " +
+                    (d / "out" / "logs").string());
+  INFO(c.output);
+  REQUIRE(c.status == 0);
+  CHECK(c.output.find("run: warning: the LCM log holds " + std::to_string(kept) + " of the " +
+                      std::to_string(published["PRL_APOI"]) + " distinct messages the nodes published on PRL_APOI:") !=
+        std::string::npos);
+  CHECK(std::count(c.output.begin(), c.output.end(), '\n') == 1);  // that one line, no other channel
 }
 
 TEST_CASE("loss that recovery cannot repair in time fails the run naming what was missing", "[integration][loss]") {

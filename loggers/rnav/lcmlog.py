@@ -38,6 +38,7 @@ Nothing is read silently wrong; LogError names the file, the byte offset or even
 """
 
 import csv
+import collections
 import json
 import importlib
 import os
@@ -122,6 +123,45 @@ def events(path):
                 raise LogError("%s: the channel name is not ASCII (corrupt)" % at) from None
             yield Event(off, num, utime, channel, f.read(dlen))
             off, ordinal, last = off + need, ordinal + 1, num
+
+
+_PUBLISHED = re.compile(r"^[a-z_]+: published ((?:[A-Z0-9_]+=[0-9]+ ?)+)$")
+
+
+def published_counts(logs_dir):
+    """{channel: distinct messages published}, summed over the "NAME: published CHANNEL=N ..."
+    lines the run's nodes write at exit into their logs (logs_dir/*.log; scripts/run's logs/)."""
+    sent = collections.Counter()
+    for name in sorted(os.listdir(logs_dir)):
+        if name.endswith(".log"):
+            with open(os.path.join(logs_dir, name), errors="replace") as f:
+                for line in f:
+                    m = _PUBLISHED.match(line.rstrip("\n"))
+                    for kv in (m.group(1).split() if m else []):
+                        channel, n = kv.rsplit("=", 1)
+                        sent[channel] += int(n)
+    return dict(sent)
+
+
+def recording_shortfall(path, published):
+    """The channels of which the LCM event log `path` holds fewer distinct messages than were
+    published: [(channel, recorded, published)] in channel order, `published` a {channel: count}
+    of the distinct messages the run's processes sent (a resend of the same bytes counts once;
+    a recorder such as lcm-logger misses messages when its socket buffer overflows). Channels
+    the log holds more of (another run's messages) are not listed."""
+    seen = collections.defaultdict(set)
+    for e in events(path):
+        if e.channel in published:
+            seen[e.channel].add(hash(e.data))
+    return [(ch, len(seen[ch]), n) for ch, n in sorted(published.items()) if len(seen[ch]) < n]
+
+
+def recording_warnings(path, logs_dir, why=""):
+    """One line per channel the recording `path` lacks messages of (recording_shortfall against
+    published_counts(logs_dir)), naming both counts; `why` ends each line (a likely cause)."""
+    return ["run: warning: the LCM log holds %d of the %d distinct messages the nodes published on %s: "
+            "lcm-logger missed %d%s" % (got, n, ch, n - got, why)
+            for ch, got, n in recording_shortfall(path, published_counts(logs_dir))]
 
 
 def decode(path, event, types):
