@@ -1,5 +1,7 @@
 #include "node_main.hpp"
 
+#include "channels.hpp"
+
 #include <chrono>
 #include <ostream>
 
@@ -8,7 +10,8 @@ namespace rnav {
 void print_published(std::ostream& os, const std::string& name, const std::map<std::string, long>& counts) {
   std::string line;
   for (const auto& [channel, n] : counts)
-    if (channel.rfind("SIM_", 0) != 0) line += " " + channel + "=" + std::to_string(n);
+    if (channel != ch::kWindow && channel != ch::kAck && channel != ch::kScenario)
+      line += " " + channel + "=" + std::to_string(n);
   if (!line.empty()) os << name << ": published" << line << "\n";
 }
 

@@ -40,8 +40,8 @@ double wall_seconds();
 cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_options);
 
 /// The line "NAME: published CHANNEL=N ..." of the distinct messages (a resend counted once) a
-/// node published on its data channels (the clock's SIM_* control channels left out: a node's first HELLOs may go out
-/// before a recorder listens). scripts/run --lcm-log sums these lines over the nodes' logs and
+/// node published on its data channels (the control channels SIM_WINDOW, SIM_ACK and
+/// SIM_SCENARIO left out: a node's first HELLOs may go out before a recorder listens). scripts/run --lcm-log sums these lines over the nodes' logs and
 /// names every channel lcm-logger's recording holds fewer messages of. Nothing if none.
 void print_published(std::ostream& os, const std::string& name, const std::map<std::string, long>& counts);
 

@@ -55,12 +55,18 @@ struct Selection {
 // recording's own slow misfit made compromise values significant: on the nine Autoferry
 // recordings a lidar clock of 0.7 s named on eight was carried to the ninth and doubled its
 // error there. Entries without replicates, or with fewer than two carrying data, pass.
+// log10 of the replication p of chosen entry s given the others: -inf where nothing is tested
+// (no replicates, or fewer than two carrying data). The entry agrees when it is below log10 alpha.
+double replication_log10_p(const Design& d, const Chosen& chosen, std::size_t s) {
+  if (d.pb->catalogue[chosen[s].first].replicates.empty()) return -INFINITY;
+  const Replication r = search_detail::replication(d, chosen, s);
+  return r.tested ? r.log10_p : -INFINITY;
+}
+
 bool replicates_agree(const Design& d, const Chosen& chosen, std::size_t e, std::size_t v, double alpha) {
-  if (d.pb->catalogue[e].replicates.empty()) return true;
   Chosen with = chosen;
   with.push_back({e, v});
-  const Replication r = search_detail::replication(d, with, with.size() - 1);
-  return !r.tested || r.log10_p < std::log10(alpha);
+  return replication_log10_p(d, with, with.size() - 1) < std::log10(alpha);
 }
 
 // Of two entries that explain the same residual (rival(): the report's confounding note), the
@@ -232,9 +238,8 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     double worst = std::log10(o.alpha);
     std::size_t wi = out.chosen.size();
     for (std::size_t i = 0; i < out.chosen.size(); ++i) {
-      if (p.catalogue[out.chosen[i].first].replicates.empty()) continue;
-      const Replication r = search_detail::replication(d, out.chosen, i);
-      if (r.tested && r.log10_p >= worst) worst = r.log10_p, wi = i;
+      const double lp = replication_log10_p(d, out.chosen, i);
+      if (lp >= worst) worst = lp, wi = i;
     }
     if (wi == out.chosen.size()) break;
     out.chosen.erase(out.chosen.begin() + static_cast<std::ptrdiff_t>(wi));
