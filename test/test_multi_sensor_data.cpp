@@ -187,25 +187,46 @@ TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
   fs::remove_all(dir);
 }
 
-TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisensor][input]") {
+/// A folder of sample data whose files the cases below spoil one at a time; each read error must
+/// name the file, the line and (where given) the column.
+const std::string kDetectionsHeader = "t_s,sensor,range_m,bearing_deg\n";
+
+struct SpoiltFolder {
   const fs::path dir = temp_dir("bad");
-  sample_data().write_folder(dir.string());
-  REQUIRE(read_error(dir).empty());
-  const std::string det_head = "t_s,sensor,range_m,bearing_deg\n";
-  auto det = [&](const std::string& rows) { std::ofstream(dir / "detections.csv") << det_head << rows; };
-  auto expect = [&](const std::string& where, const std::string& col) {
+  SpoiltFolder() {
+    sample_data().write_folder(dir.string());
+    REQUIRE(read_error(dir).empty());
+  }
+  ~SpoiltFolder() { fs::remove_all(dir); }
+  SpoiltFolder(const SpoiltFolder&) = delete;
+  SpoiltFolder& operator=(const SpoiltFolder&) = delete;
+  /// detections.csv with the standard header and these rows
+  void det(const std::string& rows) const {
+    std::ofstream(dir / "detections.csv") << kDetectionsHeader << rows;
+  }
+  /// the folder's read error names `where` and, unless empty, the column `col`
+  void expect(const std::string& where, const std::string& col) const {
     const std::string e = read_error(dir);
     INFO(e);
     CHECK(e.find(where) != std::string::npos);
     if (!col.empty()) CHECK(e.find("column '" + col + "'") != std::string::npos);
     CHECK(!e.empty());
-  };
-  // file gets content; the read error must name where and (if given) the column
-  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
-                       const std::string& col) {
+  }
+  /// `file` gets `content`; then expect(where, col)
+  void expect_in(const std::string& file, const std::string& content, const std::string& where,
+                 const std::string& col) const {
     std::ofstream(dir / file) << content;
     expect(where, col);
-  };
+  }
+};
+
+TEST_CASE("multi-sensor data: bad detections name file and line and column", "[multisensor][input]") {
+  const SpoiltFolder f;
+  const fs::path& dir = f.dir;
+  auto det = [&](const std::string& rows) { f.det(rows); };
+  auto expect = [&](const std::string& where, const std::string& col) { f.expect(where, col); };
+  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
+                       const std::string& col) { f.expect_in(file, content, where, col); };
   SECTION("a header separated by ';' is named as such") {
     std::ofstream(dir / "detections.csv") << "t_s;sensor;range_m;bearing_deg\n1;radar;10;20\n";
     expect("detections.csv:1: the header is separated by ';'", "");
@@ -224,7 +245,7 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     expect("truth.csv lat_deg and truth.csv lon_deg look like radians", "");
   }
   SECTION("a byte-order mark before the header is named, not read as a column 't_s' missing") {
-    std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << det_head << "1,radar,10,20\n";
+    std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << kDetectionsHeader << "1,radar,10,20\n";
     expect("detections.csv:1: starts with a byte-order mark", "");
   }
   SECTION("a raw Autoferry folder is answered with the command that imports it") {
@@ -307,6 +328,15 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
   SECTION("missing column") {
     expect_in("detections.csv", "t_s,sensor,bearing_deg\n1,radar,20\n", "detections.csv:1", "range_m");
   }
+}
+
+TEST_CASE("multi-sensor data: bad observer and truth name file and line and column", "[multisensor][input]") {
+  const SpoiltFolder f;
+  const fs::path& dir = f.dir;
+  auto det = [&](const std::string& rows) { f.det(rows); };
+  auto expect = [&](const std::string& where, const std::string& col) { f.expect(where, col); };
+  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
+                       const std::string& col) { f.expect_in(file, content, where, col); };
   SECTION("observer: time order, latitude, heading, fewer than 2 rows") {
     expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n", "observer.csv:3", "t_s");
     expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n", "observer.csv:3", "lat_deg");
@@ -335,7 +365,6 @@ TEST_CASE("multi-sensor data: bad input names file, line and column", "[multisen
     CHECK(read_error(dir).empty());
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
   }
-  fs::remove_all(dir);
 }
 
 TEST_CASE("Autoferry import: counts of the README, radar and lidar on the GNSS truth",
