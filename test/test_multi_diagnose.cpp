@@ -3,6 +3,7 @@
 // missed detections and coloured bearing noise (two cascaded low-pass filters, not a
 // Gauss-Markov process). Hidden effects must be named with their scope, within 3 SE, with a
 // positive held-out gain; nominal data must name no mean effect; the turn must be named.
+#include "config.hpp"
 #include "csv_units.hpp"
 #include "multi_diagnose.hpp"
 #include "scan_stamp.hpp"
@@ -546,4 +547,101 @@ TEST_CASE("scan stamp: the delay of a detection is the rest of the sweep after i
   CHECK(sweep_delay_s(0, 0, T) == 0);
   // any bearing range: 2 pi apart is the same bearing
   CHECK(sweep_delay_s(M_PI / 2 + 4 * M_PI, -2 * M_PI, T) == Approx(1.5).margin(1e-12));
+}
+
+// The calibration check (rnav_diagnose multi DIR... --apply FILE): hardware effects at given
+// values removed from recordings, each pair scored nominal and calibrated. A radar clock of
+// 0.8 s is hidden in two recordings (3 m/s boats: 2.4 m along the track, beside 2 m of range
+// noise): removing 0.8 s must lower every radar pair's error, removing -0.8 s (the sign
+// reversed) must raise it, and no other pair may change at all (the clock is the radar's).
+TEST_CASE("calibration check: the hidden radar clock removed lowers the radar's error and its negative raises it") {
+  Hidden h;
+  h.radar_time_offset_s = 0.8;
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})}, {"b", make(42, h, {2.1, 1.4})}};
+  auto with_clock = [&](double s) { return check_calibration(recs, {{"time_offset", "radar", "", {s}}}, options()); };
+  const CalibrationReport right = with_clock(0.8), wrong = with_clock(-0.8), none = with_clock(0.0);
+  INFO(right.text());
+  REQUIRE(right.rows.size() == wrong.rows.size());
+  REQUIRE(right.rows.size() == 16);  // 2 recordings x 4 sensors x 2 boats
+  int radar_pairs = 0;
+  for (std::size_t i = 0; i < right.rows.size(); ++i) {
+    const LeaveOneOutRow &x = right.rows[i], &y = wrong.rows[i], &z = none.rows[i];
+    INFO(x.recording << " " << x.pair);
+    CHECK(x.nominal_rms == y.nominal_rms);
+    CHECK(z.extended_rms == z.nominal_rms);  // nothing removed: nothing changes
+    if (x.pair.rfind("radar:", 0) == 0) {
+      ++radar_pairs;
+      CHECK(x.extended_rms < x.nominal_rms);
+      CHECK(y.extended_rms > x.nominal_rms);
+    } else {
+      CHECK(x.extended_rms == x.nominal_rms);
+    }
+  }
+  CHECK(radar_pairs == 4);
+  for (const char* rec : {"a", "b"}) CHECK(right.applied.at(rec) == std::vector<std::string>{"time_offset@sensor radar (s=0.8)"});
+  const LeaveOneOutSummary s = summarize(right.rows);
+  CHECK(s.geomean < 1);
+  CHECK(s.worst == Approx(1.0));  // the pairs the clock does not touch
+  const nlohmann::ordered_json j = right.to_json();
+  CHECK(j["kind"] == "multi_calibration");
+  for (const char* k : {"recording", "pair", "n", "nominal_rms", "calibrated_rms", "unit"}) CHECK(j["rows"][0].contains(k));
+}
+
+TEST_CASE("calibration check: an unknown effect or values that do not fit it are errors and another sensor's effect is listed") {
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, Hidden{})}};
+  auto error = [&](const AppliedEffect& e) -> std::string {
+    try {
+      check_calibration(recs, {e}, options());
+    } catch (const ConfigError& x) {
+      return x.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error({"tim_offset", "radar", "", {0.5}}),
+             Catch::Contains("tim_offset@sensor radar: no catalogue entry is named 'tim_offset' (did you mean 'time_offset'?)"));
+  // a sensor or boat the recordings do not have (a calibration from other recordings, or a
+  // misspelt name): listed as not applied, never silently dropped
+  const CalibrationReport r = check_calibration(recs, {{"time_offset", "rdar", "", {0.5}}, {"time_offset", "radar", "", {0.5}}}, options());
+  CHECK(r.absent == std::vector<std::string>{"time_offset@sensor rdar"});
+  CHECK(r.applied.at("a") == std::vector<std::string>{"time_offset@sensor radar (s=0.5)"});
+  CHECK_THAT(r.text(), Catch::Contains("not applied (no observations in these recordings: another sensor or boat, or a misspelt one): time_offset@sensor rdar;"));
+  CHECK_THAT(error({"antenna_offset", "radar", "2", {1.0}}),
+             Catch::Contains("antenna_offset@radar:2 has 2 parameter(s), got 1 value(s)"));
+  // the radar scans every 1.7 s: its scan stamp is scanned over the sweep's end bearing
+  CHECK_THAT(error({"scan_time_offset", "radar", "", {0.1, 1.0}}), Catch::Contains("is scanned over sweep_end_deg"));
+  CHECK_THAT(error({"scan_time_offset", "radar", "", {0.1, 1.0}, 7.0}), Catch::Contains("sweep_end_deg = 7 is not on its grid"));
+  CHECK(error({"scan_time_offset", "radar", "", {0.1, 1.0}, 15.0}).empty());
+}
+
+TEST_CASE("calibration file: hardware applied and one recording's own and noise findings kept apart and bad input named") {
+  const Calibration c = read_calibration(nlohmann::json::parse(R"({"effects": [
+      {"name": "time_offset", "scope": {"sensor": "radar", "target": null}, "estimate": 0.5, "replication": {"mean": [0.4]}},
+      {"name": "antenna_offset", "scope": {"sensor": "radar", "target": "2"}, "estimate": [-5, 1]},
+      {"name": "bearing_bias", "scope": {"sensor": "ir", "target": null, "recording": "sc3"}, "estimate": 0.1},
+      {"name": "noise_scale", "scope": {"sensor": "eo", "target": "1"}, "estimate": 2}]})"),
+                                         "cal.json");
+  REQUIRE(c.effects.size() == 2);
+  CHECK(c.effects[0].value == std::vector<double>{0.4});  // the mean over recordings, as the leave-one-out carries it
+  CHECK(c.effects[1].value == std::vector<double>{-5, 1});
+  CHECK(c.effects[1].target == "2");
+  CHECK(c.own == std::vector<std::string>{"bearing_bias@sensor ir in sc3"});
+  CHECK(c.findings == 1);
+  auto error = [](const char* text) -> std::string {
+    try {
+      read_calibration(nlohmann::json::parse(text), "cal.json");
+    } catch (const ConfigError& x) {
+      return x.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error("[]"), Catch::Contains("cal.json: a calibration is a JSON object with an \"effects\" list"));
+  CHECK_THAT(error(R"({"effects": [{"scope": {}}]})"), Catch::Contains("cal.json: effects[0]: needs a \"name\""));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset"}]})"), Catch::Contains("effects[0] (time_offset): needs a \"scope\""));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": 1}, "estimate": 1}]})"),
+             Catch::Contains("scope.sensor must be a string or null"));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "estimate": "x"}]})"),
+             Catch::Contains("estimate: \"x\" is not a finite number"));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}}]})"), Catch::Contains("needs an \"estimate\""));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "estimate": []}]})"),
+             Catch::Contains("estimate: no value"));
 }

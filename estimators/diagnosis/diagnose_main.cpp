@@ -41,6 +41,7 @@ constexpr double kBig = std::numeric_limits<double>::max();
 struct Options {
   std::vector<std::string> pos;
   std::string json, residuals;
+  std::string apply;  // --apply FILE: multi, a calibration checked instead of a diagnosis
   rnav::DiagnoseOptions o;
   rnav::UavDiagnoseOptions uo;
   rnav::MultiDiagnoseOptions mo;
@@ -204,6 +205,12 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              num("--sigma-range-m", mo.sigma_range_m))
       .value("--split-fraction", "F", "uav, multi: fit on the first fraction F of the span, score the rest, (0.2, 0.9)",
              "0.6", num_two("--split-fraction", uo.split_fraction, mo.split_fraction))
+      .value("--apply", "FILE",
+             "multi: no diagnosis; the hardware effects of FILE (a diagnosis JSON of other recordings, their values "
+             "carried as the leave-one-out carries them, or {\"effects\": [{\"name\", \"scope\": {\"sensor\", "
+             "\"target\"}, \"estimate\"}]} in the catalogue's units: s, rad, m) removed from each INPUT, and the error "
+             "per sensor:target pair printed, nominal and calibrated (a calibration checked on new recordings)",
+             "none", [&a](const std::string& v) { a.apply = v; })
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
       .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",
@@ -288,6 +295,21 @@ int run_multi(const Options& a) {
   std::size_t rows = 0;
   for (const auto& r : recs) rows += r.second.detections.size();
   check_rows(a, rows, "detection rows", recs.size() == 1 ? pos[1] : std::to_string(recs.size()) + " recordings");
+  if (!a.apply.empty()) {
+    if (!a.residuals.empty()) throw rnav::ConfigError("--apply checks a calibration: it writes no --residuals");
+    rnav::require_regular_file(a.apply);
+    std::ifstream in(a.apply);
+    if (!in) throw rnav::ConfigError("--apply: cannot open '" + a.apply + "'");
+    const auto doc = rnav::parse_json_checked(in, "calibration file '" + a.apply + "'", /*allow_comments=*/true);
+    const rnav::Calibration cal = rnav::read_calibration(doc, "calibration file '" + a.apply + "'");
+    rnav::CalibrationReport rep = rnav::check_calibration(recs, cal.effects, a.mo);
+    rep.source = a.apply;
+    rep.own = cal.own;
+    rep.findings = cal.findings;
+    std::cout << rep.text();
+    write_json(a, rep.to_json());
+    return 0;
+  }
   const auto rep = rnav::diagnose_multi_pooled(recs, a.mo);
   std::cout << rep.text();
   if (!a.residuals.empty()) rep.write_residuals_csv(a.residuals);

@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 
 #include "config.hpp"
+#include "did_you_mean.hpp"
 #include "diagnose_report.hpp"
 #include "multi_problem.hpp"
 #include "search_json.hpp"
@@ -13,6 +14,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <cstdio>
@@ -23,37 +25,6 @@ namespace rnav {
 
 namespace {
 
-// Per sensor:target pair: the error of a detection with the nominal model (e0) and with a
-// prediction removed (e1): position error [m] (radial and cross-range) for range sensors,
-// bearing error [deg] for bearing-only ones.
-struct PairErrors {
-  std::map<std::string, MultiGain> gain;
-  std::map<std::string, std::pair<double, double>> sums;
-  void add(const std::string& key, const AssociatedDetection& x, double eb0, double eb1, bool range, double er0, double er1) {
-    MultiGain& g = gain[key];
-    double e0, e1;
-    if (range) {
-      e0 = std::hypot(er0, x.range_m * eb0);
-      e1 = std::hypot(er1, x.range_m * eb1);
-      g.unit = "m";
-    } else {
-      e0 = eb0 / kDegToRad;
-      e1 = eb1 / kDegToRad;
-      g.unit = "deg";
-    }
-    sums[key].first += e0 * e0;
-    sums[key].second += e1 * e1;
-    ++g.n;
-  }
-  std::map<std::string, MultiGain> done() {
-    for (auto& [k, g] : gain) {
-      g.nominal_rms = std::sqrt(sums[k].first / std::max(1, g.n));
-      g.extended_rms = std::sqrt(sums[k].second / std::max(1, g.n));
-    }
-    return gain;
-  }
-};
-
 MultiProblemOptions problem_options(const MultiDiagnoseOptions& o) {
   MultiProblemOptions po;
   po.sigma_bearing_rad = o.sigma_bearing_deg * kDegToRad;
@@ -63,48 +34,16 @@ MultiProblemOptions problem_options(const MultiDiagnoseOptions& o) {
   return po;
 }
 
-// The hardware effects of `fit` (entries without a recording) predicted on recording `rec`
-// alone, with the scan periods of the recordings they were fitted on; returns the rows
-// per pair and the effects carried.
-std::vector<LeaveOneOutRow> score_left_out(const RecordingDetections& rec, const MultiProblem& fitted, const SearchResult& fit,
-                                           const MultiDiagnoseOptions& o, std::vector<std::string>& carried) {
-  MultiProblemOptions po = problem_options(o);
-  po.scan_period_s = fitted.scan_period_s;
-  RecordingDetections one = rec;
-  one.name.clear();
-  const MultiProblem mp = build_multi_problem({one}, po);
-  const Problem& p = mp.problem;
-  Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
+// The hardware effects of `fit` (entries without a recording), each at the mean over the
+// recordings it was fitted on (random effects) where it has one, else at its pooled estimate.
+std::vector<AppliedEffect> hardware_of(const SearchResult& fit) {
+  std::vector<AppliedEffect> out;
   for (const FoundEffect& e : fit.effects) {
     if (!e.scope.recording.empty()) continue;  // one recording's own: not carried over
-    const Candidate& c = fitted.problem.catalogue[e.entry];
-    const auto it = std::find_if(p.catalogue.begin(), p.catalogue.end(), [&](const Candidate& x) {
-      return !x.scope_only && x.name == c.name && x.scope.label() == c.scope.label() && x.scan == c.scan;
-    });
-    if (it == p.catalogue.end()) continue;  // the recording has none of its observations
-    const Eigen::MatrixXd C = it->columns(e.variant);
-    // carried at the mean over the recordings it was fitted on (random effects) where it has one
-    const std::vector<double>& value = e.replication.tested ? e.replication.mean : e.estimate;
-    pred += C * Eigen::Map<const Eigen::VectorXd>(value.data(), static_cast<Eigen::Index>(value.size()));
-    std::string what = e.name + "@" + c.scope.label() + " (";
-    for (std::size_t j = 0; j < e.params.size(); ++j)
-      what += (j ? " " : "") + (e.params[j] == "1" ? std::string("ratio") : e.params[j]) + "=" + short_num(value[j]);
-    if (!e.scan_param.empty()) what += " " + e.scan_param + "=" + short_num(e.scan_value);
-    carried.push_back(what + ")");
+    out.push_back({e.name, e.scope.sensor, e.scope.target, e.replication.tested ? e.replication.mean : e.estimate,
+                   e.scan_param.empty() ? NAN : e.scan_value});
   }
-  PairErrors pe;
-  for (std::size_t i = 0; i < rec.a.size(); ++i) {
-    const long ib = mp.bearing_obs[0][i], ir = mp.range_obs[0][i];
-    if (ib < 0) continue;
-    const auto& x = rec.a[i];
-    const double yb = p.y[static_cast<std::size_t>(ib)];
-    const bool range = x.has_range && ir >= 0;
-    const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
-    pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
-  }
-  std::vector<LeaveOneOutRow> rows;
-  for (const auto& [k, g] : pe.done()) rows.push_back({rec.name, k, g.n, g.nominal_rms, g.extended_rms, g.unit});
-  return rows;
+  return out;
 }
 
 // Per sensor: the median interval between its successive scans (distinct stamps, empty scans
@@ -176,7 +115,8 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
              yb - r.extended_oos(ib), range, range ? yr - r.nominal_oos(ir) : 0.0, range ? yr - r.extended_oos(ir) : 0.0);
     }
   }
-  rep.gain = pe.done();
+  for (const LeaveOneOutRow& x : pe.rows(""))
+    rep.gain[x.pair] = {x.n, x.nominal_rms, x.extended_rms, x.unit};
 
   if (o.test_target_model) {
     TargetModelOptions to;
@@ -212,7 +152,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
                               std::to_string(R));
           const MultiProblem fp = build_multi_problem(rest, po);
           const SearchResult fr = search_effects(fp.problem, so);
-          rows[k] = score_left_out(recs[k], fp, fr, o, carried[k]);
+          rows[k] = score_applied(recs[k], fp.scan_period_s, hardware_of(fr), po, carried[k]);
         } catch (const std::exception& e) {
           errors[k] = std::make_exception_ptr(std::runtime_error("leaving out recording " + recs[k].name + ": " + e.what()));
         } catch (...) {
@@ -233,19 +173,80 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   return rep;
 }
 
-LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n) {
-  LeaveOneOutSummary s;
-  s.min_n = min_n;
-  double sum_log = 0;
-  for (const auto& x : rows) {
-    if (x.n < min_n || !(x.nominal_rms > 0)) continue;
-    const double ratio = x.extended_rms / x.nominal_rms;
-    sum_log += std::log(ratio);
-    ++s.pairs;
-    if (ratio > s.worst) s.worst = ratio, s.worst_key = x.recording + " " + x.pair;
+CalibrationReport check_calibration(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                    const std::vector<AppliedEffect>& effects, const MultiDiagnoseOptions& o) {
+  if (recordings.empty()) throw ConfigError("calibration check: no recording");
+  CalibrationReport rep;
+  const MultiProblemOptions po = problem_options(o);
+  std::set<std::string> used;   // labels "name@scope (" of the effects applied somewhere
+  std::set<std::string> names;  // the catalogue's entry names
+  for (const auto& rec : recordings) {
+    std::map<std::string, SensorAssociation> st;
+    const RecordingDetections rd{rec.first, associate(rec.second, o.association, st)};
+    std::vector<std::string>& applied = rep.applied[rec.first];
+    const auto rows = score_applied(rd, scan_periods({rec}), effects, po, applied, &names);
+    rep.rows.insert(rep.rows.end(), rows.begin(), rows.end());
+    rep.recordings.push_back(rec.first);
+    for (const auto& a : applied) used.insert(a.substr(0, a.find(" (") + 2));
   }
-  s.geomean = s.pairs > 0 ? std::exp(sum_log / s.pairs) : NAN;
-  return s;
+  std::vector<std::string> known(names.begin(), names.end());
+  for (const auto& e : effects) {
+    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+    if (!names.count(e.name))
+      throw ConfigError("calibration: " + label + ": no catalogue entry is named '" + e.name + "'" + did_you_mean(e.name, known));
+    // a boat or sensor these recordings do not have (a calibration from other recordings): named, not applied
+    if (!used.count(label + " (")) rep.absent.push_back(label);
+  }
+  return rep;
+}
+
+nlohmann::ordered_json CalibrationReport::to_json() const {
+  nlohmann::ordered_json j;
+  j["kind"] = "multi_calibration";
+  j["calibration"] = source;
+  j["recordings"] = recordings;
+  j["applied"] = applied;
+  j["not_applied_own"] = own;
+  j["not_applied_findings"] = findings;
+  j["not_applied_absent"] = absent;
+  j["rows"] = nlohmann::ordered_json::array();
+  for (const auto& x : rows)
+    j["rows"].push_back({{"recording", x.recording}, {"pair", x.pair}, {"n", x.n}, {"nominal_rms", x.nominal_rms},
+                         {"calibrated_rms", x.extended_rms}, {"unit", x.unit}});
+  const LeaveOneOutSummary s = summarize(rows);
+  j["summary"] = {{"min_n", s.min_n}, {"pairs", s.pairs}, {"geomean_ratio", s.geomean}, {"worst_ratio", s.worst}, {"worst", s.worst_key}};
+  return j;
+}
+
+std::string CalibrationReport::text() const {
+  std::ostringstream o;
+  o << "  calibration " << source << "\n";
+  if (!own.empty()) {
+    o << "  not applied (one recording's own):";
+    for (const auto& k : own) o << " " << k << ";";
+    o << "\n";
+  }
+  if (!absent.empty()) {
+    o << "  not applied (no observations in these recordings: another sensor or boat, or a misspelt one):";
+    for (const auto& k : absent) o << " " << k << ";";
+    o << "\n";
+  }
+  if (findings > 0)
+    o << "  not applied: " << findings << " noise finding(s) and reference-track manoeuvre(s) (not corrections)\n";
+  for (const auto& rec : recordings) {
+    o << "  " << rec << ": applied";
+    const auto& list = applied.at(rec);
+    for (const auto& c : list) o << " " << c;
+    if (list.empty()) o << " nothing (no effect of the calibration has observations here)";
+    o << "\n";
+  }
+  for (const auto& x : rows)
+    o << "  " << x.recording << " " << x.pair << ": RMS " << short_num(x.nominal_rms) << " -> " << short_num(x.extended_rms) << " "
+      << x.unit << " (n " << x.n << ")\n";
+  const LeaveOneOutSummary s = summarize(rows);
+  o << "  calibrated / nominal RMS over " << s.pairs << " pairs with >= " << s.min_n << " detections: geometric mean "
+    << short_num(s.geomean) << ", worst " << short_num(s.worst) << " (" << s.worst_key << ")\n";
+  return o.str();
 }
 
 nlohmann::ordered_json MultiReport::to_json() const {

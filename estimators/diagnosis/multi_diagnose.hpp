@@ -37,6 +37,7 @@
 // sensors: bearing error [deg].
 #pragma once
 
+#include "applied_effects.hpp"
 #include "csv_columns.hpp"
 #include "effect_search.hpp"
 #include "multi_association.hpp"
@@ -71,30 +72,11 @@ struct MultiDiagnoseOptions {
   bool leave_one_out = true;        ///< pooled: score each recording with the model fitted on the others
 };
 
-/// One recording left out: a sensor:target pair's error with the nominal model and with the
-/// hardware effects fitted on the other recordings (position error [m] for range sensors,
-/// bearing error [deg] for bearing-only ones), over all its associated detections.
-struct LeaveOneOutRow {
-  std::string recording, pair;
-  int n = 0;
-  double nominal_rms = 0, extended_rms = 0;
-  std::string unit;
-};
-
 struct MultiGain {
   int n = 0;
   double nominal_rms = 0, extended_rms = 0;
   std::string unit;  ///< "m" (position error) or "deg" (bearing error)
 };
-
-/// Leave-one-recording-out rows summarised over the pairs with at least min_n detections.
-struct LeaveOneOutSummary {
-  int min_n = 5, pairs = 0;
-  double geomean = 0;           ///< geometric mean of extended / nominal RMS
-  double worst = 0;             ///< the largest ratio
-  std::string worst_key;        ///< "recording sensor:target"
-};
-LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n = 5);
 
 struct MultiReport {
   Problem problem;                  ///< as posed to the engine (without the column functions' data)
@@ -125,5 +107,26 @@ MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptio
 /// recording: as diagnose_multi.
 MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
                                   const MultiDiagnoseOptions& o);
+
+/// A calibration checked on recordings (no diagnosis): each recording's error per sensor:target
+/// pair, nominal and with the calibration's hardware effects removed (applied_effects.hpp).
+struct CalibrationReport {
+  std::string source;                     ///< the calibration's file, as given
+  std::vector<std::string> recordings;    ///< in input order
+  std::vector<LeaveOneOutRow> rows;       ///< per recording and pair; extended_rms = calibrated
+  std::map<std::string, std::vector<std::string>> applied;  ///< per recording: the effects applied
+  std::vector<std::string> own;           ///< the file's effects of one recording: not applied
+  int findings = 0;                       ///< the file's noise findings and track manoeuvres: not applied
+  std::vector<std::string> absent;        ///< the file's hardware effects with no observations in any recording: not applied
+  nlohmann::ordered_json to_json() const;
+  std::string text() const;
+};
+
+/// Applies `effects` to every recording (associated as the diagnosis does; each recording's own
+/// scan periods), scoring every pair. An effect without observations in any recording (another
+/// boat or sensor, or a misspelt one) is listed in `absent`. Throws ConfigError naming an effect
+/// whose name is no catalogue entry's, or whose values do not fit its entry.
+CalibrationReport check_calibration(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                    const std::vector<AppliedEffect>& effects, const MultiDiagnoseOptions& o);
 
 }  // namespace rnav

@@ -1,0 +1,187 @@
+#include "applied_effects.hpp"
+
+#include "config.hpp"
+#include "frames.hpp"
+#include "stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rnav {
+
+LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n) {
+  LeaveOneOutSummary s;
+  s.min_n = min_n;
+  double sum_log = 0;
+  for (const auto& x : rows) {
+    if (x.n < min_n || !(x.nominal_rms > 0)) continue;
+    const double ratio = x.extended_rms / x.nominal_rms;
+    sum_log += std::log(ratio);
+    ++s.pairs;
+    if (ratio > s.worst) s.worst = ratio, s.worst_key = x.recording + " " + x.pair;
+  }
+  s.geomean = s.pairs > 0 ? std::exp(sum_log / s.pairs) : NAN;
+  return s;
+}
+
+void PairErrors::add(const std::string& key, const AssociatedDetection& x, double eb0, double eb1, bool range, double er0,
+                     double er1) {
+  Sums& g = sums[key];
+  double e0, e1;
+  if (range) {
+    // position error: e = hypot(range error, range x bearing error)
+    e0 = std::hypot(er0, x.range_m * eb0);
+    e1 = std::hypot(er1, x.range_m * eb1);
+    g.unit = "m";
+  } else {
+    e0 = eb0 / kDegToRad;
+    e1 = eb1 / kDegToRad;
+    g.unit = "deg";
+  }
+  g.nominal += e0 * e0;
+  g.extended += e1 * e1;
+  ++g.n;
+}
+
+std::vector<LeaveOneOutRow> PairErrors::rows(const std::string& recording) const {
+  std::vector<LeaveOneOutRow> out;
+  for (const auto& [k, g] : sums) {
+    const double n = std::max(1, g.n);
+    out.push_back({recording, k, g.n, std::sqrt(g.nominal / n), std::sqrt(g.extended / n), g.unit});
+  }
+  return out;
+}
+
+std::string AppliedEffect::label(const std::vector<std::string>& params, const std::string& scan_param) const {
+  const Scope scope{sensor, target, ""};
+  std::string what = name + "@" + scope.label() + " (";
+  for (std::size_t j = 0; j < value.size(); ++j)
+    what += (j ? " " : "") + (j < params.size() && params[j] == "1" ? std::string("ratio") : j < params.size() ? params[j] : "?") +
+            "=" + short_num(value[j]);
+  if (!scan_param.empty()) what += " " + scan_param + "=" + short_num(scan_value);
+  return what + ")";
+}
+
+namespace {
+
+// The grid point of entry c whose value is v (scanned entries), or the entry's only variant.
+std::size_t variant_of(const Candidate& c, const AppliedEffect& e) {
+  if (!c.scanned()) return 0;
+  if (!std::isfinite(e.scan_value))
+    throw ConfigError("calibration: " + e.name + "@" + c.scope.label() + " is scanned over " + c.scan_param +
+                      ": give its value (\"scanned\": {\"value\": ...})");
+  for (std::size_t v = 0; v < c.scan.size(); ++v)
+    if (std::abs(c.scan[v] - e.scan_value) <= 1e-9 * std::max(1.0, std::abs(c.scan[v]))) return v;
+  std::string grid;
+  for (double x : c.scan) grid += (grid.empty() ? "" : ", ") + short_num(x);
+  throw ConfigError("calibration: " + e.name + "@" + c.scope.label() + ": " + c.scan_param + " = " + short_num(e.scan_value) +
+                    " is not on its grid (" + grid + ")");
+}
+
+}  // namespace
+
+std::vector<LeaveOneOutRow> score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                                          const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po_in,
+                                          std::vector<std::string>& applied, std::set<std::string>* catalogue_names) {
+  MultiProblemOptions po = po_in;
+  po.scan_period_s = scan_period_s;
+  RecordingDetections one = rec;
+  one.name.clear();
+  const MultiProblem mp = build_multi_problem({one}, po);
+  const Problem& p = mp.problem;
+  if (catalogue_names)
+    for (const Candidate& c : p.catalogue) catalogue_names->insert(c.name);
+  Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
+  for (const AppliedEffect& e : effects) {
+    const std::string scope = Scope{e.sensor, e.target, ""}.label();
+    const auto it = std::find_if(p.catalogue.begin(), p.catalogue.end(), [&](const Candidate& x) {
+      return !x.scope_only && x.name == e.name && x.scope.label() == scope;
+    });
+    if (it == p.catalogue.end()) continue;  // the recording has none of its observations
+    if (e.value.size() != it->params.size())
+      throw ConfigError("calibration: " + e.name + "@" + scope + " has " + std::to_string(it->params.size()) +
+                        " parameter(s), got " + std::to_string(e.value.size()) + " value(s)");
+    // the effect's prediction: its columns at the grid point times its value
+    const Eigen::MatrixXd C = it->columns(variant_of(*it, e));
+    pred += C * Eigen::Map<const Eigen::VectorXd>(e.value.data(), static_cast<Eigen::Index>(e.value.size()));
+    applied.push_back(e.label(it->params, it->scan_param));
+  }
+  PairErrors pe;
+  for (std::size_t i = 0; i < rec.a.size(); ++i) {
+    const long ib = mp.bearing_obs[0][i], ir = mp.range_obs[0][i];
+    if (ib < 0) continue;
+    const auto& x = rec.a[i];
+    const double yb = p.y[static_cast<std::size_t>(ib)];
+    const bool range = x.has_range && ir >= 0;
+    const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
+    pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
+  }
+  return pe.rows(rec.name);
+}
+
+namespace {
+
+std::vector<double> finite_values(const nlohmann::json& v, const std::string& what) {
+  std::vector<double> out;
+  const nlohmann::json list = v.is_array() ? v : nlohmann::json::array({v});
+  for (const auto& x : list) {
+    if (!x.is_number() || !std::isfinite(x.get<double>())) throw ConfigError(what + ": " + x.dump() + " is not a finite number");
+    out.push_back(x.get<double>());
+  }
+  if (out.empty()) throw ConfigError(what + ": no value");
+  return out;
+}
+
+std::string string_or_null(const nlohmann::json& scope, const char* key, const std::string& what) {
+  if (!scope.contains(key) || scope[key].is_null()) return "";
+  if (!scope[key].is_string()) throw ConfigError(what + ": scope." + key + " must be a string or null");
+  return scope[key].get<std::string>();
+}
+
+// Entries of the engine that are not catalogue mean effects (search_json's noise findings) or
+// not the multi catalogue's (the reference tracks' manoeuvres).
+bool is_noise_or_track(const std::string& name) {
+  return name == "noise_scale" || name == "correlated_noise" || name == "outliers" || name == "target_maneuver";
+}
+
+}  // namespace
+
+Calibration read_calibration(const nlohmann::json& doc, const std::string& where) {
+  if (!doc.is_object() || !doc.contains("effects") || !doc["effects"].is_array())
+    throw ConfigError(where + ": a calibration is a JSON object with an \"effects\" list (a diagnosis JSON is one)");
+  Calibration out;
+  std::size_t k = 0;
+  for (const auto& x : doc["effects"]) {
+    const std::string at = where + ": effects[" + std::to_string(k++) + "]";
+    if (!x.is_object() || !x.contains("name") || !x["name"].is_string())
+      throw ConfigError(at + ": needs a \"name\" (a string)");
+    AppliedEffect e;
+    e.name = x["name"].get<std::string>();
+    const std::string what = at + " (" + e.name + ")";
+    if (!x.contains("scope") || !x["scope"].is_object()) throw ConfigError(what + ": needs a \"scope\" object");
+    const auto& scope = x["scope"];
+    e.sensor = string_or_null(scope, "sensor", what);
+    e.target = string_or_null(scope, "target", what);
+    const std::string recording = string_or_null(scope, "recording", what);
+    if (is_noise_or_track(e.name)) {
+      ++out.findings;
+      continue;
+    }
+    if (!recording.empty()) {
+      out.own.push_back(e.name + "@" + Scope{e.sensor, e.target, recording}.label());
+      continue;
+    }
+    const bool has_mean = x.contains("replication") && x["replication"].is_object() && x["replication"].contains("mean");
+    if (!has_mean && !x.contains("estimate")) throw ConfigError(what + ": needs an \"estimate\"");
+    e.value = finite_values(has_mean ? x["replication"]["mean"] : x["estimate"], what + (has_mean ? " replication.mean" : " estimate"));
+    if (x.contains("scanned")) {
+      if (!x["scanned"].is_object() || !x["scanned"].contains("value"))
+        throw ConfigError(what + ": \"scanned\" must be an object with a \"value\"");
+      e.scan_value = finite_values(x["scanned"]["value"], what + " scanned.value").front();
+    }
+    out.effects.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace rnav
