@@ -223,30 +223,26 @@ struct SpoiltFolder {
 TEST_CASE("multi-sensor data: bad detections name file and line and column", "[multisensor][input]") {
   const SpoiltFolder f;
   const fs::path& dir = f.dir;
-  auto det = [&](const std::string& rows) { f.det(rows); };
-  auto expect = [&](const std::string& where, const std::string& col) { f.expect(where, col); };
-  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
-                       const std::string& col) { f.expect_in(file, content, where, col); };
   SECTION("a header separated by ';' is named as such") {
     std::ofstream(dir / "detections.csv") << "t_s;sensor;range_m;bearing_deg\n1;radar;10;20\n";
-    expect("detections.csv:1: the header is separated by ';'", "");
+    f.expect("detections.csv:1: the header is separated by ';'", "");
   }
   SECTION("a file cut inside its last number (no final newline) is refused, not read as a shorter number") {
-    det("1,radar,10,20\n2,radar,10,2");  // "2" may be the start of "20.5"
-    expect("detections.csv: the last line has no newline: the file may have been cut", "");
+    f.det("1,radar,10,20\n2,radar,10,2");  // "2" may be the start of "20.5"
+    f.expect("detections.csv: the last line has no newline: the file may have been cut", "");
   }
   SECTION("bearings in milliradians (beyond two turns read as degrees) are named as such") {
-    det("1,radar,10,20\n2,radar,10,5000\n");
-    expect("detections.csv:3", "");
-    expect("5000 is outside [-360, 360] (milliradians in a degree column?)", "bearing_deg");
+    f.det("1,radar,10,20\n2,radar,10,5000\n");
+    f.expect("detections.csv:3", "");
+    f.expect("5000 is outside [-360, 360] (milliradians in a degree column?)", "bearing_deg");
   }
   SECTION("a reference track in radians (lat_deg, lon_deg) is named as such") {
     std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n0,1,1.1,0.18\n1,1,1.1,0.18\n";
-    expect("truth.csv lat_deg and truth.csv lon_deg look like radians", "");
+    f.expect("truth.csv lat_deg and truth.csv lon_deg look like radians", "");
   }
   SECTION("a byte-order mark before the header is named, not read as a column 't_s' missing") {
     std::ofstream(dir / "detections.csv") << "\xEF\xBB\xBF" << kDetectionsHeader << "1,radar,10,20\n";
-    expect("detections.csv:1: starts with a byte-order mark", "");
+    f.expect("detections.csv:1: starts with a byte-order mark", "");
   }
   SECTION("a raw Autoferry folder is answered with the command that imports it") {
     const fs::path raw = temp_dir("scenario9");
@@ -258,8 +254,8 @@ TEST_CASE("multi-sensor data: bad detections name file and line and column", "[m
     CHECK(e.find("rnav_import_autoferry " + raw.string() + " --out out/" + raw.filename().string()) != std::string::npos);
   }
   SECTION("non-numeric cell") {
-    det("1,radar,10,20\n2,radar,abc,20\n");
-    expect("detections.csv:3", "range_m");
+    f.det("1,radar,10,20\n2,radar,abc,20\n");
+    f.expect("detections.csv:3", "range_m");
   }
   SECTION("a CSV beyond the input limit is refused up front, naming its size and the limit") {
     const std::uint64_t before = max_csv_bytes();
@@ -274,93 +270,89 @@ TEST_CASE("multi-sensor data: bad detections name file and line and column", "[m
   SECTION("a FIFO given as a CSV is refused by its type, not waited on") {
     fs::remove(dir / "detections.csv");
     REQUIRE(::mkfifo((dir / "detections.csv").c_str(), 0600) == 0);
-    expect("detections.csv: is a FIFO (named pipe), not a regular file", "");
+    f.expect("detections.csv: is a FIFO (named pipe), not a regular file", "");
   }
   SECTION("a hexadecimal float is not a decimal number (strtod read 0x1.0p+15 as 32768)") {
-    det("1,radar,10,20\n2,radar,0x1.0p+15,20\n");
-    expect("detections.csv:3", "range_m");
+    f.det("1,radar,10,20\n2,radar,0x1.0p+15,20\n");
+    f.expect("detections.csv:3", "range_m");
     CHECK(read_error(dir).find("not a decimal number") != std::string::npos);
   }
   SECTION("a number beyond the double range is named as such") {
-    det("1,radar,10,20\n2,radar,1e400,20\n");
-    expect("detections.csv:3", "range_m");
+    f.det("1,radar,10,20\n2,radar,1e400,20\n");
+    f.expect("detections.csv:3", "range_m");
     CHECK(read_error(dir).find("overflows the double range") != std::string::npos);
   }
   SECTION("bad sensor name") {
-    det("1,radar,10,20\n2,Radar,10,20\n");
-    expect("detections.csv:3", "sensor");
+    f.det("1,radar,10,20\n2,Radar,10,20\n");
+    f.expect("detections.csv:3", "sensor");
   }
   SECTION("empty sensor name") {
-    det("1,radar,10,20\n2,,10,20\n");
-    expect("detections.csv:3", "sensor");
+    f.det("1,radar,10,20\n2,,10,20\n");
+    f.expect("detections.csv:3", "sensor");
   }
   SECTION("negative range") {
-    det("1,radar,10,20\n2,radar,-1,20\n");
-    expect("detections.csv:3", "range_m");
+    f.det("1,radar,10,20\n2,radar,-1,20\n");
+    f.expect("detections.csv:3", "range_m");
   }
   SECTION("bearing 400") {
-    det("1,radar,10,20\n2,radar,10,400\n");
-    expect("detections.csv:3", "bearing_deg");
+    f.det("1,radar,10,20\n2,radar,10,400\n");
+    f.expect("detections.csv:3", "bearing_deg");
   }
   SECTION("range without bearing") {
-    det("1,radar,10,20\n2,radar,10,\n");
-    expect("detections.csv:3", "bearing_deg");
+    f.det("1,radar,10,20\n2,radar,10,\n");
+    f.expect("detections.csv:3", "bearing_deg");
   }
   SECTION("elevation out of range") {
-    expect_in("detections.csv", "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n", "detections.csv:3", "elevation_deg");
+    f.expect_in("detections.csv", "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n", "detections.csv:3", "elevation_deg");
   }
   SECTION("time going backwards within a sensor; two sensors interleaving is fine") {
-    det("1,radar,10,20\n0.5,eo,,20\n1,radar,12,21\n2,radar,10,20\n1.5,eo,,20\n");
+    f.det("1,radar,10,20\n0.5,eo,,20\n1,radar,12,21\n2,radar,10,20\n1.5,eo,,20\n");
     CHECK(read_error(dir).empty());
-    det("1,radar,10,20\n0.5,eo,,20\n2,radar,10,20\n1.9,radar,10,20\n");
-    expect("detections.csv:5", "t_s");
+    f.det("1,radar,10,20\n0.5,eo,,20\n2,radar,10,20\n1.9,radar,10,20\n");
+    f.expect("detections.csv:5", "t_s");
   }
   SECTION("an empty scan beside a detection at one time") {
-    det("1,radar,10,20\n1,radar,,\n");
-    expect("detections.csv:3", "bearing_deg");
+    f.det("1,radar,10,20\n1,radar,,\n");
+    f.expect("detections.csv:3", "bearing_deg");
   }
   SECTION("no detections at all") {
-    det("1,radar,,\n");
-    expect("detections.csv", "");
-    det("");
-    expect("detections.csv", "");
+    f.det("1,radar,,\n");
+    f.expect("detections.csv", "");
+    f.det("");
+    f.expect("detections.csv", "");
   }
   SECTION("missing column") {
-    expect_in("detections.csv", "t_s,sensor,bearing_deg\n1,radar,20\n", "detections.csv:1", "range_m");
+    f.expect_in("detections.csv", "t_s,sensor,bearing_deg\n1,radar,20\n", "detections.csv:1", "range_m");
   }
 }
 
 TEST_CASE("multi-sensor data: bad observer and truth name file and line and column", "[multisensor][input]") {
   const SpoiltFolder f;
   const fs::path& dir = f.dir;
-  auto det = [&](const std::string& rows) { f.det(rows); };
-  auto expect = [&](const std::string& where, const std::string& col) { f.expect(where, col); };
-  auto expect_in = [&](const std::string& file, const std::string& content, const std::string& where,
-                       const std::string& col) { f.expect_in(file, content, where, col); };
   SECTION("observer: time order, latitude, heading, fewer than 2 rows") {
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n", "observer.csv:3", "t_s");
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n", "observer.csv:3", "lat_deg");
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,-181,0\n", "observer.csv:3", "lon_deg");
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n", "observer.csv:3", "heading_deg");
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n", "observer.csv", "");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n1,63,10,0\n", "observer.csv:3", "t_s");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,91,10,0\n", "observer.csv:3", "lat_deg");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,-181,0\n", "observer.csv:3", "lon_deg");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg\n1,63,10,0,\n2,63,10,0,360\n", "observer.csv:3", "heading_deg");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n", "observer.csv", "");
   }
   SECTION("the shared plausibility layer: height, swapped coordinates, far truth, absurd time") {
     // Each passes the per-cell format checks above and is caught by validate(), naming the sample.
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,10,1e9\n", "observer sample 1: height", "");
-    expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,10,63,0\n", "observer sample 1", "");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,63,10,1e9\n", "observer sample 1: height", "");
+    f.expect_in("observer.csv", "t_s,lat_deg,lon_deg,h_m\n1,63,10,0\n2,10,63,0\n", "observer sample 1", "");
     CHECK(read_error(dir).find("latitude and longitude swapped") != std::string::npos);
     sample_data().write_folder(dir.string());
-    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,1,10,63\n", "truth of target 1 sample 1", "");
+    f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,1,10,63\n", "truth of target 1 sample 1", "");
     fs::remove(dir / "truth.csv");
-    det("1,radar,10,20\n1e300,radar,10,20\n");
-    expect("detection 1 (sensor radar): time 1e+300 s", "");
+    f.det("1,radar,10,20\n1e300,radar,10,20\n");
+    f.expect("detection 1 (sensor radar): time 1e+300 s", "");
   }
   SECTION("truth: time order per target, target name; missing truth.csv is fine") {
     std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n2,1,63,10\n";
     CHECK(read_error(dir).empty());
-    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n", "truth.csv:4", "t_s");
-    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n", "truth.csv:3", "target");
-    expect_in("truth.csv", "t_s,target,lat_deg,lon_deg,h_m\n1,1,63,10,\n2,1,63,10,x\n", "truth.csv:3", "h_m");
+    f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n", "truth.csv:4", "t_s");
+    f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n", "truth.csv:3", "target");
+    f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg,h_m\n1,1,63,10,\n2,1,63,10,x\n", "truth.csv:3", "h_m");
     fs::remove(dir / "truth.csv");
     CHECK(read_error(dir).empty());
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
