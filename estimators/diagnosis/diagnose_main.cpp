@@ -61,9 +61,10 @@ bool is_log_input(const std::string& input) {
   return true;
 }
 
-// The report's defaults where they differ from the library's: limits by injection, and progress
-// lines on stderr.
+// The report's defaults where they differ from the library's: limits by injection, candidates
+// tested two at once (--threads' default, as the injections), and progress lines on stderr.
 void set_report_defaults(Options& a) {
+  a.o.search.threads = a.uo.search.threads = a.mo.search.threads = a.o.search.injection.threads;
   // Every prl and uav report states limits measured by injection (the library's default is the
   // Fisher limits alone, for callers that run many searches); multi-sensor problems are larger
   // and their catalogues long: Fisher unless asked.
@@ -157,9 +158,10 @@ void add_search_options(rnav::cli::Parser& p, Options& a) {
                if (list.empty()) throw rnav::ConfigError("--limits-for: no entry named in '" + v + "'");
                o.search.injection.entries = uo.search.injection.entries = mo.search.injection.entries = list;
              })
-      .value("--threads", "N", "concurrent injected searches (multi: also target tracks searched at once, and recordings left out at once), >= 1", "2", [&o, &uo, &mo](const std::string& v) {
+      .value("--threads", "N", "concurrent work: candidate effects tested at once, injected searches (multi: also target tracks searched at once, and recordings left out at once), >= 1", "2", [&o, &uo, &mo](const std::string& v) {
                const int n = static_cast<int>(rnav::parse_integer("--threads", v, 1, 256));
                o.search.injection.threads = uo.search.injection.threads = mo.search.injection.threads = n;
+               o.search.threads = uo.search.threads = mo.search.threads = n;
              })
       .value("--injection-seed", "N", "seed of the injections' noise, >= 0", "1", [&o, &uo, &mo](const std::string& v) {
                const auto n = static_cast<std::uint64_t>(rnav::parse_integer("--injection-seed", v, 0, std::numeric_limits<long long>::max()));

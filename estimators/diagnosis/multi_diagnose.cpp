@@ -136,6 +136,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   if (pooled && o.leave_one_out) {
     SearchOptions so = o.search;
     so.injection.injections = 0;
+    so.threads = 1;  // the recordings left out are searched at once instead
     so.progress = nullptr;  // one line per recording left out instead (below)
     const std::size_t R = recs.size();
     std::vector<std::vector<LeaveOneOutRow>> rows(R);

@@ -110,6 +110,7 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
   if (searched.empty()) return res;
   SearchOptions so = o.search;
   so.progress = nullptr;  // one line per target instead (below)
+  so.threads = 1;         // the tracks are searched at once instead
   so.max_effects = o.max_maneuvers;
   // the family: every target's entries and three noise tests on each of its two channels
   so.family_size = static_cast<double>(searched.size()) * (o.max_maneuvers + 3 * 2);

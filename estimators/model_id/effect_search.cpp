@@ -10,7 +10,12 @@
 #include "stats.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
 #include <stdexcept>
 
 namespace rnav {
@@ -40,6 +45,27 @@ void check_options(const SearchOptions& o) {
     throw std::invalid_argument("effect search: noise_set_q must be finite and >= 0");
   if (!(o.null_set_q >= 0) || !std::isfinite(o.null_set_q))
     throw std::invalid_argument("effect search: null_set_q must be finite and >= 0");
+  if (o.threads < 1) throw std::invalid_argument("effect search: threads >= 1");
+}
+
+// fn(0) ... fn(n - 1) on up to `threads` threads; the first exception thrown is rethrown.
+void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr err;
+  std::mutex err_mutex;
+  auto work = [&] {
+    for (std::size_t i; (i = next++) < n;) try {
+        fn(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(err_mutex);
+        if (!err) err = std::current_exception();
+      }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads && static_cast<std::size_t>(t) < n; ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (err) std::rethrow_exception(err);
 }
 
 // The chosen effects and, per effect, the 2 log LR it was kept with (given all the others
@@ -165,19 +191,34 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
       ranked.push_back({e, v_best, adjusted_log_p(e, lr_v)});
     }
     std::stable_sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) { return a.lp < b.lp; });
+    // Tested o.threads at a time, each thread with its own copy of the tests (a scanned test
+    // caches the null's likelihood); the first in rank order that passes enters, as one at a time.
+    const std::size_t batch = static_cast<std::size_t>(o.threads);
+    std::vector<EntryTests> copies(batch > 1 ? batch : 0, tests);
     bool any = false;
-    std::size_t tried = 0;
-    for (const Candidate& c : ranked) {
-      if (o.progress)
+    for (std::size_t k = 0; k < ranked.size() && !any; k += batch) {
+      const std::size_t end = std::min(ranked.size(), k + batch);
+      for (std::size_t i = k; i < end && o.progress; ++i) {
+        const Candidate& c = ranked[i];
         o.progress("selection step " + std::to_string(step + 1) + ": testing " + p.catalogue[c.e].name +
                    (p.catalogue[c.e].scope.label() == "common" ? "" : " [" + p.catalogue[c.e].scope.label() + "]") +
-                   " (candidate " + std::to_string(++tried) + " of " + std::to_string(ranked.size()) + ")");
-      const double lr = p.catalogue[c.e].scanned() ? tests.scanned(c.e, c.v) : tests.fixed(c.e);
-      if (lr > 0 && adjusted_log_p(c.e, lr) < log_alpha && replicates_agree(d, chosen, c.e, c.v, o.alpha)) {
-        chosen.push_back({c.e, c.v});
-        taken[c.e] = 1;
-        any = true;
-        break;
+                   " (candidate " + std::to_string(i + 1) + " of " + std::to_string(ranked.size()) + ")");
+      }
+      std::vector<double> lr(end - k);
+      parallel_for(end - k, o.threads, [&](std::size_t j) {
+        const Candidate& c = ranked[k + j];
+        EntryTests& t = batch > 1 ? copies[j] : tests;
+        lr[j] = p.catalogue[c.e].scanned() ? t.scanned(c.e, c.v) : t.fixed(c.e);
+      });
+      for (std::size_t i = k; i < end; ++i) {
+        const Candidate& c = ranked[i];
+        const double x = lr[i - k];
+        if (x > 0 && adjusted_log_p(c.e, x) < log_alpha && replicates_agree(d, chosen, c.e, c.v, o.alpha)) {
+          chosen.push_back({c.e, c.v});
+          taken[c.e] = 1;
+          any = true;
+          break;
+        }
       }
     }
     if (!any) break;

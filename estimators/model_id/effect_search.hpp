@@ -206,6 +206,10 @@ struct SearchOptions {
   /// Detection and naming limits measured by injection into the data's own fitted model and
   /// noise (injected_limits.hpp); injection.injections = 0 gives the Fisher limits alone.
   InjectionOptions injection;
+  /// Forward selection's candidates tested this many at once, in rank order (the first that
+  /// passes enters: the same choice, and the same report, as one at a time), >= 1. The
+  /// searches a search runs inside it (injections) test one at a time.
+  int threads = 1;
   /// Called at each stage of the search (each round's noise identification, each candidate
   /// tested, the checks, the report) with a line saying where it is, e.g. to show progress on
   /// stderr on a large input; may be empty. May be called from several threads at once (the

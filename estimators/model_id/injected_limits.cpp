@@ -302,6 +302,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   inner.progress = nullptr;  // the searches inside: their own lines would drown the limits'
   inner.injection.injections = 0;
   inner.score_holdout = false;
+  inner.threads = 1;  // the injections run at once instead
   Bootstrap b{pb, res, inner, d, {}};
   for (const ChannelNoise& n : res.noise) {
     NoiseParams q = n.fit.params;
