@@ -50,7 +50,7 @@ cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_option
               print_options);
   parser.epilog(
       "Scenario keys: every key of the scenario file can be changed with --set; --print-options lists them "
-      "all with their values, and docs/scenarios-and-results.md ('The paper scenario and our choices', common/scenario.hpp) "
+      "all with their values, and docs/scenarios-and-results.md ('The paper scenario and our choices', each section's *_options.hpp) "
       "explains them. An unknown key is an error that names it and the nearest known key.");
   return parser;
 }

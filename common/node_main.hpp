@@ -5,7 +5,7 @@
 #include "cli.hpp"
 #include "lcm_bus.hpp"
 #include "lockstep_node.hpp"
-#include "scenario.hpp"
+#include "config.hpp"
 
 #include <functional>
 #include <iostream>

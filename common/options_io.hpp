@@ -8,7 +8,9 @@
 
 #include "config.hpp"
 #include "did_you_mean.hpp"
-#include "scenario.hpp"
+#include "sim_time.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cstdint>
@@ -90,17 +92,6 @@ struct Writer {
     for (auto& p : x) j[k].push_back(p);
   }
 };
-
-template <class V> void visit(RunnerOptions& o, V& v) {
-  v.num("window_s", o.window_s, 0, 1e5);
-  v.num("flush_s", o.flush_s, 0, 1e4);
-  v.num("stall_timeout_s", o.stall_timeout_s, 0.05, 600);
-  v.num("ack_timeout_s", o.ack_timeout_s, 0.1, 600);
-  v.integer("max_attempts", o.max_attempts, 1, 100);
-  v.choice("wire", o.wire, {"batch", "sample"});
-  v.num("peer_timeout_s", o.peer_timeout_s, 0.5, 3600);
-  v.i64("epoch_utime", o.epoch_utime, 0, 4e15);
-}
 
 template <class O> void read_section(Section& root, const char* name, O& o) {
   Section s = root.section(name);

@@ -10,26 +10,28 @@
 #include "lockstep_node.hpp"
 
 #include <cstdint>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace rnav {
 
-/// Sc: the scenario type (with `runner.peer_timeout_s` and print(std::ostream&)); Stats: the
-/// ensemble statistics (constructed from Sc; add_realization(const Realization&, long),
-/// realizations(), write(dir, seed)); Realization: what one realization adds to them.
-template <class Sc, class Stats, class Realization> class EnsembleLoggerNode : public LockstepNode {
+/// Stats: the ensemble statistics (add_realization(const Realization&, long), realizations(),
+/// write(dir, seed)); Realization: what one realization adds to them.
+template <class Stats, class Realization> class EnsembleLoggerNode : public LockstepNode {
  public:
   /// The ensemble's statistics over the realizations committed so far.
   const Stats& stats() const { return stats_; }
 
  protected:
-  /// @param name     the node's name ("logger", "uav_logger")
-  /// @param out_dir  where FINISH writes the result files; "" writes nothing
-  EnsembleLoggerNode(Bus& bus, std::string name, const Sc& sc, std::string out_dir)
-      : LockstepNode(bus, std::move(name), sc.runner.peer_timeout_s), sc_(sc), out_dir_(std::move(out_dir)),
-        stats_(sc) {}
+  /// @param name            the node's name ("logger", "uav_logger")
+  /// @param peer_timeout_s  [s wall] runner.peer_timeout_s
+  /// @param stats           the (empty) statistics
+  /// @param scenario_json   the effective scenario's text (the composed scenario's print), written as scenario.json
+  /// @param out_dir         where FINISH writes the result files; "" writes nothing
+  EnsembleLoggerNode(Bus& bus, std::string name, double peer_timeout_s, Stats stats, std::string scenario_json,
+                     std::string out_dir)
+      : LockstepNode(bus, std::move(name), peer_timeout_s), out_dir_(std::move(out_dir)),
+        stats_(std::move(stats)), scenario_json_(std::move(scenario_json)) {}
 
   void reset(const sim_window_t& w) final {
     seed_ = w.seed;
@@ -51,9 +53,7 @@ template <class Sc, class Stats, class Realization> class EnsembleLoggerNode : p
     write_own(w);
     // The effective scenario, every default filled in and the overrides applied: `scripts/run
     // DIR/scenario.json` with the same seed and realizations repeats the run.
-    std::ostringstream sc;
-    sc_.print(sc);
-    write_file_atomic(out_dir_, "scenario.json", sc.str());
+    write_file_atomic(out_dir_, "scenario.json", scenario_json_);
   }
 
   /// A realization (or a repeated attempt of it) begins: drop what the logger kept of the last.
@@ -63,13 +63,13 @@ template <class Sc, class Stats, class Realization> class EnsembleLoggerNode : p
   /// FINISH, after the statistics' files: write the logger's own files into out_dir_.
   virtual void write_own(const sim_window_t& /*finish*/) {}
 
-  Sc sc_;
   std::string out_dir_;  ///< "" writes nothing
   Realization current_;  ///< the realization being assembled
   long realization_ = 0; ///< its index in the ensemble
 
  private:
   Stats stats_;
+  std::string scenario_json_;
   std::int64_t seed_ = 0;
 };
 

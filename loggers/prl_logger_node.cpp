@@ -7,8 +7,12 @@
 
 namespace rnav {
 
-PrlLoggerNode::PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir)
-    : EnsembleLoggerNode(bus, "logger", sc, std::move(out_dir)), T_L_R_(transform(sc.landing_frame(), sc.radar_frame())) {
+PrlLoggerNode::PrlLoggerNode(Bus& bus, const LoggerOptions& o, const SiteContext& site, std::string scenario_json,
+                             std::string out_dir)
+    : EnsembleLoggerNode(bus, "logger", site.runner.peer_timeout_s, PrlStats(o, site), std::move(scenario_json),
+                         std::move(out_dir)),
+      o_(o),
+      T_L_R_(transform(site.landing_frame(), site.radar_frame())) {
   add_input<aircraft_truth_batch_t>(ch::kTruth);
   add_input<prl_plot_batch_t>(ch::kApoi);
   add_input<prl_error_batch_t>(ch::kPrlError);
@@ -57,7 +61,7 @@ int PrlLoggerNode::process(const sim_window_t& w) {
     pe.toi = {et.x(), et.z(), et.y()};
     pe.p_true_L = {p_true.x(), p_true.y(), p_true.z()};
     pe.range_true_m = (T_L_R_.inverse() * p_true).norm();
-    pe.range_table_m = sc_.logger.table_range_origin == "radar" ? pe.range_true_m : p_true.norm();
+    pe.range_table_m = o_.table_range_origin == "radar" ? pe.range_true_m : p_true.norm();
     pe.bias_err = {b.eta[0] - e.sys_range_m, b.eta[1] - e.sys_course_rad, b.eta[2] - e.sys_glide_rad};
     pe.bias_var = {b.var[0], b.var[1], b.var[2]};
     pe.mode = b.mode;

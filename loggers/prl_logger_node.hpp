@@ -17,15 +17,19 @@
 
 namespace rnav {
 
-class PrlLoggerNode : public EnsembleLoggerNode<Scenario, PrlStats, std::vector<PlotErrors>> {
+class PrlLoggerNode : public EnsembleLoggerNode<PrlStats, std::vector<PlotErrors>> {
  public:
-  PrlLoggerNode(Bus& bus, const Scenario& sc, std::string out_dir);
+  /// @param scenario_json  the effective scenario's text, written as scenario.json
+  /// @param out_dir        where FINISH writes the result files; "" writes nothing
+  PrlLoggerNode(Bus& bus, const LoggerOptions& o, const SiteContext& site, std::string scenario_json,
+                std::string out_dir);
 
  protected:
   void start_realization(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
 
  private:
+  LoggerOptions o_;
   Eigen::Isometry3d T_L_R_;  // radar frame R -> landing frame L
   std::map<std::int64_t, Eigen::Vector3d> truth_;  // utime -> p_TA_L
   std::map<std::int64_t, prl_plot_t> apoi_, toi_;   // plot_id -> plot

@@ -55,8 +55,8 @@ constexpr Channel kChannels[3] = {{"range", "m", "range channel"},
 const std::string kBiasErr = "bias-estimate error (the filter's estimate minus the radar's systematic error)";
 
 // What logger.table_range_origin measures a Table 2 range from.
-std::string table_origin(const Scenario& sc) {
-  return sc.logger.table_range_origin == "radar" ? "the radar antenna (slant range)" : "the runway threshold";
+std::string table_origin(const LoggerOptions& o) {
+  return o.table_range_origin == "radar" ? "the radar antenna (slant range)" : "the runway threshold";
 }
 
 }  // namespace
@@ -73,24 +73,25 @@ std::array<double, 3> PaperTable2::toi(double r) {
   throw std::invalid_argument("the paper's Table 2 has no range " + range_key(r));
 }
 
-PrlStats::PrlStats(const Scenario& sc)
-    : sc_(sc),
-      table_apoi_(sc.logger.table_ranges_m.size()),
-      table_toi_(sc.logger.table_ranges_m.size()),
-      table_plots_(sc.logger.table_ranges_m.size(), -1) {}
+PrlStats::PrlStats(const LoggerOptions& o, const SiteContext& site)
+    : logger_(o),
+      site_(site),
+      table_apoi_(o.table_ranges_m.size()),
+      table_toi_(o.table_ranges_m.size()),
+      table_plots_(o.table_ranges_m.size(), -1) {}
 
 void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realization) {
   if (realization < 0) realization = held_.empty() ? 0 : *held_.rbegin() + 1;
   if (held_.count(realization))
     throw std::runtime_error("realization " + std::to_string(realization) + " added twice");
-  const auto& ranges = sc_.logger.table_ranges_m;
+  const auto& ranges = logger_.table_ranges_m;
   // Validate first, then add: a rejected realization leaves no partial contribution.
   // Within this realization (a fixed order wherever it runs): plain sums.
   using Local = Moments<3, PlainSum>;
   std::vector<Local> a(ranges.size()), t(ranges.size()), be(ranges.size());
   for (const auto& p : plots)
     for (std::size_t i = 0; i < ranges.size(); ++i)
-      if (std::abs(p.range_table_m - ranges[i]) <= sc_.logger.table_halfwidth_m) {
+      if (std::abs(p.range_table_m - ranges[i]) <= logger_.table_halfwidth_m) {
         a[i].add(p.apoi);
         t[i].add(p.toi);
         be[i].add(p.bias_err);
@@ -98,7 +99,7 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     if (a[i].n == 0)
       throw std::runtime_error("realization has no plot within " +
-                               fixed(sc_.logger.table_halfwidth_m, 0) + " m of table range " +
+                               fixed(logger_.table_halfwidth_m, 0) + " m of table range " +
                                range_key(ranges[i]) + " m (logger.table_ranges_m)");
     if (table_plots_[i] >= 0 && table_plots_[i] != a[i].n)
       throw std::runtime_error("table range " + range_key(ranges[i]) +
@@ -113,14 +114,14 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     tb.toi.add(p.toi);
     tb.bias_err.add(p.bias_err);
     tb.bias_var.add(p.bias_var);
-    auto& rb = by_range_[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
+    auto& rb = by_range_[static_cast<long>(std::floor(p.range_true_m / logger_.range_bin_m))];
     rb.first.add(p.apoi);
     rb.second.add(p.toi);
   }
   // realizations.csv: this realization's mean errors per Table 2 bin and per slant-range bin.
   std::map<long, std::array<Local, 3>> bins;  // bin index -> (apoi, toi, bias_err)
   for (const auto& p : plots) {
-    auto& m = bins[static_cast<long>(std::floor(p.range_true_m / sc_.logger.range_bin_m))];
+    auto& m = bins[static_cast<long>(std::floor(p.range_true_m / logger_.range_bin_m))];
     m[0].add(p.apoi);
     m[1].add(p.toi);
     m[2].add(p.bias_err);
@@ -135,9 +136,9 @@ void PrlStats::add_realization(const std::vector<PlotErrors>& plots, long realiz
     rows += "\n";
   };
   for (std::size_t i = 0; i < ranges.size(); ++i)
-    row("table", ranges[i] - sc_.logger.table_halfwidth_m, ranges[i] + sc_.logger.table_halfwidth_m, a[i], t[i], be[i]);
+    row("table", ranges[i] - logger_.table_halfwidth_m, ranges[i] + logger_.table_halfwidth_m, a[i], t[i], be[i]);
   for (const auto& [bin, m] : bins)
-    row("range", bin * sc_.logger.range_bin_m, (bin + 1) * sc_.logger.range_bin_m, m[0], m[1], m[2]);
+    row("range", bin * logger_.range_bin_m, (bin + 1) * logger_.range_bin_m, m[0], m[1], m[2]);
   for (std::size_t i = 0; i < ranges.size(); ++i) {
     table_plots_[i] = a[i].n;
     std::array<double, 3> ma, mt;
@@ -156,7 +157,7 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
   std::ostringstream o;
   o << "Table 2: systematic error (ensemble mean over " << n_real_ << " realizations, seed "
     << seed << "), metres, landing frame\n";
-  o << "range: distance from the " << sc_.logger.table_range_origin << " [m]; +- half-width of the 95 % band [m]\n";
+  o << "range: distance from the " << logger_.table_range_origin << " [m]; +- half-width of the 95 % band [m]\n";
   const char* rows[2] = {"APOI", "TOI"};
   {
     char b[256];
@@ -164,8 +165,8 @@ std::string PrlStats::table2_text(std::int64_t seed) const {
                   "X [m]", "95 %", "Z [m]", "95 %", "Y [m]", "95 %");
     o << b;
   }
-  for (std::size_t i = 0; i < sc_.logger.table_ranges_m.size(); ++i) {
-    const double r = sc_.logger.table_ranges_m[i];
+  for (std::size_t i = 0; i < logger_.table_ranges_m.size(); ++i) {
+    const double r = logger_.table_ranges_m[i];
     for (int row = 0; row < 2; ++row) {
       const auto& m = row == 0 ? table_apoi_[i] : table_toi_[i];
       char b[256];
@@ -205,7 +206,7 @@ void PrlStats::write(const std::string& dir, std::int64_t seed) const {
 
 std::vector<CsvColumnDoc> PrlStats::realizations_columns() const {
   const std::string of_bin = ", this realization's mean over the bin's plots";
-  const std::string edge = " (table bins: true distance from " + table_origin(sc_) +
+  const std::string edge = " (table bins: true distance from " + table_origin(logger_) +
                            ", logger.table_range_origin; range bins: true slant range from the radar)";
   std::vector<CsvColumnDoc> c{
       {"realization", "", "realization index in the ensemble"},
@@ -224,7 +225,7 @@ std::vector<CsvColumnDoc> PrlStats::stats_time_columns() const {
   std::vector<CsvColumnDoc> c{
       {"t_s", "s", "plot time since sim time 0 (runner.epoch_utime)"},
       {"range_m", "m", "true slant range of the aircraft from the radar"},
-      {"range_table_m", "m", "true distance of the aircraft from " + table_origin(sc_) + " (logger.table_range_origin)"},
+      {"range_table_m", "m", "true distance of the aircraft from " + table_origin(logger_) + " (logger.table_range_origin)"},
       {"n", "", "realizations averaged (their plots at this time)"}};
   for (const auto& k : kErrorKinds)
     for (const char* s : {"mean", "rms"})
@@ -260,7 +261,7 @@ std::vector<CsvColumnDoc> PrlStats::stats_range_columns() const {
 void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const {
   if (n_real_ == 0) throw std::runtime_error("no complete realization to write");
   std::filesystem::create_directories(dir);
-  const auto& ranges = sc_.logger.table_ranges_m;
+  const auto& ranges = logger_.table_ranges_m;
   // table2.json: the interface users and checks script against.
   nlohmann::ordered_json t2;
   t2["realizations"] = n_real_;
@@ -269,13 +270,13 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
   detail["realizations"] = n_real_;
   detail["seed"] = seed;
   detail["unit"] = "m, landing frame L (X along the runway axis, Z lateral, Y up)";
-  detail["range_origin"] = sc_.logger.table_range_origin;
+  detail["range_origin"] = logger_.table_range_origin;
   detail["range_definition"] = std::string("true distance from the ") +
-                               (sc_.logger.table_range_origin == "radar" ? "radar antenna (slant range)"
+                               (logger_.table_range_origin == "radar" ? "radar antenna (slant range)"
                                                                           : "runway threshold") +
                                "; per realization the mean over plots within +-halfwidth_m, then "
                                "the ensemble mean";
-  detail["halfwidth_m"] = sc_.logger.table_halfwidth_m;
+  detail["halfwidth_m"] = logger_.table_halfwidth_m;
   for (const char* row : {"APOI", "TOI"}) {
     t2[row] = nlohmann::ordered_json::object();
     for (std::size_t i = 0; i < ranges.size(); ++i) {
@@ -308,7 +309,7 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
   std::ostringstream ts;
   ts << csv_header(time_columns);
   for (const auto& [utime, b] : by_time_) {
-    ts << fixed((utime - sc_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(b.range_true_m, 2) << ","
+    ts << fixed((utime - site_.runner.epoch_utime) * 1e-6, 3) << "," << fixed(b.range_true_m, 2) << ","
        << fixed(b.range_table_m, 2) << "," << b.apoi.n;
     for (const auto* m : {&b.apoi, &b.toi}) {
       for (int k = 0; k < 3; ++k) ts << "," << fixed(m->mean(k));
@@ -328,7 +329,7 @@ void PrlStats::write_statistics(const std::string& dir, std::int64_t seed) const
   std::ostringstream rs;
   rs << csv_header(range_columns);
   for (const auto& [bin, m] : by_range_) {
-    rs << fixed(bin * sc_.logger.range_bin_m, 0) << "," << fixed((bin + 1) * sc_.logger.range_bin_m, 0)
+    rs << fixed(bin * logger_.range_bin_m, 0) << "," << fixed((bin + 1) * logger_.range_bin_m, 0)
        << "," << m.first.n;
     for (const auto* mm : {&m.first, &m.second}) {
       for (int k = 0; k < 3; ++k) rs << "," << fixed(mm->mean(k));
@@ -380,9 +381,9 @@ void PrlStats::merge_state(const nlohmann::json& j, std::int64_t seed, const std
     throw std::invalid_argument(what + ": not a landing-radar ensemble state (format 1)");
   if (member(j, "seed", what) != seed)
     throw std::invalid_argument(what + ": seed " + member(j, "seed", what).dump() + ", the merged ensemble's is " + std::to_string(seed));
-  const auto& ranges = sc_.logger.table_ranges_m;
+  const auto& ranges = logger_.table_ranges_m;
   // Parse everything into a PrlStats of its own first: a rejected shard changes nothing here.
-  PrlStats o(sc_);
+  PrlStats o(logger_, site_);
   o.n_real_ = member(j, "realizations", what).get<long>();
   o.held_ = rnav::realization_set(member(j, "held", what), what);
   for (long r : o.held_)

@@ -15,7 +15,8 @@
 
 #include "csv_columns.hpp"
 #include "exact_sum.hpp"
-#include "scenario.hpp"
+#include "logger_options.hpp"
+#include "site_context.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -117,7 +118,7 @@ struct PaperTable2 {
 
 class PrlStats {
  public:
-  explicit PrlStats(const Scenario& sc);
+  PrlStats(const LoggerOptions& o, const SiteContext& site);
   /// Add one complete realization (plots in time order). `realization`: its index in the
   /// ensemble (realizations.csv's first column; each index at most once); -1: the next after
   /// the highest so far (0 for the first).
@@ -160,7 +161,8 @@ class PrlStats {
 
  private:
   std::string all_rows() const;  // realizations.csv's rows, in realization order
-  Scenario sc_;
+  LoggerOptions logger_;
+  SiteContext site_;
   long n_real_ = 0;
   std::map<std::int64_t, TimeBin> by_time_;
   std::map<long, std::pair<Moments<3>, Moments<3>>> by_range_;  // bin index -> (apoi, toi)

@@ -14,8 +14,10 @@
 
 namespace rnav {
 
-UavLoggerNode::UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir)
-    : EnsembleLoggerNode(bus, "uav_logger", sc, std::move(out_dir)) {
+UavLoggerNode::UavLoggerNode(Bus& bus, const UavStatsSetup& sc, std::string scenario_json, std::string out_dir)
+    : EnsembleLoggerNode(bus, "uav_logger", sc.runner.peer_timeout_s, UavStats(sc), std::move(scenario_json),
+                         std::move(out_dir)),
+      sc_(sc) {
   add_input<target_truth_batch_t>("TRUTH_TARGET");
   add_input<observer_batch_t>("TRUTH_UAV");
   add_input<bearing_batch_t>("UAV_BEARING");

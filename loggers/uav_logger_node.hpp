@@ -19,9 +19,11 @@
 
 namespace rnav {
 
-class UavLoggerNode : public EnsembleLoggerNode<UavScenario, UavStats, TmaRealization> {
+class UavLoggerNode : public EnsembleLoggerNode<UavStats, TmaRealization> {
  public:
-  UavLoggerNode(Bus& bus, const UavScenario& sc, std::string out_dir);
+  /// @param scenario_json  the effective scenario's text, written as scenario.json
+  /// @param out_dir        where FINISH writes the result files; "" writes nothing
+  UavLoggerNode(Bus& bus, const UavStatsSetup& sc, std::string scenario_json, std::string out_dir);
 
  protected:
   void start_realization(const sim_window_t& w) override;
@@ -30,6 +32,7 @@ class UavLoggerNode : public EnsembleLoggerNode<UavScenario, UavStats, TmaRealiz
   void write_own(const sim_window_t& w) override;
 
  private:
+  UavStatsSetup sc_;
   std::unique_ptr<AtomicFileWriter> rows_;  // realizations.csv, a realization's rows at each commit
   bool tracking_ = false;   // the realization being assembled is logger.track_realization
   UavTrack track_;          // its frames

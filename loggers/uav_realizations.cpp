@@ -50,7 +50,7 @@ std::vector<CsvColumnDoc> uav_realizations_columns() {
   return c;
 }
 
-std::string uav_realization_rows(const UavScenario& sc, long realization, const TmaRealization& r) {
+std::string uav_realization_rows(const UavStatsSetup& sc, long realization, const TmaRealization& r) {
   std::set<std::size_t> eval;
   for (const auto& [name, i] : samples_at_eval(r, sc.utime(to_us(sc.eval_time_s())))) eval.insert(i);
   const std::int64_t step_us = to_us(sc.logger.realizations_step_s);

@@ -22,6 +22,6 @@ namespace rnav {
 /// realizations.units.json describes them.
 std::vector<CsvColumnDoc> uav_realizations_columns();
 /// The rows of one realization, ordered by estimator and time, each ending in a newline.
-std::string uav_realization_rows(const UavScenario& sc, long realization, const TmaRealization& r);
+std::string uav_realization_rows(const UavStatsSetup& sc, long realization, const TmaRealization& r);
 
 }  // namespace rnav

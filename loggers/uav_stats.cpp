@@ -32,7 +32,7 @@ std::map<std::string, std::size_t> samples_at_eval(const TmaRealization& r, std:
   return last;
 }
 
-UavStats::UavStats(const UavScenario& sc) : sc_(sc) {}
+UavStats::UavStats(const UavStatsSetup& sc) : sc_(sc) {}
 
 void UavStats::add_to(MatSum& s, const tma::Mat4& m) {
   for (int i = 0; i < 16; ++i) s[i].add(m.data()[i]);

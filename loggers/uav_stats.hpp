@@ -10,7 +10,8 @@
 #include "exact_sum.hpp"
 
 #include "tma_pcrb.hpp"
-#include "uav_scenario.hpp"
+#include "frames.hpp"
+#include "uav_stats_setup.hpp"
 
 #include <array>
 #include <algorithm>
@@ -64,7 +65,7 @@ std::pair<double, double> chi2_mean_band(long n, int dof, double z = 1.959963984
 
 class UavStats {
  public:
-  explicit UavStats(const UavScenario& sc);
+  explicit UavStats(const UavStatsSetup& sc);
   /// Add one complete realization; `realization` is its index in the ensemble (each at most
   /// once; -1: the next after the highest so far).
   void add_realization(const TmaRealization& r, long realization = -1);
@@ -105,7 +106,7 @@ class UavStats {
 
  private:
   void pcrb(std::map<std::int64_t, double>* pos, std::map<std::int64_t, double>* vel) const;
-  UavScenario sc_;
+  UavStatsSetup sc_;
   long n_ = 0;
   std::map<std::string, std::map<std::int64_t, Acc>> by_time_;
   std::map<std::string, FinalAcc> final_;

@@ -1,4 +1,4 @@
-// Unit tests of common/config.hpp and common/scenario.hpp: strict scenario validation with
+// Unit tests of common/config.hpp and scripts/compose/scenario/scenario.hpp: strict scenario validation with
 // errors naming the key, overrides, and JSON file loading.
 #include "config.hpp"
 #include "config_error.hpp"

@@ -72,13 +72,13 @@ struct Run {
 Run run_chain(const Scenario& sc, int n, std::int64_t seed) {
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
-  nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
+  nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc.trajectory, sc.site()));
   add_nav_nodes(bus, sc, nodes, "");
   auto* link = dynamic_cast<DatalinkNode*>(nodes.back().get());
   REQUIRE(link != nullptr);
   nodes.push_back(std::make_unique<Recorder>(bus, sc));
   auto* rec = static_cast<Recorder*>(nodes.back().get());
-  const auto r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed);
+  const auto r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc.trajectory, sc.site())->duration_s(), n, seed);
   REQUIRE(r.exit_code == 0);
   Run out{rec->sent, rec->received, {}, link->sent(), link->lost()};
   for (const auto& [real, tx] : out.sent) {
@@ -117,7 +117,7 @@ TEST_CASE("datalink node: messages lost over the approach match the sum of their
   const Scenario sc = lossy(0.03);
   const int n = 6;
   const Run r = run_chain(sc, n, 21);
-  const datalink::NavLink link(sc);
+  const datalink::NavLink link(sc.datalink, sc.site());
   double mean = 0, var = 0;
   long sent = 0, lost = 0;
   for (const auto& [real, tx] : r.sent) {
@@ -159,7 +159,7 @@ TEST_CASE("datalink node: a link that loses nothing leaves the paper run byte-id
   fs::remove_all(base);
   // 1 W peak: p_loss < 1e-300 over the whole approach (50 % only beyond 80 km).
   const Scenario off = Scenario::load(kPaper), on = Scenario::load(kPaper, {"datalink.enabled=true"});
-  REQUIRE(datalink::NavLink(on).budget().range_for_p_loss(0.5) > 80e3);
+  REQUIRE(datalink::NavLink(on.datalink, on.site()).budget().range_for_p_loss(0.5) > 80e3);
   REQUIRE(run_inproc_ensemble(off, 4, 9, (base / "off").string()).exit_code == 0);
   REQUIRE(run_inproc_ensemble(on, 4, 9, (base / "on").string()).exit_code == 0);
   for (const char* f : {"table2.json", "table2_detail.json", "stats_time.csv", "stats_range.csv", "realizations.csv",
@@ -181,5 +181,5 @@ TEST_CASE("datalink node: a link that loses nothing leaves the paper run byte-id
 
 TEST_CASE("datalink node: refuses to run when the scenario does not enable the link", "[datalink][input]") {
   InprocBus bus;
-  CHECK_THROWS_WITH(DatalinkNode(bus, Scenario::load(kPaper)), Catch::Contains("datalink.enabled"));
+  CHECK_THROWS_WITH(DatalinkNode(bus, Scenario::load(kPaper).datalink, Scenario::load(kPaper).site()), Catch::Contains("datalink.enabled"));
 }

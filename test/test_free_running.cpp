@@ -9,8 +9,10 @@
 #include "lcm_event_reader.hpp"
 #include "lcm_log_export.hpp"
 #include "prl_bias_free_node.hpp"
+#include "scenario.hpp"
 #include "shell.hpp"
 #include "uav_tma_free_node.hpp"
+#include "uav_scenario.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/nav_batch_t.hpp>
@@ -191,7 +193,7 @@ TEST_CASE("free-running on a lock-step log's batches, the lock-step node's own m
   const Scenario sc = Scenario::load(kPaper, kDropouts);
   InprocBus bus;
   Capture got(bus);
-  PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+  PrlBiasFreeNode node(bus, sc.prl_bias, sc.site(), PrlBiasFreeOptions{});
   for (const auto& e : log)
     if (is_input(e.channel)) feed(bus, e.channel, e.data);
   node.flush();
@@ -216,7 +218,7 @@ TEST_CASE("free-running, a resent copy of a batch is skipped and a lost batch is
   SECTION("every input sent twice, the same estimates") {
     InprocBus bus;
     Capture got(bus);
-    PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+    PrlBiasFreeNode node(bus, sc.prl_bias, sc.site(), PrlBiasFreeOptions{});
     for (const auto* e : inputs) {
       feed(bus, e->channel, e->data);
       feed(bus, e->channel, e->data);
@@ -228,7 +230,7 @@ TEST_CASE("free-running, a resent copy of a batch is skipped and a lost batch is
   }
   SECTION("one PRL_APOI batch missing") {
     InprocBus bus;
-    PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+    PrlBiasFreeNode node(bus, sc.prl_bias, sc.site(), PrlBiasFreeOptions{});
     bool skipped = false;
     try {
       for (const auto* e : inputs) {
@@ -259,7 +261,7 @@ TEST_CASE("free-running on one sample per message in arrival order, the lock-ste
     Capture got(bus);
     PrlBiasFreeOptions o;
     o.nav_lateness_s = lateness_s;
-    PrlBiasFreeNode node(bus, sc, o);
+    PrlBiasFreeNode node(bus, sc.prl_bias, sc.site(), o);
     for (const auto& [c, bytes] : live_feed(log, 1, extra_nav_delay_us)) feed(bus, c, bytes);
     node.flush();
     bus.run_until_idle();
@@ -280,7 +282,7 @@ TEST_CASE("free-running on one sample per message in arrival order, the lock-ste
 TEST_CASE("free-running, a step back in time or a foreign type is an error naming the channel", "[free]") {
   const Scenario sc = Scenario::load(kPaper, {});
   InprocBus bus;
-  PrlBiasFreeNode node(bus, sc, PrlBiasFreeOptions{});
+  PrlBiasFreeNode node(bus, sc.prl_bias, sc.site(), PrlBiasFreeOptions{});
   prl_plot_t p{};
   p.utime = sc.runner.epoch_utime + 10'000'000;
   p.range_m = 20000;
@@ -301,7 +303,7 @@ TEST_CASE("free-running, a step back in time or a foreign type is an error namin
   } catch (const std::runtime_error& e) {
     CHECK(std::string(e.what()).find("on PRL_APOI is neither prl_plot_batch_t nor prl_plot_t") != std::string::npos);
   }
-  CHECK_THROWS_WITH(PrlBiasFreeNode(bus, sc, PrlBiasFreeOptions{-1}), Catch::Contains("nav_lateness_s"));
+  CHECK_THROWS_WITH(PrlBiasFreeNode(bus, sc.prl_bias, sc.site(), PrlBiasFreeOptions{-1}), Catch::Contains("nav_lateness_s"));
 }
 
 // The recording is the in-process lock-step run's (export_lcm_log: the same nodes and messages
@@ -470,7 +472,7 @@ std::vector<std::vector<std::uint8_t>> run_uav_free(const std::vector<std::pair<
     const auto* p = static_cast<const std::uint8_t*>(d);
     got.emplace_back(p, p + n);
   });
-  UavTmaFreeNode node(bus, sc, options);
+  UavTmaFreeNode node(bus, sc.tma, sc.context(), options);
   for (const auto& [c, bytes] : msgs) feed(bus, c, bytes);
   node.flush();
   bus.run_until_idle();

@@ -3,7 +3,7 @@
 #include "guidance.hpp"
 
 #include "frames.hpp"
-#include "uav_scenario.hpp"
+#include "observer_options.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -509,8 +509,8 @@ TEST_CASE("lcm log azimuth-only: the log gives exactly what the simulation publi
     for (const auto& s : b.states) ref.truth.push_back({t_of(s.utime), {s.lat_deg, s.lon_deg, 0.0}});
   });
   std::vector<std::unique_ptr<LockstepNode>> nodes;
-  nodes.push_back(std::make_unique<TargetNode>(bus, sc));
-  nodes.push_back(std::make_unique<UavNode>(bus, sc));
+  nodes.push_back(std::make_unique<TargetNode>(bus, sc.target, sc.sensor.period_s, sc.context()));
+  nodes.push_back(make_uav_node(bus, sc));
   REQUIRE(run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, 1, seed).exit_code == 0);
 
   REQUIRE(ref.frames.size() >= 10);

@@ -190,7 +190,7 @@ TEST_CASE("replay_csv resolves against the scenario file's directory and overrid
 TEST_CASE("the shipped Vienna replay scenario runs through the whole chain", "[replay][ensemble]") {
   const std::string file = std::string(RNAV_SOURCE_DIR) + "/sim/scenarios/vienna_replay.json";
   const Scenario sc = Scenario::load(file);
-  const auto traj = make_trajectory(sc);
+  const auto traj = make_trajectory(sc.trajectory, sc.site());
   REQUIRE(dynamic_cast<const ReplayTrajectory*>(traj.get()) != nullptr);
   // The exported approach ends at its last point before the threshold (x >= 0), on the
   // glide path: within the last 5 s step (< 500 m) and tens of metres up.

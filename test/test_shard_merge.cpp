@@ -1,4 +1,4 @@
-// Shards of one ensemble joined by merge_shards (loggers/merge) give the outputs of one run of
+// Shards of one ensemble joined by merge_shards (scripts/compose/merge) give the outputs of one run of
 // the whole ensemble byte for byte, for any split and any order - the property MPI ranks and
 // resumable sweeps rely on - and every way shards can fail to be one ensemble is an error
 // naming the culprit.

@@ -1,6 +1,7 @@
 // Unit tests of loggers/prl_stats.hpp: running moments, Table 2 ensemble statistics and the
 // files written.
 #include "prl_stats.hpp"
+#include "scenario.hpp"
 #include "random.hpp"
 
 #include "csv_units.hpp"
@@ -101,7 +102,7 @@ TEST_CASE("PaperTable2 holds the paper's Table 2 (method.md)", "[stats]") {
 TEST_CASE("PrlStats: Table 2 = ensemble mean of per-realization bin means and table2.json", "[stats]") {
   const Scenario sc = Scenario::from_json(nlohmann::json::object());
   const std::int64_t epoch = sc.runner.epoch_utime;
-  PrlStats st(sc);
+  PrlStats st(sc.logger, sc.site());
   const int R = 5;
   std::vector<std::vector<PlotErrors>> reals;
   for (int r = 0; r < R; ++r) {
@@ -211,7 +212,7 @@ TEST_CASE("PrlStats rejects realizations without plots in a table bin or with di
   const Scenario sc = Scenario::from_json(nlohmann::json::object());
   const std::int64_t epoch = sc.runner.epoch_utime;
   {
-    PrlStats st(sc);
+    PrlStats st(sc.logger, sc.site());
     auto r = realization(0, epoch);
     std::vector<PlotErrors> no4k;
     for (const auto& p : r)
@@ -219,7 +220,7 @@ TEST_CASE("PrlStats rejects realizations without plots in a table bin or with di
     CHECK_THROWS_AS(st.add_realization(no4k), std::runtime_error);
   }
   {
-    PrlStats st(sc);
+    PrlStats st(sc.logger, sc.site());
     st.add_realization(realization(0, epoch));
     auto r = realization(1, epoch);
     r.pop_back();  // 3700 m: outside every bin -- still fine
@@ -228,7 +229,7 @@ TEST_CASE("PrlStats rejects realizations without plots in a table bin or with di
     CHECK_THROWS_AS(st.add_realization(r), std::runtime_error);
   }
   {
-    PrlStats st(sc);
+    PrlStats st(sc.logger, sc.site());
     TempDir dir;
     CHECK_THROWS_AS(st.write(dir.path.string(), 1), std::runtime_error);  // nothing to write
   }

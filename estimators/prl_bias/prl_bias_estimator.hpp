@@ -8,7 +8,8 @@
 
 #include "nav_interpolator.hpp"
 #include "scalar_gm_kalman.hpp"
-#include "scenario.hpp"
+#include "prl_bias_options.hpp"
+#include "sim_time.hpp"
 
 #include <rnav/prl_bias_estimate_t.hpp>
 #include <rnav/prl_plot_t.hpp>

@@ -13,8 +13,8 @@ constexpr std::int64_t kEndOfInput = std::numeric_limits<std::int64_t>::max();
 
 }  // namespace
 
-PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o)
-    : PairedFreeNode(bus, "prl_bias", ch::kApoi, ch::kNav), o_(o), stream_(sc),
+PrlBiasFreeNode::PrlBiasFreeNode(Bus& bus, const PrlBiasOptions& bias, const SiteContext& site, const PrlBiasFreeOptions& o)
+    : PairedFreeNode(bus, "prl_bias", ch::kApoi, ch::kNav), o_(o), stream_(bias, site),
       plot_times_(ch::kApoi, ForwardTimes::Ties::kRefused), nav_links_(ch::kNav, ForwardTimes::Ties::kAllowed) {
   if (!(o.nav_lateness_s >= 0 && o.nav_lateness_s <= 3600))
     throw std::invalid_argument("nav_lateness_s must be in [0, 3600] s");

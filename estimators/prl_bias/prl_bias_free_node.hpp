@@ -35,7 +35,7 @@ struct PrlBiasFreeOptions {
 
 class PrlBiasFreeNode : public PairedFreeNode<prl_plot_batch_t, prl_plot_t, nav_batch_t, nav_solution_t> {
  public:
-  PrlBiasFreeNode(Bus& bus, const Scenario& sc, const PrlBiasFreeOptions& o);
+  PrlBiasFreeNode(Bus& bus, const PrlBiasOptions& bias, const SiteContext& site, const PrlBiasFreeOptions& o);
 
  private:
   void on_window(const prl_plot_batch_t& apoi, const nav_batch_t& nav) override;

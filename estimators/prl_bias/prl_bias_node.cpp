@@ -6,8 +6,8 @@
 
 namespace rnav {
 
-PrlBiasNode::PrlBiasNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "prl_bias", sc.runner.peer_timeout_s), stream_(sc) {
+PrlBiasNode::PrlBiasNode(Bus& bus, const PrlBiasOptions& o, const SiteContext& site)
+    : LockstepNode(bus, "prl_bias", site.runner.peer_timeout_s), stream_(o, site) {
   add_input<prl_plot_batch_t>(ch::kApoi);
   add_input<nav_batch_t>(ch::kNav);
 }

@@ -10,7 +10,7 @@ namespace rnav {
 
 class PrlBiasNode : public LockstepNode {
  public:
-  PrlBiasNode(Bus& bus, const Scenario& sc);
+  PrlBiasNode(Bus& bus, const PrlBiasOptions& o, const SiteContext& site);
 
  protected:
   void reset(const sim_window_t& w) override;

@@ -2,11 +2,11 @@
 
 namespace rnav {
 
-PrlBiasStream::PrlBiasStream(const Scenario& sc)
-    : wait_us_(to_us(sc.prl_bias.nav_wait_s)),
-      max_gap_us_(to_us(sc.prl_bias.max_nav_gap_s)),
-      frame_R_(sc.radar_frame()),
-      est_(sc.prl_bias, sc.runner.epoch_utime) {}
+PrlBiasStream::PrlBiasStream(const PrlBiasOptions& o, const SiteContext& site)
+    : wait_us_(to_us(o.nav_wait_s)),
+      max_gap_us_(to_us(o.max_nav_gap_s)),
+      frame_R_(site.radar_frame()),
+      est_(o, site.runner.epoch_utime) {}
 
 void PrlBiasStream::reset() {
   est_.reset();

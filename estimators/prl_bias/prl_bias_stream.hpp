@@ -5,6 +5,7 @@
 #pragma once
 
 #include "prl_bias_estimator.hpp"
+#include "site_context.hpp"
 
 #include <rnav/nav_solution_t.hpp>
 
@@ -15,7 +16,7 @@ namespace rnav {
 
 class PrlBiasStream {
  public:
-  explicit PrlBiasStream(const Scenario& sc);
+  PrlBiasStream(const PrlBiasOptions& o, const SiteContext& site);
   /// Forget every plot, solution and estimate (a new flight or realization).
   void reset();
   /// A radar plot (plots in increasing utime).

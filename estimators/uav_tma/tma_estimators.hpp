@@ -15,7 +15,7 @@
 #pragma once
 
 #include "kalman_core.hpp"
-#include "uav_scenario.hpp"
+#include "tma_options.hpp"
 
 #include <cstdint>
 #include <memory>

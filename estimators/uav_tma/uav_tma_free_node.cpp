@@ -6,9 +6,9 @@
 
 namespace rnav {
 
-UavTmaFreeNode::UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFreeOptions& o)
-    : PairedFreeNode(bus, "uav_tma", ch::kUavNav, ch::kUavBearing), sc_(sc), o_(o),
-      est_(tma::make_estimators(sc.tma, static_cast<std::uint64_t>(o.seed), 0)),
+UavTmaFreeNode::UavTmaFreeNode(Bus& bus, const TmaOptions& tma, const UavContext& ctx, const UavTmaFreeOptions& o)
+    : PairedFreeNode(bus, "uav_tma", ch::kUavNav, ch::kUavBearing), tma_(tma), ctx_(ctx), o_(o),
+      est_(tma::make_estimators(tma, static_cast<std::uint64_t>(o.seed), 0)),
       nav_times_(ch::kUavNav, ForwardTimes::Ties::kRefused),
       bearing_times_(ch::kUavBearing, ForwardTimes::Ties::kAllowed) {
   if (!(o.bearing_lateness_s >= 0 && o.bearing_lateness_s <= 3600))
@@ -17,7 +17,7 @@ UavTmaFreeNode::UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFree
 }
 
 void UavTmaFreeNode::on_new_flight(const FlightKey& f) {
-  est_ = tma::make_estimators(sc_.tma, static_cast<std::uint64_t>(o_.seed), static_cast<std::uint64_t>(f.first));
+  est_ = tma::make_estimators(tma_, static_cast<std::uint64_t>(o_.seed), static_cast<std::uint64_t>(f.first));
 }
 
 void UavTmaFreeNode::on_sample_a(const observer_state_t& o) {
@@ -42,7 +42,7 @@ void UavTmaFreeNode::on_window(const observer_batch_t& n, const bearing_batch_t&
   tma_batch_t out;
   out.header = n.header;
   out.header.seq = seq_++;
-  tma_window(est_, sc_.runner.epoch_utime, n, b, out.estimates);
+  tma_window(est_, ctx_.runner.epoch_utime, n, b, out.estimates);
   out.n = static_cast<int>(out.estimates.size());
   bus().publish(ch::kUavTma, out);
   frames_done_ += n.n;
@@ -64,7 +64,7 @@ void UavTmaFreeNode::step_samples(bool end_of_input) {
     const auto range = bearings_.equal_range(o.utime);
     for (auto it = range.first; it != range.second; ++it) frame.push_back(&it->second);
     out_.clear();
-    process_tma_frame(est_, sc_.runner.epoch_utime, o, frame, out_);
+    process_tma_frame(est_, ctx_.runner.epoch_utime, o, frame, out_);
     for (const auto& m : out_) bus().publish(ch::kUavTma, m);
     bearings_.erase(range.first, range.second);
     frames_.pop_front();

@@ -34,7 +34,7 @@ struct UavTmaFreeOptions {
 
 class UavTmaFreeNode : public PairedFreeNode<observer_batch_t, observer_state_t, bearing_batch_t, bearing_t> {
  public:
-  UavTmaFreeNode(Bus& bus, const UavScenario& sc, const UavTmaFreeOptions& o);
+  UavTmaFreeNode(Bus& bus, const TmaOptions& tma, const UavContext& ctx, const UavTmaFreeOptions& o);
 
  private:
   void on_window(const observer_batch_t& nav, const bearing_batch_t& bearings) override;
@@ -46,7 +46,8 @@ class UavTmaFreeNode : public PairedFreeNode<observer_batch_t, observer_state_t,
   /// Samples: process every frame whose bearings are all in, given the latest times seen.
   void step_samples(bool end_of_input);
 
-  UavScenario sc_;
+  TmaOptions tma_;
+  UavContext ctx_;
   UavTmaFreeOptions o_;
   std::vector<std::unique_ptr<tma::TmaEstimator>> est_;
   std::int64_t seq_ = 0;

@@ -9,19 +9,19 @@
 
 namespace rnav {
 
-UavTmaNode::UavTmaNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "uav_tma", sc.runner.peer_timeout_s), sc_(sc) {
+UavTmaNode::UavTmaNode(Bus& bus, const TmaOptions& o, const UavContext& ctx)
+    : LockstepNode(bus, "uav_tma", ctx.runner.peer_timeout_s), o_(o), ctx_(ctx) {
   add_input<observer_batch_t>(ch::kUavNav);
   add_input<bearing_batch_t>(ch::kUavBearing);
 }
 
 void UavTmaNode::reset(const sim_window_t& w) {
-  est_ = tma::make_estimators(sc_.tma, static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization));
+  est_ = tma::make_estimators(o_, static_cast<std::uint64_t>(w.seed), static_cast<std::uint64_t>(w.realization));
 }
 
 int UavTmaNode::process(const sim_window_t&) {
   tma_batch_t out;
-  tma_window(est_, sc_.runner.epoch_utime, input<observer_batch_t>(ch::kUavNav),
+  tma_window(est_, ctx_.runner.epoch_utime, input<observer_batch_t>(ch::kUavNav),
              input<bearing_batch_t>(ch::kUavBearing), out.estimates);
   out.n = static_cast<int>(out.estimates.size());
   publish_batch(ch::kUavTma, out);

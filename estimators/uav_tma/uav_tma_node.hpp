@@ -4,6 +4,7 @@
 
 #include "lockstep_node.hpp"
 #include "tma_frame.hpp"
+#include "uav_context.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
@@ -17,14 +18,15 @@ void tma_window(std::vector<std::unique_ptr<tma::TmaEstimator>>& est, std::int64
 
 class UavTmaNode : public LockstepNode {
  public:
-  UavTmaNode(Bus& bus, const UavScenario& sc);
+  UavTmaNode(Bus& bus, const TmaOptions& o, const UavContext& ctx);
 
  protected:
   void reset(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
 
  private:
-  UavScenario sc_;
+  TmaOptions o_;
+  UavContext ctx_;
   std::vector<std::unique_ptr<tma::TmaEstimator>> est_;
 };
 

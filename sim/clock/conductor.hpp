@@ -9,7 +9,8 @@
 #pragma once
 
 #include "bus.hpp"
-#include "scenario.hpp"
+#include "runner_options.hpp"
+#include "sim_time.hpp"
 
 #include <rnav/node_ack_t.hpp>
 

@@ -9,9 +9,9 @@
 
 namespace rnav {
 
-DatalinkNode::DatalinkNode(Bus& bus, const Scenario& sc, std::string out_dir)
-    : LockstepNode(bus, "datalink", sc.runner.peer_timeout_s), link_(sc), out_dir_(std::move(out_dir)) {
-  if (!sc.datalink.enabled)
+DatalinkNode::DatalinkNode(Bus& bus, const DatalinkOptions& d, const SiteContext& site, std::string out_dir)
+    : LockstepNode(bus, "datalink", site.runner.peer_timeout_s), link_(d, site), out_dir_(std::move(out_dir)) {
+  if (!d.enabled)
     throw ConfigError("the node 'datalink' runs only with scenario key 'datalink.enabled' = true (otherwise snsins "
                       "publishes NAV_SOLUTION itself and nothing is sent on NAV_SOLUTION_TX)");
   add_input<nav_batch_t>(ch::kNavTx);

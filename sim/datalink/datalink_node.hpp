@@ -24,7 +24,7 @@ class DatalinkNode : public LockstepNode {
   /// datalink.csv's columns (its header and datalink.units.json).
   static std::vector<CsvColumnDoc> csv_columns();
   /// @param out_dir  where FINISH writes datalink.csv; "" writes nothing
-  DatalinkNode(Bus& bus, const Scenario& sc, std::string out_dir = "");
+  DatalinkNode(Bus& bus, const DatalinkOptions& d, const SiteContext& site, std::string out_dir = "");
   const datalink::NavLink& link() const { return link_; }
   /// Messages sent and lost over the realizations completed so far (repeated attempts counted once).
   long sent() const { return sent_; }

@@ -26,7 +26,7 @@
 // receiver noise k T0 F only (no antenna temperature).
 #pragma once
 
-#include "scenario.hpp"
+#include "datalink_options.hpp"
 
 #include <string>
 
@@ -60,7 +60,7 @@ class LinkBudget {
   /// The budget of the scenario's `datalink` section (its keys' symbols: P_peak = peak_power_w,
   /// f = frequency_hz, G_t, G_r = tx_gain_dbi, rx_gain_dbi, F = noise_figure_db,
   /// T0 = noise_temperature_k, L = system_loss_db, R_c = chip_rate_hz, B = bandwidth_chips,
-  /// N = code_length, N_msg = message_bits; units and defaults in common/scenario.hpp) with the
+  /// N = code_length, N_msg = message_bits; units and defaults in datalink_options.hpp) with the
   /// waveform's peak factor PF [1] (peak/RMS amplitude, >= 1: datalink_peak_factor). The scenario
   /// checks its keys for users; this checks again what the budget needs (finite, P_peak, f, T0,
   /// R_c, B > 0, PF >= 1, N and N_msg >= 1, ...) and throws rnav::ConfigError naming the value

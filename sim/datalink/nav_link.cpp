@@ -26,8 +26,8 @@ double datalink_peak_factor(const DatalinkOptions& d) {
   }
 }
 
-NavLink::NavLink(const Scenario& sc)
-    : NavLink(LinkBudget(sc.datalink, datalink_peak_factor(sc.datalink)), sc.radar_site()) {}
+NavLink::NavLink(const DatalinkOptions& d, const SiteContext& site)
+    : NavLink(LinkBudget(d, datalink_peak_factor(d)), site.radar_site()) {}
 
 NavLink::NavLink(const LinkBudget& budget, const Geodetic& receiver) : budget_(budget), receiver_(receiver, 0.0) {}
 

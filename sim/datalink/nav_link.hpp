@@ -5,7 +5,7 @@
 
 #include "frames.hpp"
 #include "link_budget.hpp"
-#include "scenario.hpp"
+#include "site_context.hpp"
 #include "waveform.hpp"
 
 #include <rnav/nav_solution_t.hpp>
@@ -21,8 +21,8 @@ double datalink_peak_factor(const DatalinkOptions& d);
 class NavLink {
  public:
   /// The scenario's link: PF computed from the family at start-up (datalink_peak_factor), the
-  /// receiver at the radar antenna (Scenario::radar_site). Throws ConfigError on bad keys.
-  explicit NavLink(const Scenario& sc);
+  /// receiver at the radar antenna (SiteContext::radar_site). Throws ConfigError on bad keys.
+  NavLink(const DatalinkOptions& d, const SiteContext& site);
   /// A given budget and receiver position (tests).
   NavLink(const LinkBudget& budget, const Geodetic& receiver);
 

@@ -6,7 +6,7 @@
 
 #include "frames.hpp"
 #include "random.hpp"
-#include "scenario.hpp"
+#include "prl_options.hpp"
 
 #include <memory>
 #include <string>

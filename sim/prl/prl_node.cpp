@@ -6,12 +6,13 @@
 
 namespace rnav {
 
-PrlNode::PrlNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "prl", sc.runner.peer_timeout_s),
-      sc_(sc),
-      frame_L_(sc.landing_frame()),
-      frame_R_(sc.radar_frame()),
-      model_(sc.prl, sc.prl_effects, sc.radar.azimuth_reference_deg) {
+PrlNode::PrlNode(Bus& bus, const PrlOptions& o, const PrlEffectsOptions& fx, const SiteContext& site)
+    : LockstepNode(bus, "prl", site.runner.peer_timeout_s),
+      o_(o),
+      site_(site),
+      frame_L_(site.landing_frame()),
+      frame_R_(site.radar_frame()),
+      model_(o, fx, site.radar.azimuth_reference_deg) {
   add_input<aircraft_truth_batch_t>(ch::kTruth);
 }
 
@@ -24,11 +25,11 @@ void PrlNode::reset(const sim_window_t& w) {
 
 int PrlNode::process(const sim_window_t&) {
   const auto& truth = input<aircraft_truth_batch_t>(ch::kTruth);
-  const std::int64_t period = to_us(sc_.prl.period_s), phase = to_us(sc_.prl.phase_s);
+  const std::int64_t period = to_us(o_.period_s), phase = to_us(o_.phase_s);
   prl_plot_batch_t plots;
   prl_error_batch_t errors;
   for (const auto& s : truth.states) {
-    const std::int64_t t = s.utime - sc_.runner.epoch_utime;
+    const std::int64_t t = s.utime - site_.runner.epoch_utime;
     if (t < phase || (t - phase) % period != 0) continue;
     PlotTruth pt;
     pt.t_s = t * 1e-6;
@@ -38,7 +39,7 @@ int PrlNode::process(const sim_window_t&) {
     pt.v_A_R = frame_R_.R_F_ECEF() * frame_L_.R_F_ECEF().transpose() *
                Eigen::Vector3d(s.v_A_L[0], s.v_A_L[1], s.v_A_L[2]);
     pt.polar = polar_from_cartesian(pt.p_RA_R);
-    if (pt.polar.range_m > sc_.prl.max_range_m) continue;
+    if (pt.polar.range_m > o_.max_range_m) continue;
     PolarError sys, total;
     model_.apply(pt, *rng_, sys, total);
     prl_plot_t p;

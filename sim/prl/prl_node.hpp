@@ -5,6 +5,7 @@
 
 #include "lockstep_node.hpp"
 #include "prl_error_model.hpp"
+#include "site_context.hpp"
 
 #include <optional>
 
@@ -12,14 +13,15 @@ namespace rnav {
 
 class PrlNode : public LockstepNode {
  public:
-  PrlNode(Bus& bus, const Scenario& sc);
+  PrlNode(Bus& bus, const PrlOptions& o, const PrlEffectsOptions& fx, const SiteContext& site);
 
  protected:
   void reset(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
 
  private:
-  Scenario sc_;
+  PrlOptions o_;
+  SiteContext site_;
   LocalLevelFrame frame_L_, frame_R_;
   PrlErrorModel model_;
   std::optional<Rng> rng_;

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "random.hpp"
-#include "scenario.hpp"
+#include "snsins_options.hpp"
 
 #include <Eigen/Dense>
 

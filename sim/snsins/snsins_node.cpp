@@ -5,11 +5,13 @@
 
 namespace rnav {
 
-SnsinsNode::SnsinsNode(Bus& bus, const Scenario& sc)
-    : LockstepNode(bus, "snsins", sc.runner.peer_timeout_s),
-      sc_(sc),
-      frame_L_(sc.landing_frame()),
-      model_(sc.snsins) {
+SnsinsNode::SnsinsNode(Bus& bus, const SnsinsOptions& o, const SiteContext& site, bool via_datalink)
+    : LockstepNode(bus, "snsins", site.runner.peer_timeout_s),
+      o_(o),
+      site_(site),
+      via_datalink_(via_datalink),
+      frame_L_(site.landing_frame()),
+      model_(o) {
   add_input<aircraft_truth_batch_t>(ch::kTruth);
 }
 
@@ -21,17 +23,17 @@ void SnsinsNode::reset(const sim_window_t& w) {
 }
 
 bool SnsinsNode::in_dropout(double t_s) const {
-  for (const auto& d : sc_.snsins.dropouts)
+  for (const auto& d : o_.dropouts)
     if (t_s >= d.first && t_s < d.second) return true;
   return false;
 }
 
 int SnsinsNode::process(const sim_window_t& w) {
   const auto& truth = input<aircraft_truth_batch_t>(ch::kTruth);
-  const std::int64_t period = to_us(sc_.snsins.link_period_s), phase = to_us(sc_.snsins.link_phase_s);
-  const std::int64_t latency = to_us(sc_.snsins.latency_s);
+  const std::int64_t period = to_us(o_.link_period_s), phase = to_us(o_.link_phase_s);
+  const std::int64_t latency = to_us(o_.latency_s);
   for (const auto& s : truth.states) {
-    const std::int64_t t = s.utime - sc_.runner.epoch_utime;
+    const std::int64_t t = s.utime - site_.runner.epoch_utime;
     if (t < phase || (t - phase) % period != 0) continue;
     model_.step(t * 1e-6, *rng_);  // the error process runs through drop-outs too
     if (in_dropout(t * 1e-6)) continue;
@@ -57,7 +59,7 @@ int SnsinsNode::process(const sim_window_t& w) {
   batch.n = static_cast<int>(batch.solutions.size());
   // With the data link modelled, this is what the aircraft sends; the node "datalink" decides
   // what reaches the ground (NAV_SOLUTION).
-  publish_batch(sc_.datalink.enabled ? ch::kNavTx : ch::kNav, batch);
+  publish_batch(via_datalink_ ? ch::kNavTx : ch::kNav, batch);
   return batch.n;
 }
 

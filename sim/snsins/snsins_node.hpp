@@ -7,6 +7,7 @@
 #pragma once
 
 #include "lockstep_node.hpp"
+#include "site_context.hpp"
 #include "snsins_error_model.hpp"
 
 #include <rnav/nav_solution_t.hpp>
@@ -18,7 +19,9 @@ namespace rnav {
 
 class SnsinsNode : public LockstepNode {
  public:
-  SnsinsNode(Bus& bus, const Scenario& sc);
+  /// @param via_datalink  the data link is modelled (datalink.enabled): publish on
+  ///                      NAV_SOLUTION_TX instead of NAV_SOLUTION
+  SnsinsNode(Bus& bus, const SnsinsOptions& o, const SiteContext& site, bool via_datalink);
 
  protected:
   void reset(const sim_window_t& w) override;
@@ -26,7 +29,9 @@ class SnsinsNode : public LockstepNode {
 
  private:
   bool in_dropout(double t_s) const;
-  Scenario sc_;
+  SnsinsOptions o_;
+  SiteContext site_;
+  bool via_datalink_;
   LocalLevelFrame frame_L_;
   SnsinsErrorModel model_;
   std::optional<Rng> rng_;

@@ -2,7 +2,8 @@
 // with scripted manoeuvres (turn rate and acceleration over an interval). Deterministic.
 #pragma once
 
-#include "uav_scenario.hpp"
+#include "frames.hpp"
+#include "target_options.hpp"
 
 #include <Eigen/Dense>
 

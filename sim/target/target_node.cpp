@@ -4,20 +4,21 @@
 
 namespace rnav {
 
-TargetNode::TargetNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "target", sc.runner.peer_timeout_s),
-      sc_(sc),
-      motion_(sc.target, sc.sensor.period_s),
-      frame_(sc.frame()) {}
+TargetNode::TargetNode(Bus& bus, const TargetOptions& o, double step_s, const UavContext& ctx)
+    : LockstepNode(bus, "target", ctx.runner.peer_timeout_s),
+      step_s_(step_s),
+      ctx_(ctx),
+      motion_(o, step_s),
+      frame_(ctx.frame()) {}
 
 int TargetNode::process(const sim_window_t& w) {
-  const std::int64_t step = to_us(sc_.sensor.period_s), end = to_us(sc_.duration_s);
-  const std::int64_t b = w.utime_begin - sc_.runner.epoch_utime, e = w.utime_end - sc_.runner.epoch_utime;
+  const std::int64_t step = to_us(step_s_), end = to_us(ctx_.duration_s);
+  const std::int64_t b = w.utime_begin - ctx_.runner.epoch_utime, e = w.utime_end - ctx_.runner.epoch_utime;
   target_truth_batch_t batch;
   for (std::int64_t t = (b + step - 1) / step * step; t < e && t <= end; t += step) {
     const TargetKinematics k = motion_.at(t * 1e-6);
     target_state_t s;
-    s.utime = sc_.utime(t);
+    s.utime = ctx_.utime(t);
     s.p_OT_F[0] = k.p_OT_F.x();
     s.p_OT_F[1] = k.p_OT_F.y();
     s.v_T_F[0] = k.v_T_F.x();

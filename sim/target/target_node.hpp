@@ -3,19 +3,22 @@
 
 #include "lockstep_node.hpp"
 #include "target_motion.hpp"
+#include "uav_context.hpp"
 
 namespace rnav {
 
 class TargetNode : public LockstepNode {
  public:
-  TargetNode(Bus& bus, const UavScenario& sc);
+  /// @param step_s  [s] the truth step (the sensor's frame period, sensor.period_s)
+  TargetNode(Bus& bus, const TargetOptions& o, double step_s, const UavContext& ctx);
 
  protected:
   void reset(const sim_window_t&) override {}
   int process(const sim_window_t& w) override;
 
  private:
-  UavScenario sc_;
+  double step_s_;
+  UavContext ctx_;
   TargetMotion motion_;
   LocalLevelFrame frame_;
 };

@@ -6,7 +6,8 @@
 // the run's duration.
 #pragma once
 
-#include "scenario.hpp"
+#include "site_context.hpp"
+#include "trajectory_options.hpp"
 
 #include <Eigen/Dense>
 
@@ -29,9 +30,9 @@ class Trajectory {
   virtual double duration_s() const = 0;
 };
 
-/// The scenario's trajectory: ReplayTrajectory when sc.trajectory.replay_csv is set (the
-/// landing frame L comes from sc.runway), else ApproachTrajectory. Throws ConfigError for an
-/// impossible analytic geometry or a bad replay file (naming file and line).
-std::unique_ptr<Trajectory> make_trajectory(const Scenario& sc);
+/// The scenario's trajectory: ReplayTrajectory when o.replay_csv is set (the landing frame L
+/// comes from site.runway), else ApproachTrajectory. Throws ConfigError for an impossible
+/// analytic geometry or a bad replay file (naming file and line).
+std::unique_ptr<Trajectory> make_trajectory(const TrajectoryOptions& o, const SiteContext& site);
 
 }  // namespace rnav

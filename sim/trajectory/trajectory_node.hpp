@@ -11,15 +11,16 @@ namespace rnav {
 
 class TrajectoryNode : public LockstepNode {
  public:
-  TrajectoryNode(Bus& bus, const Scenario& sc);
+  TrajectoryNode(Bus& bus, const TrajectoryOptions& o, const SiteContext& site);
 
  protected:
   void reset(const sim_window_t&) override {}
   int process(const sim_window_t& w) override;
 
  private:
-  Scenario sc_;
-  std::unique_ptr<Trajectory> traj_;  // make_trajectory(sc): analytic or replayed
+  TrajectoryOptions o_;
+  SiteContext site_;
+  std::unique_ptr<Trajectory> traj_;  // make_trajectory(o, site): analytic or replayed
   LocalLevelFrame frame_L_;
 };
 

@@ -6,7 +6,8 @@
 #pragma once
 
 #include "random.hpp"
-#include "uav_scenario.hpp"
+#include "frames.hpp"
+#include "sensor_options.hpp"
 
 #include <memory>
 #include <string>

@@ -20,7 +20,8 @@
 //    (straight-line limit V_a dt (cos psi, sin psi) + w dt as omega -> 0).
 #pragma once
 
-#include "uav_scenario.hpp"
+#include "frames.hpp"
+#include "observer_options.hpp"
 
 #include <Eigen/Dense>
 

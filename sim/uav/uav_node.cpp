@@ -14,23 +14,26 @@ namespace rnav {
 
 namespace {
 // The orbit centre (straight: the point passed by): the object's first position + offset.
-Eigen::Vector2d orbit_centre(const UavScenario& sc) {
-  return {sc.target.start_north_m + sc.uav.centre_offset_north_m,
-          sc.target.start_east_m + sc.uav.centre_offset_east_m};
+Eigen::Vector2d orbit_centre(const ObserverOptions& uav, const Eigen::Vector2d& target_start_NE_m) {
+  return {target_start_NE_m.x() + uav.centre_offset_north_m, target_start_NE_m.y() + uav.centre_offset_east_m};
 }
 }  // namespace
 
-UavNode::UavNode(Bus& bus, const UavScenario& sc)
-    : LockstepNode(bus, "uav", sc.runner.peer_timeout_s),
-      sc_(sc),
-      frame_(sc.frame()),
-      path_(sc.uav, orbit_centre(sc), sc.duration_s),
-      corr_{GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s),
-            GaussMarkov(sc.uav_nav.corr_sigma_m, sc.uav_nav.corr_tau_s)},
-      bearing_error_(sc.sensor, sc.sensor_effects),
-      limits_(guidance::Limits::from(sc.uav)) {
+UavNode::UavNode(Bus& bus, const ObserverOptions& uav, const ObserverNavOptions& nav, const SensorOptions& sensor,
+                 const SensorEffectsOptions& effects, const Eigen::Vector2d& target_start_NE_m, const UavContext& ctx)
+    : LockstepNode(bus, "uav", ctx.runner.peer_timeout_s),
+      uav_(uav),
+      nav_(nav),
+      sensor_(sensor),
+      ctx_(ctx),
+      frame_(ctx.frame()),
+      path_(uav, orbit_centre(uav, target_start_NE_m), ctx.duration_s),
+      corr_{GaussMarkov(nav.corr_sigma_m, nav.corr_tau_s),
+            GaussMarkov(nav.corr_sigma_m, nav.corr_tau_s)},
+      bearing_error_(sensor, effects),
+      limits_(guidance::Limits::from(uav)) {
   add_input<target_truth_batch_t>(ch::kTruthTarget);
-  if (sc_.closed_loop()) add_feedback_input<tma_batch_t>(ch::kUavTma);
+  if (closed_loop(uav_)) add_feedback_input<tma_batch_t>(ch::kUavTma);
 }
 
 void UavNode::reset(const sim_window_t& w) {
@@ -54,7 +57,7 @@ void UavNode::take_estimates() {
   const auto& b = input<tma_batch_t>(ch::kUavTma);
   bool any_other = false;
   for (const auto& e : b.estimates) {
-    if (e.estimator != sc_.uav.guidance_estimator) {
+    if (e.estimator != uav_.guidance_estimator) {
       any_other = true;
       continue;
     }
@@ -64,7 +67,7 @@ void UavNode::take_estimates() {
     estimates_.push_back({e.utime, Eigen::Vector4d(e.x[0], e.x[1], e.x[2], e.x[3])});
   }
   if (any_other && estimates_.empty())
-    throw std::runtime_error("UAV_TMA carries no estimate of uav.guidance_estimator = '" + sc_.uav.guidance_estimator +
+    throw std::runtime_error("UAV_TMA carries no estimate of uav.guidance_estimator = '" + uav_.guidance_estimator +
                              "' (is that estimator running?)");
 }
 
@@ -85,12 +88,12 @@ ObserverKinematics UavNode::closed_loop_kinematics() const {
 void UavNode::steer(std::int64_t utime, const Eigen::Vector2d& p_nav_F, const bearing_t* measured) {
   if (measured) last_bearing_rad_ = measured->bearing_rad;
   // The estimate estimate_latency_s old, predicted to now with its velocity: p = p_e + v_e (t - t_e).
-  const HeldEstimate* e = estimate_at(utime - static_cast<std::int64_t>(std::llround(sc_.uav.estimate_latency_s * 1e6)));
+  const HeldEstimate* e = estimate_at(utime - static_cast<std::int64_t>(std::llround(uav_.estimate_latency_s * 1e6)));
   std::optional<Eigen::Vector2d> d;  // line of sight from the UAV (its nav solution) to the estimate
   if (e) d = e->x.head<2>() + e->x.tail<2>() * ((utime - e->utime) * 1e-6) - p_nav_F;
   std::optional<double> beta, range;
   if (d) range = d->norm();
-  if (sc_.uav.guidance == "estimate" && d) {
+  if (uav_.guidance == "estimate" && d) {
     beta = bearing_rad(*d);
   } else if (last_bearing_rad_) {
     beta = *last_bearing_rad_;  // los, or no estimate yet: the measured bearing
@@ -103,28 +106,28 @@ void UavNode::steer(std::int64_t utime, const Eigen::Vector2d& p_nav_F, const be
 
 int UavNode::process(const sim_window_t&) {
   const auto& truth = input<target_truth_batch_t>(ch::kTruthTarget);
-  if (sc_.closed_loop()) take_estimates();
+  if (closed_loop(uav_)) take_estimates();
   observer_batch_t true_uav, nav;
   bearing_batch_t bearings;
-  const double sigma_b = sc_.sensor.sigma_deg * kDegToRad;  // the sensor's stated accuracy
-  const double white = sc_.uav_nav.white_sigma_m;
-  const double sigma_nav = std::sqrt(white * white + sc_.uav_nav.corr_sigma_m * sc_.uav_nav.corr_sigma_m);
+  const double sigma_b = sensor_.sigma_deg * kDegToRad;  // the sensor's stated accuracy
+  const double white = nav_.white_sigma_m;
+  const double sigma_nav = std::sqrt(white * white + nav_.corr_sigma_m * nav_.corr_sigma_m);
   for (const auto& ts : truth.states) {
-    const double t = (ts.utime - sc_.runner.epoch_utime) * 1e-6;
-    if (sc_.closed_loop() && t > state_t_s_) {
+    const double t = (ts.utime - ctx_.runner.epoch_utime) * 1e-6;
+    if (closed_loop(uav_) && t > state_t_s_) {
       state_ = guidance::propagate(limits_, state_, omega_radps_, t - state_t_s_);
       state_t_s_ = t;
     }
-    const ObserverKinematics k = sc_.closed_loop() ? closed_loop_kinematics() : path_.at(t);
+    const ObserverKinematics k = closed_loop(uav_) ? closed_loop_kinematics() : path_.at(t);
     auto fill = [&](observer_state_t& o, const Eigen::Vector2d& p, const Eigen::Vector2d& v, double sig) {
       o.utime = ts.utime;
       o.p_OU_F[0] = p.x();
-      o.p_OU_F[1] = sc_.uav.altitude_m;
+      o.p_OU_F[1] = uav_.altitude_m;
       o.p_OU_F[2] = p.y();
       o.v_U_F[0] = v.x();
       o.v_U_F[1] = 0;
       o.v_U_F[2] = v.y();
-      const Geodetic g = frame_.to_geodetic(Eigen::Vector3d(p.x(), sc_.uav.altitude_m, p.y()));
+      const Geodetic g = frame_.to_geodetic(Eigen::Vector3d(p.x(), uav_.altitude_m, p.y()));
       o.lat_deg = g.lat_deg;
       o.lon_deg = g.lon_deg;
       o.h_m = g.h_m;
@@ -139,14 +142,14 @@ int UavNode::process(const sim_window_t&) {
     Eigen::Vector2d dp, dv;
     for (int i = 0; i < 2; ++i) {
       dp[i] = corr_[i].step(dt, *rng_) + white * rng_->normal();
-      dv[i] = sc_.uav_nav.vel_sigma_mps * rng_->normal();
+      dv[i] = nav_.vel_sigma_mps * rng_->normal();
     }
     fill(sol, k.p_OU_F + dp, k.v_U_F + dv, sigma_nav);
     nav.states.push_back(sol);
     // Sensor: the true bearing from the true UAV position, within the field of regard.
     const Eigen::Vector2d d(ts.p_OT_F[0] - k.p_OU_F.x(), ts.p_OT_F[1] - k.p_OU_F.y());
     const double truth_b = bearing_rad(d);
-    const double rel = wrap_pi(truth_b - k.course_rad - sc_.sensor.fov_centre_deg * kDegToRad);
+    const double rel = wrap_pi(truth_b - k.course_rad - sensor_.fov_centre_deg * kDegToRad);
     BearingTruth bt;
     bt.t_s = t;
     bt.bearing_rad = truth_b;
@@ -156,8 +159,8 @@ int UavNode::process(const sim_window_t&) {
     bt.bearing_rate_radps = (d.x() * vrel.y() - d.y() * vrel.x()) / d.squaredNorm();
     const double noise = bearing_error_.error(bt, *rng_);  // every frame: gaps do not shift the stream
     const std::int64_t fid = frame_id_++;
-    const bool detected = std::abs(rel) <= sc_.sensor.fov_half_deg * kDegToRad && d.norm() <= sc_.sensor.max_range_m &&
-                          d.norm() >= sc_.sensor.min_range_m;
+    const bool detected = std::abs(rel) <= sensor_.fov_half_deg * kDegToRad && d.norm() <= sensor_.max_range_m &&
+                          d.norm() >= sensor_.min_range_m;
     if (detected) {
       bearing_t b;
       b.utime = ts.utime;
@@ -166,7 +169,7 @@ int UavNode::process(const sim_window_t&) {
       b.sigma_rad = sigma_b;
       bearings.bearings.push_back(b);
     }
-    if (sc_.closed_loop())
+    if (closed_loop(uav_))
       steer(ts.utime, Eigen::Vector2d(sol.p_OU_F[0], sol.p_OU_F[2]), detected ? &bearings.bearings.back() : nullptr);
   }
   true_uav.n = static_cast<int>(true_uav.states.size());

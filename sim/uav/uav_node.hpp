@@ -14,6 +14,8 @@
 #include "guidance.hpp"
 #include "observer_path.hpp"
 #include "random.hpp"
+#include "sensor_options.hpp"
+#include "uav_context.hpp"
 
 #include <array>
 #include <optional>
@@ -23,14 +25,20 @@ namespace rnav {
 
 class UavNode : public LockstepNode {
  public:
-  UavNode(Bus& bus, const UavScenario& sc);
+  /// @param target_start_NE_m  [m] the object's first position (north, east): the orbit's
+  ///                           centre before uav.centre_offset_*
+  UavNode(Bus& bus, const ObserverOptions& uav, const ObserverNavOptions& nav, const SensorOptions& sensor,
+          const SensorEffectsOptions& effects, const Eigen::Vector2d& target_start_NE_m, const UavContext& ctx);
 
  protected:
   void reset(const sim_window_t& w) override;
   int process(const sim_window_t& w) override;
 
  private:
-  UavScenario sc_;
+  ObserverOptions uav_;
+  ObserverNavOptions nav_;
+  SensorOptions sensor_;
+  UavContext ctx_;
   LocalLevelFrame frame_;
   ObserverPath path_;
   std::optional<Rng> rng_;

@@ -3,8 +3,7 @@
 #include "channels.hpp"
 #include "config.hpp"
 #include "lcm_log_streams.hpp"
-#include "scenario.hpp"
-#include "uav_scenario.hpp"
+#include "site_context.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/bearing_batch_t.hpp>
@@ -16,6 +15,11 @@
 namespace rnav {
 
 namespace {
+
+// What a UAV log's reader needs of its scenario: the runner (its epoch).
+struct SiteRunner {
+  RunnerOptions runner;
+};
 
 // A batch holds the samples whose time falls in its window [utime_begin, utime_end): a sample
 // outside it has a corrupt time stamp (e.g. one flipped bit), which must not be dropped silently.
@@ -46,17 +50,22 @@ void check_nav_age(const std::string& file, const std::string& realization, cons
                       " us (a corrupt time stamp)");
 }
 
-// The scenario of the run: --scenario FILE if given, else the log's SIM_SCENARIO; --set
-// overrides on top. Its sim time 0 must be the log's (else it is another run's scenario).
-template <class Sc>
-Sc scenario_of(const LcmLogStreams& log, const LcmLogOptions& o, const std::string& kind) {
-  Sc sc;
+// The scenario document of the run: --scenario FILE if given, else the log's SIM_SCENARIO;
+// --set overrides on top; `read` takes the shared sections the reader needs (ConfigErrors
+// prefixed with where the document came from). Its sim time 0 must be the log's (else it is
+// another run's scenario).
+template <class Read>
+auto scenario_of(const LcmLogStreams& log, const LcmLogOptions& o, const std::string& kind, Read&& read) {
+  std::string what;
+  nlohmann::json doc;
   if (!o.scenario_file.empty()) {
     const std::string k = scenario_kind(o.scenario_file);
     if (k != kind)
       throw ConfigError("--scenario " + o.scenario_file + " is a '" + k + "' scenario, but diagnose " +
                         kind + " needs a '" + kind + "' one");
-    sc = Sc::load(o.scenario_file, o.overrides);
+    what = o.scenario_file;
+    doc = load_json_file(o.scenario_file);
+    for (const auto& ov : o.overrides) apply_override(doc, ov);
   } else {
     const sim_scenario_t* s = log.scenario();
     if (!s)
@@ -67,14 +76,16 @@ Sc scenario_of(const LcmLogStreams& log, const LcmLogOptions& o, const std::stri
     if (s->kind != kind)
       throw ConfigError(log.file() + ": the log holds a '" + s->kind + "' run (SIM_SCENARIO); use diagnose " +
                         s->kind);
-    const std::string what = log.file() + ": SIM_SCENARIO (scenario " + s->source + ")";
-    nlohmann::json doc = parse_json_checked(s->scenario_json, what + ": not valid JSON", /*allow_comments=*/false);
-    try {
+    what = log.file() + ": SIM_SCENARIO (scenario " + s->source + ")";
+    doc = parse_json_checked(s->scenario_json, what + ": not valid JSON", /*allow_comments=*/false);
+  }
+  decltype(read(doc)) sc;
+  try {
+    if (o.scenario_file.empty())
       for (const auto& ov : o.overrides) apply_override(doc, ov);
-      sc = Sc::from_json(doc);
-    } catch (const ConfigError& e) {
-      throw ConfigError(what + ": " + e.what());
-    }
+    sc = read(doc);
+  } catch (const ConfigError& e) {
+    throw ConfigError(what + ": " + e.what());
   }
   if (sc.runner.epoch_utime != log.start_utime())
     throw ConfigError(log.file() + ": realization " + std::to_string(log.realization()) +
@@ -97,7 +108,7 @@ PrlFlightData read_prl_lcm_log(const std::string& file, const LcmLogOptions& o, 
   log.add_stream<prl_plot_batch_t>(ch::kApoi);
   log.add_stream<nav_batch_t>(ch::kNav);
   log.read(file, o.realization, "prl");
-  const Scenario sc = scenario_of<Scenario>(log, o, "prl");
+  const SiteContext sc = scenario_of(log, o, "prl", read_site_context);
 
   PrlFlightData d;
   d.radar_site = sc.radar_site();
@@ -137,7 +148,7 @@ AzimuthData read_uav_lcm_log(const std::string& file, const LcmLogOptions& o, st
   log.add_stream<bearing_batch_t>(ch::kUavBearing);
   log.add_stream<target_truth_batch_t>(ch::kTruthTarget);
   log.read(file, o.realization, "uav");
-  const UavScenario sc = scenario_of<UavScenario>(log, o, "uav");
+  const auto sc = scenario_of(log, o, "uav", [](const nlohmann::json& doc) { return SiteRunner{read_runner_options(doc)}; });
 
   AzimuthData d;
   auto t_of = [&](std::int64_t u) { return (u - sc.runner.epoch_utime) * 1e-6; };

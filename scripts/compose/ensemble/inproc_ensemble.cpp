@@ -18,8 +18,13 @@ namespace rnav {
 
 void add_nav_nodes(InprocBus& bus, const Scenario& sc, std::vector<std::unique_ptr<LockstepNode>>& nodes,
                    const std::string& out_dir) {
-  nodes.push_back(std::make_unique<SnsinsNode>(bus, sc));
-  if (sc.datalink.enabled) nodes.push_back(std::make_unique<DatalinkNode>(bus, sc, out_dir));
+  nodes.push_back(std::make_unique<SnsinsNode>(bus, sc.snsins, sc.site(), sc.datalink.enabled));
+  if (sc.datalink.enabled) nodes.push_back(std::make_unique<DatalinkNode>(bus, sc.datalink, sc.site(), out_dir));
+}
+
+std::unique_ptr<LockstepNode> make_uav_node(Bus& bus, const UavScenario& sc) {
+  return std::make_unique<UavNode>(bus, sc.uav, sc.uav_nav, sc.sensor, sc.sensor_effects,
+                                   Eigen::Vector2d(sc.target.start_north_m, sc.target.start_east_m), sc.context());
 }
 
 // Drive nodes and clock on one InprocBus until the clock is done.
@@ -59,24 +64,24 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir, const std::vector<std::string>& drops, int first) {
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
-  nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
+  nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc.trajectory, sc.site()));
   add_nav_nodes(bus, sc, nodes, out_dir);
-  nodes.push_back(std::make_unique<PrlNode>(bus, sc));
-  nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
-  nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc, out_dir));
+  nodes.push_back(std::make_unique<PrlNode>(bus, sc.prl, sc.prl_effects, sc.site()));
+  nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc.prl_bias, sc.site()));
+  nodes.push_back(std::make_unique<PrlLoggerNode>(bus, sc.logger, sc.site(), sc.json_text(), out_dir));
   ConductorOptions shard;
   shard.first_realization = first;
-  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed, drops, shard);
+  return run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc.trajectory, sc.site())->duration_s(), n, seed, drops, shard);
 }
 
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir, const std::vector<std::string>& drops, int first) {
   InprocBus bus;
   std::vector<std::unique_ptr<LockstepNode>> nodes;
-  nodes.push_back(std::make_unique<TargetNode>(bus, sc));
-  nodes.push_back(std::make_unique<UavNode>(bus, sc));
-  nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
-  nodes.push_back(std::make_unique<UavLoggerNode>(bus, sc, out_dir));
+  nodes.push_back(std::make_unique<TargetNode>(bus, sc.target, sc.sensor.period_s, sc.context()));
+  nodes.push_back(make_uav_node(bus, sc));
+  nodes.push_back(std::make_unique<UavTmaNode>(bus, sc.tma, sc.context()));
+  nodes.push_back(std::make_unique<UavLoggerNode>(bus, sc.stats_setup(), sc.json_text(), out_dir));
   ConductorOptions shard;
   shard.first_realization = first;
   return run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops, shard);

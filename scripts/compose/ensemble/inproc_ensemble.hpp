@@ -26,6 +26,9 @@ struct InprocResult {
 void add_nav_nodes(InprocBus& bus, const Scenario& sc, std::vector<std::unique_ptr<LockstepNode>>& nodes,
                    const std::string& out_dir);
 
+/// The node "uav" of a UAV scenario: its own sections, the object's first position, the context.
+std::unique_ptr<LockstepNode> make_uav_node(Bus& bus, const UavScenario& sc);
+
 /// Drive any set of nodes and the clock on one InprocBus until the clock is done.
 /// `base`: further clock options (e.g. the scenario to publish on SIM_SCENARIO); its
 /// n_realizations, seed and nodes are replaced by n, seed and the nodes' names.

@@ -48,19 +48,19 @@ int export_lcm_log(const std::string& scenario_file, const std::vector<std::stri
   InprocResult r;
   if (base.scenario_kind == "uav") {
     const UavScenario sc = UavScenario::load(scenario_file, overrides);
-    nodes.push_back(std::make_unique<TargetNode>(bus, sc));
-    nodes.push_back(std::make_unique<UavNode>(bus, sc));
-    nodes.push_back(std::make_unique<UavTmaNode>(bus, sc));
+    nodes.push_back(std::make_unique<TargetNode>(bus, sc.target, sc.sensor.period_s, sc.context()));
+    nodes.push_back(make_uav_node(bus, sc));
+    nodes.push_back(std::make_unique<UavTmaNode>(bus, sc.tma, sc.context()));
     LcmLogTap tap(bus, log_file, sc.runner.epoch_utime);
     r = run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops, base);
   } else {
     const Scenario sc = Scenario::load(scenario_file, overrides);
-    nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc));
+    nodes.push_back(std::make_unique<TrajectoryNode>(bus, sc.trajectory, sc.site()));
     add_nav_nodes(bus, sc, nodes, "");  // snsins, and the data link if enabled
-    nodes.push_back(std::make_unique<PrlNode>(bus, sc));
-    nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc));
+    nodes.push_back(std::make_unique<PrlNode>(bus, sc.prl, sc.prl_effects, sc.site()));
+    nodes.push_back(std::make_unique<PrlBiasNode>(bus, sc.prl_bias, sc.site()));
     LcmLogTap tap(bus, log_file, sc.runner.epoch_utime);
-    r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc)->duration_s(), n, seed, drops, base);
+    r = run_inproc_nodes(bus, nodes, sc.runner, sc.trajectory.step_s, make_trajectory(sc.trajectory, sc.site())->duration_s(), n, seed, drops, base);
   }
   if (failure) *failure = r.failure;
   return r.exit_code;

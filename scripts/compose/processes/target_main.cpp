@@ -1,4 +1,4 @@
-// Process "target": LCM wiring only; the model is TargetMotion.
+// Process "target" (a composition root): LCM wiring only; the model is TargetMotion.
 #include "node_main.hpp"
 #include "target_node.hpp"
 #include "uav_scenario.hpp"
@@ -11,6 +11,6 @@ int main(int argc, char** argv) {
                         "published on TRUTH_TARGET.",
                         false},
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::TargetNode>(bus, sc);
+        return std::make_unique<rnav::TargetNode>(bus, sc.target, sc.sensor.period_s, sc.context());
       });
 }

@@ -1,6 +1,7 @@
-// Process "datalink": LCM wiring only; the model is NavLink (link_budget.hpp), the node DatalinkNode.
+// Process "datalink" (a composition root): LCM wiring only; the model is NavLink (link_budget.hpp), the node DatalinkNode.
 #include "datalink_node.hpp"
 #include "node_main.hpp"
+#include "scenario.hpp"
 
 #include <iostream>
 
@@ -14,7 +15,7 @@ int main(int argc, char** argv) {
                         "(messages sent and lost per realization) at the end.",
                         true},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs& a) {
-        auto node = std::make_unique<rnav::DatalinkNode>(bus, sc, a.out_dir);
+        auto node = std::make_unique<rnav::DatalinkNode>(bus, sc.datalink, sc.site(), a.out_dir);
         std::cerr << "datalink: " << node->link().budget().describe() << "\n";
         return node;
       });

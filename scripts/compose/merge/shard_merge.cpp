@@ -6,6 +6,7 @@
 #include "datalink_node.hpp"
 #include "prl_stats.hpp"
 #include "realization_set.hpp"
+#include "scenario.hpp"
 #include "uav_scenario.hpp"
 #include "uav_realizations.hpp"
 #include "uav_stats.hpp"
@@ -144,12 +145,13 @@ MergeResult merge_shards(const std::vector<std::string>& shard_dirs, const std::
   };
   std::vector<CsvColumnDoc> row_columns;  // realizations.csv's, as one run of the kind writes them
   if (res.kind == "landing") {
-    PrlStats st(Scenario::load(sc_file, {}));
+    const Scenario sc = Scenario::load(sc_file, {});
+    PrlStats st(sc.logger, sc.site());
     merge_all(st);
     row_columns = st.realizations_columns();
   } else if (res.kind == "uav") {
     const UavScenario sc = UavScenario::load(sc_file, {});
-    UavStats st(sc);
+    UavStats st(sc.stats_setup());
     merge_all(st);
     track_realization = sc.logger.track_realization;
     row_columns = uav_realizations_columns();

@@ -1,9 +1,10 @@
-// Process "uav_tma": LCM wiring only; the estimators are in tma_estimators.hpp. With --free it
+// Process "uav_tma" (a composition root): LCM wiring only; the estimators are in tma_estimators.hpp. With --free it
 // runs without the lock-step clock (UavTmaFreeNode), driven by the messages' own time stamps.
 #include "free_main.hpp"
 #include "node_main.hpp"
 #include "uav_tma_free_node.hpp"
 #include "uav_tma_node.hpp"
+#include "uav_scenario.hpp"
 
 #include <cstring>
 #include <limits>
@@ -29,12 +30,12 @@ int main(int argc, char** argv) {
           },
           [&o](rnav::Bus& bus, const rnav::UavScenario& sc) -> std::unique_ptr<rnav::FreeNode> {
             std::cerr << "rnav_uav_tma: bearing_lateness_s " << o.bearing_lateness_s << " seed " << o.seed << "\n";
-            return std::make_unique<rnav::UavTmaFreeNode>(bus, sc, o);
+            return std::make_unique<rnav::UavTmaFreeNode>(bus, sc.tma, sc.context(), o);
           });
     }
   return rnav::run_node_main<rnav::UavScenario>(
       argc, argv, program,
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::UavTmaNode>(bus, sc);
+        return std::make_unique<rnav::UavTmaNode>(bus, sc.tma, sc.context());
       });
 }

@@ -1,6 +1,7 @@
-// Process "logger": LCM wiring only; the statistics are PrlStats.
+// Process "logger" (a composition root): LCM wiring only; the statistics are PrlStats.
 #include "node_main.hpp"
 #include "prl_logger_node.hpp"
+#include "scenario.hpp"
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::Scenario>(
@@ -10,6 +11,6 @@ int main(int argc, char** argv) {
                         "stats_time.csv, stats_range.csv in --out DIR.",
                         true},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs& a) {
-        return std::make_unique<rnav::PrlLoggerNode>(bus, sc, a.out_dir);
+        return std::make_unique<rnav::PrlLoggerNode>(bus, sc.logger, sc.site(), sc.json_text(), a.out_dir);
       });
 }

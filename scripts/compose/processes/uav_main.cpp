@@ -1,6 +1,7 @@
-// Process "uav": LCM wiring only; the models are ObserverPath and UavNode's error model.
+// Process "uav" (a composition root): LCM wiring only; the models are ObserverPath and UavNode's error model.
 #include "node_main.hpp"
 #include "uav_node.hpp"
+#include "uav_scenario.hpp"
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::UavScenario>(
@@ -10,6 +11,8 @@ int main(int argc, char** argv) {
                         "bearings to the object (UAV_BEARING).",
                         false},
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::UavNode>(bus, sc);
+        return std::make_unique<rnav::UavNode>(bus, sc.uav, sc.uav_nav, sc.sensor, sc.sensor_effects,
+                                               Eigen::Vector2d(sc.target.start_north_m, sc.target.start_east_m),
+                                               sc.context());
       });
 }

@@ -1,5 +1,6 @@
-// Process "snsins": LCM wiring only; the model is SnsinsErrorModel.
+// Process "snsins" (a composition root): LCM wiring only; the model is SnsinsErrorModel.
 #include "node_main.hpp"
+#include "scenario.hpp"
 #include "snsins_node.hpp"
 
 int main(int argc, char** argv) {
@@ -11,6 +12,6 @@ int main(int argc, char** argv) {
                         "rnav_datalink then passes on what survives the link).",
                         false},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::SnsinsNode>(bus, sc);
+        return std::make_unique<rnav::SnsinsNode>(bus, sc.snsins, sc.site(), sc.datalink.enabled);
       });
 }

@@ -1,6 +1,7 @@
-// Process "prl": LCM wiring only; the model is PrlErrorModel.
+// Process "prl" (a composition root): LCM wiring only; the model is PrlErrorModel.
 #include "node_main.hpp"
 #include "prl_node.hpp"
+#include "scenario.hpp"
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::Scenario>(
@@ -11,6 +12,6 @@ int main(int argc, char** argv) {
                         "the injected errors on TRUTH_PRL_ERROR.",
                         false},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::PrlNode>(bus, sc);
+        return std::make_unique<rnav::PrlNode>(bus, sc.prl, sc.prl_effects, sc.site());
       });
 }

@@ -1,4 +1,4 @@
-// Process "clock": drives the lock-step protocol over LCM (Conductor) and shows progress.
+// Process "clock" (a composition root): drives the lock-step protocol over LCM (Conductor) and shows progress.
 // Options: one table below (rnav_clock --help prints it).
 #include "approach_trajectory.hpp"
 #include "atomic_file.hpp"
@@ -7,6 +7,7 @@
 #include "lcm_bus.hpp"
 #include "node_main.hpp"
 #include "progress.hpp"
+#include "scenario.hpp"
 #include "uav_scenario.hpp"
 
 #include <nlohmann/json.hpp>
@@ -135,7 +136,7 @@ bool load_uav(const Options& a, ClockScenario& s) {
 // instead and returns false.
 bool load_prl(const Options& a, ClockScenario& s) {
   const auto sc = rnav::Scenario::load(a.scenario_file, a.overrides);
-  const auto traj = rnav::make_trajectory(sc);
+  const auto traj = rnav::make_trajectory(sc.trajectory, sc.site());
   s.runner = sc.runner;
   s.step_s = sc.trajectory.step_s;
   s.duration_s = traj->duration_s();

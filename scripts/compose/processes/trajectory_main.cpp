@@ -1,5 +1,6 @@
-// Process "trajectory": LCM wiring only; the model is make_trajectory(scenario): ApproachTrajectory or ReplayTrajectory.
+// Process "trajectory" (a composition root): LCM wiring only; the model is make_trajectory(scenario): ApproachTrajectory or ReplayTrajectory.
 #include "node_main.hpp"
+#include "scenario.hpp"
 #include "trajectory_node.hpp"
 
 int main(int argc, char** argv) {
@@ -11,6 +12,6 @@ int main(int argc, char** argv) {
                         "(trajectory.replay_csv).",
                         false},
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::TrajectoryNode>(bus, sc);
+        return std::make_unique<rnav::TrajectoryNode>(bus, sc.trajectory, sc.site());
       });
 }

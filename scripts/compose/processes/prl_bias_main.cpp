@@ -1,9 +1,10 @@
-// Process "prl_bias": LCM wiring only; the estimator is PrlBiasEstimator. With --free it runs
+// Process "prl_bias" (a composition root): LCM wiring only; the estimator is PrlBiasEstimator. With --free it runs
 // without the lock-step clock (PrlBiasFreeNode), driven by the messages' own time stamps.
 #include "free_main.hpp"
 #include "node_main.hpp"
 #include "prl_bias_free_node.hpp"
 #include "prl_bias_node.hpp"
+#include "scenario.hpp"
 
 #include <cstring>
 
@@ -24,12 +25,12 @@ int main(int argc, char** argv) {
           },
           [&o](rnav::Bus& bus, const rnav::Scenario& sc) -> std::unique_ptr<rnav::FreeNode> {
             std::cerr << "rnav_prl_bias: nav_lateness_s " << o.nav_lateness_s << "\n";
-            return std::make_unique<rnav::PrlBiasFreeNode>(bus, sc, o);
+            return std::make_unique<rnav::PrlBiasFreeNode>(bus, sc.prl_bias, sc.site(), o);
           });
     }
   return rnav::run_node_main<rnav::Scenario>(
       argc, argv, program,
       [](rnav::Bus& bus, const rnav::Scenario& sc, const rnav::NodeArgs&) {
-        return std::make_unique<rnav::PrlBiasNode>(bus, sc);
+        return std::make_unique<rnav::PrlBiasNode>(bus, sc.prl_bias, sc.site());
       });
 }

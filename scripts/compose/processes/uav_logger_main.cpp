@@ -1,6 +1,7 @@
-// Process "uav_logger": LCM wiring only; the statistics are UavStats.
+// Process "uav_logger" (a composition root): LCM wiring only; the statistics are UavStats.
 #include "node_main.hpp"
 #include "uav_logger_node.hpp"
+#include "uav_scenario.hpp"
 
 int main(int argc, char** argv) {
   return rnav::run_node_main<rnav::UavScenario>(
@@ -11,6 +12,6 @@ int main(int argc, char** argv) {
                         "realization's track.csv in --out DIR.",
                         true},
       [](rnav::Bus& bus, const rnav::UavScenario& sc, const rnav::NodeArgs& a) {
-        return std::make_unique<rnav::UavLoggerNode>(bus, sc, a.out_dir);
+        return std::make_unique<rnav::UavLoggerNode>(bus, sc.stats_setup(), sc.json_text(), a.out_dir);
       });
 }

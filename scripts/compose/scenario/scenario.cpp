@@ -1,0 +1,90 @@
+#include "scenario.hpp"
+
+#include "options_io.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+namespace rnav {
+
+namespace options_io {  // found by read_scenario's ADL
+
+// Every section of a scenario, in file order.
+template <class F> void for_each_section(Scenario& sc, F&& f) {
+  f("runway", sc.runway);
+  f("radar", sc.radar);
+  f("trajectory", sc.trajectory);
+  f("prl", sc.prl);
+  f("prl_effects", sc.prl_effects);
+  f("snsins", sc.snsins);
+  f("datalink", sc.datalink);
+  f("prl_bias", sc.prl_bias);
+  f("logger", sc.logger);
+  f("runner", sc.runner);
+}
+
+}  // namespace options_io
+using namespace options_io;
+
+Scenario Scenario::from_json(const nlohmann::json& doc) {
+  Scenario sc;
+  read_scenario(doc, "prl", sc, [](Section&) {});
+
+  resolve_azimuth_reference(sc.runway, sc.radar);
+  const double step = sc.trajectory.step_s;
+  require_multiple(sc.prl.period_s, step, "prl.period_s");
+  require_multiple(sc.prl.phase_s, step, "prl.phase_s");
+  require_multiple(sc.snsins.link_period_s, step, "snsins.link_period_s");
+  require_multiple(sc.snsins.link_phase_s, step, "snsins.link_phase_s");
+  require_multiple(sc.runner.window_s, step, "runner.window_s");
+  if (sc.runner.flush_s <= sc.prl_bias.nav_wait_s + sc.snsins.latency_s)
+    throw ConfigError("scenario key 'runner.flush_s' must exceed prl_bias.nav_wait_s + "
+                      "snsins.latency_s so every plot is decided before the realization ends");
+  if (sc.trajectory.end_x_m >= sc.trajectory.intercept_x_m)
+    throw ConfigError("scenario key 'trajectory.end_x_m' must be below trajectory.intercept_x_m");
+  check_datalink(sc.datalink);
+  // One message's air time must end before the next message is sent.
+  const DatalinkOptions& d = sc.datalink;
+  const double air_s = message_air_time_s(d);
+  if (air_s > sc.snsins.link_period_s)
+    throw ConfigError("scenario key 'datalink.message_bits': a message of " + std::to_string(d.message_bits) + " bits takes " +
+                      value_text(air_s) + " s at datalink.chip_rate_hz / datalink.code_length, longer than "
+                      "snsins.link_period_s = " + value_text(sc.snsins.link_period_s) + " s");
+  check_logger(sc.logger);
+  return sc;
+}
+
+Scenario Scenario::load(const std::string& file, const std::vector<std::string>& overrides) {
+  Scenario sc = load_scenario<Scenario>(file, overrides);
+  // trajectory.replay_csv: a relative path in the file is relative to the file's directory;
+  // one given by an override (--set) is relative to the working directory, like any argument.
+  bool from_override = false;
+  for (const auto& o : overrides)
+    if (o.rfind("trajectory.replay_csv=", 0) == 0) from_override = true;
+  std::string& csv = sc.trajectory.replay_csv;
+  if (!csv.empty() && std::filesystem::path(csv).is_relative()) {
+    const std::filesystem::path base =
+        from_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path();
+    csv = (base / csv).lexically_normal().string();
+  }
+  return sc;
+}
+
+std::vector<std::string> Scenario::node_names() const {
+  std::vector<std::string> n{"trajectory", "snsins"};
+  if (datalink.enabled) n.push_back("datalink");
+  for (const char* m : {"prl", "prl_bias", "logger"}) n.push_back(m);
+  return n;
+}
+
+void Scenario::print(std::ostream& os) const {
+  print_scenario(*this, os, [](nlohmann::json&) {});
+}
+
+std::string Scenario::json_text() const {
+  std::ostringstream os;
+  print(os);
+  return os.str();
+}
+
+}  // namespace rnav
