@@ -118,6 +118,27 @@ TEST_CASE("noise model: the innovations form is generalised least squares") {
 
 namespace {
 // One radar-like channel over 200 s with irregular frames and a gap: y = effects + noise.
+// The range channel's nuisance (a range bias) and two catalogue entries: the physical
+// range_gain (column: the range) and the scanned bias_step (41 times, 20 ... 180 s).
+void add_gain_and_step(Problem& pb, const std::vector<double>& range) {
+  const auto n = static_cast<Eigen::Index>(pb.y.size());
+  pb.nuisance = Eigen::MatrixXd::Ones(n, 1);
+  pb.nuisance_names = {"range_bias_m"};
+  pb.catalogue.push_back({"range_gain", {"radar", ""}, {"1"}, "the range", "", {}, [range, n](std::size_t) {
+                            Eigen::MatrixXd C(n, 1);
+                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = range[static_cast<std::size_t>(i)];
+                            return C;
+                          }});
+  std::vector<double> grid;
+  for (double ts = 20; ts <= 180; ts += 4) grid.push_back(ts);
+  const auto t_s = pb.t_s;
+  pb.catalogue.push_back({"bias_step", {"radar", ""}, {"m"}, "a jump at one time", "t_s", grid, [t_s, grid, n](std::size_t v) {
+                            Eigen::MatrixXd C(n, 1);
+                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = t_s[static_cast<std::size_t>(i)] >= grid[v];
+                            return C;
+                          }});
+}
+
 struct Synthetic {
   Problem pb;
   std::vector<double> range;
@@ -143,23 +164,9 @@ Synthetic make(std::uint64_t seed, double gain, double step, double tau, double 
     pb.y.push_back(gain * r + (t > step_t_s ? step : 0.0) + e);
     pb.estimation.push_back(t < 130);
   }
+  add_gain_and_step(pb, s.range);
   const auto n = static_cast<Eigen::Index>(pb.y.size());
-  pb.nuisance = Eigen::MatrixXd::Ones(n, 1);
-  pb.nuisance_names = {"range_bias_m"};
-  const auto range = s.range;
-  pb.catalogue.push_back({"range_gain", {"radar", ""}, {"1"}, "the range", "", {}, [range, n](std::size_t) {
-                            Eigen::MatrixXd C(n, 1);
-                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = range[static_cast<std::size_t>(i)];
-                            return C;
-                          }});
-  std::vector<double> grid;
-  for (double ts = 20; ts <= 180; ts += 4) grid.push_back(ts);
   const auto t_s = pb.t_s;
-  pb.catalogue.push_back({"bias_step", {"radar", ""}, {"m"}, "a jump at one time", "t_s", grid, [t_s, grid, n](std::size_t v) {
-                            Eigen::MatrixXd C(n, 1);
-                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = t_s[static_cast<std::size_t>(i)] >= grid[v];
-                            return C;
-                          }});
   pb.catalogue.push_back({"bias_drift", {"radar", ""}, {"m_per_s"}, "time", "", {}, [t_s, n](std::size_t) {
                             Eigen::MatrixXd C(n, 1);
                             for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = t_s[static_cast<std::size_t>(i)] - 100;
@@ -804,22 +811,7 @@ Problem smooth_step_problem(std::uint64_t seed, double width_s) {
     pb.y.push_back((t >= 100 ? 0.3 : 0.0) + 0.5 * N(rng));
     pb.estimation.push_back(t < 130);
   }
-  const auto n = static_cast<Eigen::Index>(pb.y.size());
-  pb.nuisance = Eigen::MatrixXd::Ones(n, 1);
-  pb.nuisance_names = {"range_bias_m"};
-  pb.catalogue.push_back({"range_gain", {"radar", ""}, {"1"}, "the range", "", {}, [range, n](std::size_t) {
-                            Eigen::MatrixXd C(n, 1);
-                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = range[static_cast<std::size_t>(i)];
-                            return C;
-                          }});
-  std::vector<double> grid;
-  for (double ts = 20; ts <= 180; ts += 4) grid.push_back(ts);
-  const auto t_s = pb.t_s;
-  pb.catalogue.push_back({"bias_step", {"radar", ""}, {"m"}, "a jump at one time", "t_s", grid, [t_s, grid, n](std::size_t v) {
-                            Eigen::MatrixXd C(n, 1);
-                            for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = t_s[static_cast<std::size_t>(i)] >= grid[v];
-                            return C;
-                          }});
+  add_gain_and_step(pb, range);
   return pb;
 }
 }  // namespace
