@@ -18,10 +18,10 @@ UavLoggerNode::UavLoggerNode(Bus& bus, const UavStatsSetup& sc, std::string scen
     : EnsembleLoggerNode(bus, "uav_logger", sc.runner.peer_timeout_s, UavStats(sc), std::move(scenario_json),
                          std::move(out_dir)),
       sc_(sc) {
-  add_input<target_truth_batch_t>("TRUTH_TARGET");
-  add_input<observer_batch_t>("TRUTH_UAV");
-  add_input<bearing_batch_t>("UAV_BEARING");
-  add_input<tma_batch_t>("UAV_TMA");
+  add_input<target_truth_batch_t>(ch::kTruthTarget);
+  add_input<observer_batch_t>(ch::kTruthUav);
+  add_input<bearing_batch_t>(ch::kUavBearing);
+  add_input<tma_batch_t>(ch::kUavTma);
 }
 
 void UavLoggerNode::start_realization(const sim_window_t& w) {
@@ -32,21 +32,21 @@ void UavLoggerNode::start_realization(const sim_window_t& w) {
 int UavLoggerNode::process(const sim_window_t& /*w*/) {
   // Everything of one frame arrives in the same window (all are produced per frame).
   std::map<std::int64_t, tma::Vec4> truth;
-  for (const auto& s : input<target_truth_batch_t>("TRUTH_TARGET").states)
+  for (const auto& s : input<target_truth_batch_t>(ch::kTruthTarget).states)
     truth[s.utime] = tma::Vec4(s.p_OT_F[0], s.p_OT_F[1], s.v_T_F[0], s.v_T_F[1]);
   std::map<std::int64_t, Eigen::Vector2d> uav;
-  for (const auto& o : input<observer_batch_t>("TRUTH_UAV").states)
+  for (const auto& o : input<observer_batch_t>(ch::kTruthUav).states)
     uav[o.utime] = Eigen::Vector2d(o.p_OU_F[0], o.p_OU_F[2]);
   for (const auto& [utime, p_U] : uav)
     if (const auto t = truth.find(utime); t != truth.end()) current_.add_range((t->second.head<2>() - p_U).norm());
   if (tracking_) {
     for (const auto& [t, x] : truth) track_.add_object(t, x);
     for (const auto& [t, p] : uav) track_.add_uav(t, p);
-    for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) track_.add_bearing(b.utime, b.bearing_rad);
+    for (const auto& b : input<bearing_batch_t>(ch::kUavBearing).bearings) track_.add_bearing(b.utime, b.bearing_rad);
   }
   const double sb = sc_.sensor.sigma_deg * kDegToRad;
   const double sn = std::hypot(sc_.uav_nav.white_sigma_m, sc_.uav_nav.corr_sigma_m);
-  for (const auto& b : input<bearing_batch_t>("UAV_BEARING").bearings) {
+  for (const auto& b : input<bearing_batch_t>(ch::kUavBearing).bearings) {
     const auto t = truth.find(b.utime);
     const auto u = uav.find(b.utime);
     if (t == truth.end() || u == uav.end())
@@ -68,7 +68,7 @@ int UavLoggerNode::process(const sim_window_t& /*w*/) {
     else it->second += I;
   }
   int n = 0;
-  for (const auto& m : input<tma_batch_t>("UAV_TMA").estimates) {
+  for (const auto& m : input<tma_batch_t>(ch::kUavTma).estimates) {
     const auto t = truth.find(m.utime);
     if (t == truth.end())
       throw std::runtime_error("UAV_TMA estimate at utime " + std::to_string(m.utime) + " has no truth");

@@ -29,7 +29,7 @@ int TargetNode::process(const sim_window_t& w) {
     batch.states.push_back(s);
   }
   batch.n = static_cast<int>(batch.states.size());
-  publish_batch("TRUTH_TARGET", batch);
+  publish_batch(ch::kTruthTarget, batch);
   return batch.n;
 }
 

@@ -175,9 +175,9 @@ int UavNode::process(const sim_window_t&) {
   true_uav.n = static_cast<int>(true_uav.states.size());
   nav.n = static_cast<int>(nav.states.size());
   bearings.n = static_cast<int>(bearings.bearings.size());
-  publish_batch("TRUTH_UAV", true_uav);
-  publish_batch("UAV_NAV", nav);
-  publish_batch("UAV_BEARING", bearings);
+  publish_batch(ch::kTruthUav, true_uav);
+  publish_batch(ch::kUavNav, nav);
+  publish_batch(ch::kUavBearing, bearings);
   return bearings.n;
 }
 
