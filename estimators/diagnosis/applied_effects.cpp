@@ -80,19 +80,20 @@ std::size_t variant_of(const Candidate& c, const AppliedEffect& e) {
 
 }  // namespace
 
-std::vector<LeaveOneOutRow> score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
-                                          const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po_in,
-                                          std::vector<std::string>& applied, std::set<std::string>* catalogue_names) {
+AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po_in) {
   MultiProblemOptions po = po_in;
   po.scan_period_s = scan_period_s;
   RecordingDetections one = rec;
   one.name.clear();
   const MultiProblem mp = build_multi_problem({one}, po);
   const Problem& p = mp.problem;
-  if (catalogue_names)
-    for (const Candidate& c : p.catalogue) catalogue_names->insert(c.name);
+  AppliedScore out;
+  out.used.assign(effects.size(), 0);
+  for (const Candidate& c : p.catalogue) out.catalogue_names.insert(c.name);
   Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
-  for (const AppliedEffect& e : effects) {
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    const AppliedEffect& e = effects[k];
     const std::string scope = Scope{e.sensor, e.target, ""}.label();
     const auto it = std::find_if(p.catalogue.begin(), p.catalogue.end(), [&](const Candidate& x) {
       return !x.scope_only && x.name == e.name && x.scope.label() == scope;
@@ -104,7 +105,8 @@ std::vector<LeaveOneOutRow> score_applied(const RecordingDetections& rec, const 
     // the effect's prediction: its columns at the grid point times its value
     const Eigen::MatrixXd C = it->columns(variant_of(*it, e));
     pred += C * Eigen::Map<const Eigen::VectorXd>(e.value.data(), static_cast<Eigen::Index>(e.value.size()));
-    applied.push_back(e.label(it->params, it->scan_param));
+    out.applied.push_back(e.label(it->params, it->scan_param));
+    out.used[k] = 1;
   }
   PairErrors pe;
   for (std::size_t i = 0; i < rec.a.size(); ++i) {
@@ -116,7 +118,8 @@ std::vector<LeaveOneOutRow> score_applied(const RecordingDetections& rec, const 
     const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
     pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
   }
-  return pe.rows(rec.name);
+  out.rows = pe.rows(rec.name);
+  return out;
 }
 
 namespace {

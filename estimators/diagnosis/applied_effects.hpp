@@ -66,14 +66,20 @@ struct AppliedEffect {
   std::string label(const std::vector<std::string>& params, const std::string& scan_param) const;
 };
 
+/// One recording scored with effects removed.
+struct AppliedScore {
+  std::vector<LeaveOneOutRow> rows;         ///< per sensor:target pair
+  std::vector<std::string> applied;         ///< the label of each effect applied (observations here)
+  std::vector<char> used;                   ///< per effect given: 1 if applied here
+  std::set<std::string> catalogue_names;    ///< the names of this recording's catalogue entries
+};
+
 /// The recording's detections scored with the effects removed (those with observations in it).
 /// scan_period_s: per range sensor, as the effects were fitted with (it sets which sensors have a
-/// scan stamp entry). `applied` gets each applied effect's label; `catalogue_names`, if given,
-/// the names of the recording's catalogue entries. Throws ConfigError when an effect's value
-/// count or scan value does not fit its catalogue entry.
-std::vector<LeaveOneOutRow> score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
-                                          const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po,
-                                          std::vector<std::string>& applied, std::set<std::string>* catalogue_names = nullptr);
+/// scan stamp entry). Throws ConfigError when an effect's value count or scan value does not fit
+/// its catalogue entry.
+AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po);
 
 /// A calibration file read: its hardware effects, and what it holds besides.
 struct Calibration {

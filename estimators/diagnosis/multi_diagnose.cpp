@@ -6,17 +6,16 @@
 #include "did_you_mean.hpp"
 #include "diagnose_report.hpp"
 #include "multi_problem.hpp"
+#include "parallel_for.hpp"
 #include "search_json.hpp"
 #include "stats.hpp"
 #include "target_model.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <exception>
 #include <set>
 #include <stdexcept>
-#include <thread>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -47,12 +46,12 @@ std::vector<AppliedEffect> hardware_of(const SearchResult& fit) {
 }
 
 // Per sensor: the median interval between its successive scans (distinct stamps, empty scans
-// included) over every recording [s] (the problem uses it for range sensors).
-std::map<std::string, double> scan_periods(const std::vector<std::pair<std::string, MultiSensorData>>& recordings) {
+// included) over every recording given [s] (the problem uses it for range sensors).
+std::map<std::string, double> scan_periods(const std::vector<const MultiSensorData*>& recordings) {
   std::map<std::string, std::vector<double>> gaps;
-  for (const auto& rec : recordings) {
+  for (const MultiSensorData* rec : recordings) {
     std::map<std::string, double> last;
-    for (const Detection& x : rec.second.detections) {
+    for (const Detection& x : rec->detections) {
       const auto it = last.try_emplace(x.sensor, NAN).first;
       if (std::isfinite(it->second) && x.t_s > it->second) gaps[x.sensor].push_back(x.t_s - it->second);
       it->second = x.t_s;
@@ -90,7 +89,9 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     if (pooled) rep.recordings.push_back(name);
   }
   MultiProblemOptions po = problem_options(o);
-  po.scan_period_s = scan_periods(recordings);
+  std::vector<const MultiSensorData*> all;
+  for (const auto& rec : recordings) all.push_back(&rec.second);
+  po.scan_period_s = scan_periods(all);
   MultiProblem mp = build_multi_problem(recs, po);
   rep.split_time_s = mp.split_time_s.front();
   rep.split_fraction = o.split_fraction;
@@ -141,31 +142,23 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     const std::size_t R = recs.size();
     std::vector<std::vector<LeaveOneOutRow>> rows(R);
     std::vector<std::vector<std::string>> carried(R);
-    std::vector<std::exception_ptr> errors(R);
-    std::atomic<std::size_t> next{0};
-    auto work = [&] {
-      for (std::size_t k; (k = next++) < R;) try {
-          std::vector<RecordingDetections> rest;
-          for (std::size_t j = 0; j < R; ++j)
-            if (j != k) rest.push_back(recs[j]);
-          if (o.search.progress)
-            o.search.progress("leave one out: the others without recording " + std::to_string(k + 1) + " of " +
-                              std::to_string(R));
-          const MultiProblem fp = build_multi_problem(rest, po);
-          const SearchResult fr = search_effects(fp.problem, so);
-          rows[k] = score_applied(recs[k], fp.scan_period_s, hardware_of(fr), po, carried[k]);
-        } catch (const std::exception& e) {
-          errors[k] = std::make_exception_ptr(std::runtime_error("leaving out recording " + recs[k].name + ": " + e.what()));
-        } catch (...) {
-          errors[k] = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < std::max(1, o.search.injection.threads); ++t) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
+    parallel_for(R, o.search.injection.threads, [&](std::size_t k) {
+      try {
+        std::vector<RecordingDetections> rest;
+        for (std::size_t j = 0; j < R; ++j)
+          if (j != k) rest.push_back(recs[j]);
+        if (o.search.progress)
+          o.search.progress("leave one out: the others without recording " + std::to_string(k + 1) + " of " + std::to_string(R));
+        const MultiProblem fp = build_multi_problem(rest, po);
+        const SearchResult fr = search_effects(fp.problem, so);
+        AppliedScore scored = score_applied(recs[k], fp.scan_period_s, hardware_of(fr), po);
+        rows[k] = std::move(scored.rows);
+        carried[k] = std::move(scored.applied);
+      } catch (const std::exception& e) {
+        throw std::runtime_error("leaving out recording " + recs[k].name + ": " + e.what());
+      }
+    });
     for (std::size_t k = 0; k < R; ++k) {
-      if (errors[k]) std::rethrow_exception(errors[k]);
       rep.leave_one_out.insert(rep.leave_one_out.end(), rows[k].begin(), rows[k].end());
       rep.carried[recs[k].name] = carried[k];
     }
@@ -179,24 +172,26 @@ CalibrationReport check_calibration(const std::vector<std::pair<std::string, Mul
   if (recordings.empty()) throw ConfigError("calibration check: no recording");
   CalibrationReport rep;
   const MultiProblemOptions po = problem_options(o);
-  std::set<std::string> used;   // labels "name@scope (" of the effects applied somewhere
-  std::set<std::string> names;  // the catalogue's entry names
+  std::vector<char> used(effects.size(), 0);  // per effect: applied in some recording
+  std::set<std::string> names;                // the catalogue's entry names
   for (const auto& rec : recordings) {
     std::map<std::string, SensorAssociation> st;
     const RecordingDetections rd{rec.first, associate(rec.second, o.association, st)};
-    std::vector<std::string>& applied = rep.applied[rec.first];
-    const auto rows = score_applied(rd, scan_periods({rec}), effects, po, applied, &names);
-    rep.rows.insert(rep.rows.end(), rows.begin(), rows.end());
+    AppliedScore scored = score_applied(rd, scan_periods({&rec.second}), effects, po);
+    rep.rows.insert(rep.rows.end(), scored.rows.begin(), scored.rows.end());
+    rep.applied[rec.first] = std::move(scored.applied);
     rep.recordings.push_back(rec.first);
-    for (const auto& a : applied) used.insert(a.substr(0, a.find(" (") + 2));
+    for (std::size_t k = 0; k < effects.size(); ++k) used[k] |= scored.used[k];
+    names.insert(scored.catalogue_names.begin(), scored.catalogue_names.end());
   }
-  std::vector<std::string> known(names.begin(), names.end());
-  for (const auto& e : effects) {
+  const std::vector<std::string> known(names.begin(), names.end());
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    const AppliedEffect& e = effects[k];
     const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
     if (!names.count(e.name))
       throw ConfigError("calibration: " + label + ": no catalogue entry is named '" + e.name + "'" + did_you_mean(e.name, known));
     // a boat or sensor these recordings do not have (a calibration from other recordings): named, not applied
-    if (!used.count(label + " (")) rep.absent.push_back(label);
+    if (!used[k]) rep.absent.push_back(label);
   }
   return rep;
 }

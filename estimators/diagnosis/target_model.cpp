@@ -1,14 +1,14 @@
 #include "target_model.hpp"
 
+#include "parallel_for.hpp"
+
 #include "config.hpp"
 #include "plane_series.hpp"
 #include "stats.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
-#include <thread>
 
 namespace rnav {
 
@@ -115,26 +115,16 @@ TargetModelResult test_target_model(const std::map<std::string, std::vector<GeoS
   // the family: every target's entries and three noise tests on each of its two channels
   so.family_size = static_cast<double>(searched.size()) * (o.max_maneuvers + 3 * 2);
   std::vector<SearchResult> out(searched.size());
-  std::vector<std::string> errors(searched.size());
-  std::atomic<std::size_t> next{0};
-  auto work = [&] {
-    for (std::size_t i; (i = next++) < searched.size();) {
-      try {
-        if (o.search.progress)
-          o.search.progress("reference track of target " + searched[i].first + " (" + std::to_string(i + 1) + " of " +
-                            std::to_string(searched.size()) + ") searched for manoeuvres");
-        out[i] = search_effects(target_problem(searched[i].first, searched[i].second, o), so);
-      } catch (const std::exception& e) {
-        errors[i] = "target model of " + searched[i].first + ": " + e.what();
-      }
+  parallel_for(searched.size(), o.threads, [&](std::size_t i) {
+    try {
+      if (o.search.progress)
+        o.search.progress("reference track of target " + searched[i].first + " (" + std::to_string(i + 1) + " of " +
+                          std::to_string(searched.size()) + ") searched for manoeuvres");
+      out[i] = search_effects(target_problem(searched[i].first, searched[i].second, o), so);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("target model of " + searched[i].first + ": " + e.what());
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min<int>(o.threads, static_cast<int>(searched.size())); ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  for (const auto& e : errors)
-    if (!e.empty()) throw std::runtime_error(e);
+  });
   for (std::size_t i = 0; i < searched.size(); ++i) {
     const SearchResult& r = out[i];
     res.maneuvers.insert(res.maneuvers.end(), r.effects.begin(), r.effects.end());

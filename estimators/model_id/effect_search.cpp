@@ -4,18 +4,14 @@
 
 #include "effect_report.hpp"
 #include "entry_tests.hpp"
+#include "parallel_for.hpp"
 #include "replication.hpp"
 #include "injected_limits.hpp"
 #include "search_design.hpp"
 #include "stats.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <functional>
-#include <mutex>
-#include <thread>
 #include <stdexcept>
 
 namespace rnav {
@@ -46,26 +42,6 @@ void check_options(const SearchOptions& o) {
   if (!(o.null_set_q >= 0) || !std::isfinite(o.null_set_q))
     throw std::invalid_argument("effect search: null_set_q must be finite and >= 0");
   if (o.threads < 1) throw std::invalid_argument("effect search: threads >= 1");
-}
-
-// fn(0) ... fn(n - 1) on up to `threads` threads; the first exception thrown is rethrown.
-void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr err;
-  std::mutex err_mutex;
-  auto work = [&] {
-    for (std::size_t i; (i = next++) < n;) try {
-        fn(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(err_mutex);
-        if (!err) err = std::current_exception();
-      }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && static_cast<std::size_t>(t) < n; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (err) std::rethrow_exception(err);
 }
 
 // The chosen effects and, per effect, the 2 log LR it was kept with (given all the others

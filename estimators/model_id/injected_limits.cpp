@@ -1,15 +1,15 @@
 // Limits measured by injection (injected_limits.hpp).
 #include "injected_limits.hpp"
 
+#include "parallel_for.hpp"
+
 #include "search_design.hpp"
 #include "stats.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <thread>
 
 namespace rnav {
 
@@ -88,23 +88,9 @@ struct Bootstrap {
 std::pair<int, int> batch(const Bootstrap& b, const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e,
                           std::size_t j, std::size_t batch_id, double a, int n, const InjectionOptions& io) {
   std::vector<std::pair<bool, bool>> out(static_cast<std::size_t>(n));
-  std::atomic<int> next{0};
-  std::exception_ptr err;
-  std::atomic<bool> failed{false};
-  auto work = [&] {
-    for (int i = next++; i < n && !failed; i = next++) {
-      try {
-        out[static_cast<std::size_t>(i)] = b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, i));
-      } catch (...) {
-        if (!failed.exchange(true)) err = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min(io.threads, n); ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (err) std::rethrow_exception(err);
+  parallel_for(out.size(), io.threads, [&](std::size_t i) {
+    out[i] = b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, static_cast<int>(i)));
+  });
   int named = 0, detected = 0;
   for (const auto& [nm, dt] : out) named += nm, detected += dt;
   return {named, detected};
