@@ -15,7 +15,10 @@ element count and its last element's fields). Losses: gaps in each sender's LCM 
 Repeats: a message whose bytes equal an earlier one's on the same channel (a lock-step resend),
 and the clock's RESEND commands on SIM_WINDOW. LCM's packet formats (udpm): a short message is
 one datagram 'LC02' seqno channel NUL payload; a long one is fragments 'LC03' seqno size offset
-fragment_no n_fragments, the first carrying the channel. --duration S stops after S seconds (0:
+fragment_no n_fragments, the first carrying the channel. Times: each datagram's kernel arrival time
+(SO_TIMESTAMP, the clock lcm-logger stamps its events with), so the view's own processing lag does
+not move a channel's first and last message or its rate; the time of reading where the kernel gives
+none. --duration S stops after S seconds (0:
 until Ctrl-C) and --json FILE writes the final counts; the terminal view is redrawn in place on a
 terminal, else a block of lines per second.
 """
@@ -38,6 +41,8 @@ DEFAULT_URL = "udpm://239.255.76.67:7667?ttl=0"
 MAX_FIELDS = 6                              # fields shown per channel
 MAX_TEXT = 40                               # characters shown of a text field
 RESEND = 4                                  # sim_window_t.RESEND (lcmtypes/sim_window_t.lcm)
+SO_TIMESTAMP = getattr(socket, "SO_TIMESTAMP", 29)  # Linux asm-generic/socket.h; SCM_TIMESTAMP equals it
+TIMEVAL = struct.Struct("@ll")              # struct timeval: seconds, microseconds
 
 
 def parse_url(url):
@@ -57,8 +62,20 @@ def listen(group, port):
         s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
     s.bind(("", port))
     s.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, socket.inet_aton(group) + socket.inet_aton("0.0.0.0"))
+    s.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMP, 1)
     s.settimeout(0.1)
     return s
+
+
+def receive(sock):
+    """(datagram, sender, arrival [s since the Unix epoch]): the kernel's arrival time of the
+    datagram (SCM_TIMESTAMP), or the time of reading it where the kernel attached none."""
+    data, ancillary, _, sender = sock.recvmsg(65536, socket.CMSG_SPACE(TIMEVAL.size))
+    for level, kind, value in ancillary:
+        if level == socket.SOL_SOCKET and kind == SO_TIMESTAMP and len(value) >= TIMEVAL.size:
+            sec, usec = TIMEVAL.unpack_from(value)
+            return data, sender, sec + usec * 1e-6
+    return data, sender, time.time()
 
 
 class Channel:
@@ -66,14 +83,14 @@ class Channel:
         self.type, self.count, self.last_bytes, self.values = "?", 0, 0, ""
         self.times = collections.deque()
         self.repeats, self.seen = 0, set()
-        self.first = self.last = None            # monotonic time of the first and last message [s]
-        self.first_unix = self.last_unix = None  # the same, wall clock [s since the Unix epoch]
+        self.first_unix = self.last_unix = None  # arrival of the first and last message [s since the Unix epoch]
+        self.first_digest = self.last_digest = None  # BLAKE2b-128 of their payloads (to find them in a recorded log)
 
     def active_rate(self):
-        """Messages other than repeats per second between this channel's first and last message
-        (the rate the run publishes at, whenever it started), 0 with fewer than two."""
+        """Messages other than repeats per second between this channel's first and last message's
+        arrival (the rate the run publishes at, whenever it started), 0 with fewer than two."""
         n = self.count - self.repeats
-        return (n - 1) / (self.last - self.first) if n >= 2 and self.last > self.first else 0.0
+        return (n - 1) / (self.last_unix - self.first_unix) if n >= 2 and self.last_unix > self.first_unix else 0.0
 
 
 class View:
@@ -86,13 +103,14 @@ class View:
         self.start = time.monotonic()
         self.start_unix = time.time()
 
-    def packet(self, data, sender, now):
+    def packet(self, data, sender, now, arrival):
+        """One datagram read at monotonic time `now` [s] that arrived at `arrival` [s since the Unix epoch]."""
         if len(data) < 8:
             return
         magic, seq = struct.unpack(">II", data[:8])
         if magic == SHORT:
             channel, _, payload = data[8:].partition(b"\0")
-            self.message(channel.decode("utf-8", "replace"), payload, sender, seq, now)
+            self.message(channel.decode("utf-8", "replace"), payload, sender, seq, now, arrival)
         elif magic == FRAGMENT and len(data) >= 20:
             size, offset, number, n = struct.unpack(">IIHH", data[8:20])
             body = data[20:]
@@ -106,9 +124,9 @@ class View:
                 payload = b"".join(f[2][k] for k in sorted(f[2]))
                 del self.fragments[key]
                 if len(payload) == size:
-                    self.message(f[0], payload, sender, seq, now)
+                    self.message(f[0], payload, sender, seq, now, arrival)
 
-    def message(self, name, payload, sender, seq, now):
+    def message(self, name, payload, sender, seq, now, arrival):
         s = self.senders.setdefault(sender, [None, 0, 0])
         if s[0] is not None and seq > s[0] + 1:
             s[2] += seq - s[0] - 1
@@ -117,11 +135,13 @@ class View:
         ch.count += 1
         ch.last_bytes = len(payload)
         ch.times.append(now)
-        wall = time.time()
-        if ch.first is None:
-            ch.first, ch.first_unix = now, wall
-        ch.last, ch.last_unix = now, wall
+        if ch.first_unix is None:
+            ch.first_unix = arrival
+        ch.last_unix = arrival
         digest = hashlib.blake2b(payload, digest_size=16).digest()
+        if ch.first_digest is None:
+            ch.first_digest = digest
+        ch.last_digest = digest
         if digest in ch.seen:
             ch.repeats += 1
         elif len(ch.seen) < 100000:
@@ -171,7 +191,8 @@ class View:
             total = ch.count / max(now - self.start, 1e-9)
             out.append({"channel": name, "type": ch.type, "messages": ch.count, "rate_hz": len(ch.times),
                         "mean_rate_hz": total, "active_rate_hz": ch.active_rate(), "first_unix_s": ch.first_unix,
-                        "last_unix_s": ch.last_unix, "last_bytes": ch.last_bytes, "repeats": ch.repeats,
+                        "last_unix_s": ch.last_unix, "first_blake2b": ch.first_digest.hex(),
+                        "last_blake2b": ch.last_digest.hex(), "last_bytes": ch.last_bytes, "repeats": ch.repeats,
                         "last": ch.values})
         return out
 
@@ -221,8 +242,8 @@ def main(argv):
             if args.duration and now - view.start >= args.duration:
                 break
             try:
-                data, sender = sock.recvfrom(65536)
-                view.packet(data, sender, time.monotonic())
+                data, sender, arrival = receive(sock)
+                view.packet(data, sender, time.monotonic(), arrival)
             except socket.timeout:
                 pass
             if now >= next_draw:
