@@ -243,7 +243,7 @@ TEST_CASE("bearing: clockwise from north, its Jacobians and rate against finite 
   CHECK(bearing_rad(Eigen::Vector2d(5, -5)) == Approx(-M_PI / 4));
   // central differences with step h = 1e-4 |d|: truncation O(h^2 / |d|^3) ~ 1e-8 of |J|, rounding
   // ~ 1e-16 / h; tolerance 1e-7 relative to the gradient's size
-  for (const Eigen::Vector2d d : {Eigen::Vector2d(300, 40), Eigen::Vector2d(-20, 7), Eigen::Vector2d(-5e3, -2e3)}) {
+  for (const Eigen::Vector2d& d : {Eigen::Vector2d(300, 40), Eigen::Vector2d(-20, 7), Eigen::Vector2d(-5e3, -2e3)}) {
     const double h = 1e-4 * d.norm();
     Eigen::RowVector2d jb, jr;
     for (int i = 0; i < 2; ++i) {

@@ -48,7 +48,7 @@ struct Scope {
   std::string sensor, target;
   /// The one recording the entry belongs to, when several are diagnosed together; empty: every
   /// recording (hardware: one value wherever the sensor or target appears).
-  std::string recording;
+  std::string recording{};
   std::string label() const;  ///< "sensor radar", "target 1", "radar:1", "common"; " in REC" for one recording
 };
 
@@ -85,7 +85,7 @@ struct Candidate {
   /// An entry that claims one value in several replicates (hardware in several recordings): its
   /// scope_only copies, one per replicate, same grid. It enters only when the replicates agree
   /// (replication.hpp); empty: no such claim.
-  std::vector<std::size_t> replicates;
+  std::vector<std::size_t> replicates{};
   /// A shape in time (a drift) rather than a physical cause; every scanned entry (a step, a
   /// period, a manoeuvre time) is one as well (is_shape). Of two entries that explain the same
   /// residual, a shape replaces a physical cause only by more than explaining as well
