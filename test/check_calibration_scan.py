@@ -5,7 +5,8 @@ rnav_diagnose multi DIR... --apply FILE removes the hardware effects of FILE fro
 and scores each sensor:target pair; scripts/calibration_scan applies a grid of them. Checked:
   * the lidar's clock applied changes the lidar's pairs only (every camera and radar pair's
     calibrated error is its nominal one, exactly); a boat the recordings lack is listed as not
-    applied; an unknown effect name is an error naming it;
+    applied; an unknown effect name is an error naming it; the same calibration in a
+    "calibrations" list (the scan's grid form) scores the same, row for row;
   * the scan's best calibration within the bound keeps every pair within it, its geometric mean
     lies between the best without the bound and 1 (no calibration is on the grid), and applied
     on its own through --apply it gives the same geometric mean;
@@ -71,6 +72,16 @@ with tempfile.TemporaryDirectory(prefix="check_calibration_scan.") as tmp:
           "Gunnerus, absent from these recordings, is listed as not applied (%s)" % rep["not_applied_absent"])
     check(all(rep["applied"].get("sc%d" % sc) == ["time_offset@sensor lidar (s=0.5)"] for sc in SCENARIOS),
           "each recording names what it applied (%s)" % rep["applied"])
+    # the same calibration in a "calibrations" list (as the scan writes its grid), beside none
+    with open(cal, "w") as f:
+        json.dump({"calibrations": [{"effects": [{"name": "time_offset", "scope": {"sensor": "lidar"}, "estimate": 0.5}]},
+                                    {"effects": []}]}, f)
+    r = run(DIAGNOSE, "multi", *dirs, "--apply", cal, "--json", out)
+    batch = json.load(open(out))["calibrations"] if r.returncode == 0 else [{"rows": None}, {"rows": []}]
+    check(r.returncode == 0 and len(batch) == 2 and batch[0]["rows"] == rep["rows"],
+          "a calibrations list scores its first calibration as --apply of it alone (%s)" % r.stderr.strip()[-200:])
+    check(len(batch[1]["rows"]) == len(rep["rows"]) and all(x["calibrated_rms"] == x["nominal_rms"] for x in batch[1]["rows"]),
+          "and its empty second calibration changes no pair")
     with open(cal, "w") as f:
         json.dump({"effects": [{"name": "time_ofset", "scope": {"sensor": "lidar"}, "estimate": 0.5}]}, f)
     r = run(DIAGNOSE, "multi", *dirs, "--apply", cal)

@@ -645,3 +645,73 @@ TEST_CASE("calibration file: hardware applied and one recording's own and noise 
   CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "estimate": []}]})"),
              Catch::Contains("estimate: no value"));
 }
+
+// Several calibrations checked at once (a file's "calibrations" list, as scripts/calibration_scan
+// writes its grid): the recordings are associated once, and each calibration's report must equal
+// checking it alone, row for row and bit for bit; a bad calibration is named by its index.
+TEST_CASE("calibration batch: each calibration's report equals checking it alone and a bad one is named by index") {
+  Hidden h;
+  h.radar_time_offset_s = 0.8;
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})}, {"b", make(42, h, {2.1, 1.4})}};
+  const std::vector<std::vector<AppliedEffect>> cals{{{"time_offset", "radar", "", {0.8}}},
+                                                     {},
+                                                     {{"time_offset", "radar", "", {-0.8}}, {"time_offset", "rdar", "", {0.5}}}};
+  const std::vector<CalibrationReport> batch = check_calibrations(recs, cals, options());
+  REQUIRE(batch.size() == cals.size());
+  for (std::size_t c = 0; c < cals.size(); ++c) {
+    INFO("calibration " << c);
+    const CalibrationReport alone = check_calibration(recs, cals[c], options());
+    REQUIRE(batch[c].rows.size() == alone.rows.size());
+    for (std::size_t i = 0; i < alone.rows.size(); ++i) {
+      CHECK(batch[c].rows[i].pair == alone.rows[i].pair);
+      CHECK(batch[c].rows[i].nominal_rms == alone.rows[i].nominal_rms);
+      CHECK(batch[c].rows[i].extended_rms == alone.rows[i].extended_rms);
+    }
+    CHECK(batch[c].applied == alone.applied);
+    CHECK(batch[c].absent == alone.absent);
+  }
+  // the scores differ between calibrations: the batch does not repeat one
+  CHECK(summarize(batch[0].rows).geomean < 1);
+  CHECK(summarize(batch[1].rows).geomean == 1);
+  CHECK(summarize(batch[2].rows).geomean > 1);
+  const std::string text = CalibrationBatch{"grid.json", batch}.text();
+  CHECK_THAT(text, Catch::Contains("calibrations[1]: nothing applied: geometric mean 1,"));
+  CHECK_THAT(text, Catch::Contains("(not applied, no observations: time_offset@sensor rdar)"));
+  CHECK(CalibrationBatch{"grid.json", batch}.to_json()["calibrations"].size() == 3);
+  auto error = [&](const std::vector<std::vector<AppliedEffect>>& c) -> std::string {
+    try {
+      check_calibrations(recs, c, options());
+    } catch (const ConfigError& x) {
+      return x.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error({{}, {{"tim_offset", "radar", "", {0.5}}}}), Catch::Contains("calibrations[1]: tim_offset@sensor radar: no catalogue entry"));
+  CHECK_THAT(error({{}, {}, {{"antenna_offset", "radar", "2", {1.0}}}}),
+             Catch::Contains("calibrations[2]: antenna_offset@radar:2 has 2 parameter(s), got 1 value(s)"));
+  CHECK_THAT(error({}), Catch::Contains("no calibration"));
+}
+
+TEST_CASE("calibration file: a calibrations list is read in order and a file with both forms or an empty list is refused") {
+  const std::vector<Calibration> cs = read_calibrations(nlohmann::json::parse(R"({"calibrations": [
+      {"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "estimate": 0.5}]},
+      {"effects": []}]})"),
+                                                        "grid.json");
+  REQUIRE(cs.size() == 2);
+  CHECK(cs[0].effects.at(0).value == std::vector<double>{0.5});
+  CHECK(cs[1].effects.empty());
+  // one calibration: a list of one
+  CHECK(read_calibrations(nlohmann::json::parse(R"({"effects": []})"), "cal.json").size() == 1);
+  auto error = [](const char* text) -> std::string {
+    try {
+      read_calibrations(nlohmann::json::parse(text), "grid.json");
+    } catch (const ConfigError& x) {
+      return x.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error(R"({"effects": [], "calibrations": []})"), Catch::Contains("grid.json: holds both \"effects\""));
+  CHECK_THAT(error(R"({"calibrations": []})"), Catch::Contains("\"calibrations\" must be a non-empty list"));
+  CHECK_THAT(error(R"({"calibrations": [{"effects": []}, {"effects": [{"scope": {}}]}]})"),
+             Catch::Contains("grid.json: calibrations[1]: effects[0]: needs a \"name\""));
+}

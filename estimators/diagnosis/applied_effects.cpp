@@ -80,17 +80,30 @@ std::size_t variant_of(const Candidate& c, const AppliedEffect& e) {
 
 }  // namespace
 
-AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
-                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po_in) {
+namespace {
+
+MultiProblem build_one(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                       const MultiProblemOptions& po_in) {
   MultiProblemOptions po = po_in;
   po.scan_period_s = scan_period_s;
   RecordingDetections one = rec;
   one.name.clear();
-  const MultiProblem mp = build_multi_problem({one}, po);
-  const Problem& p = mp.problem;
+  return build_multi_problem({one}, po);
+}
+
+}  // namespace
+
+AppliedScorer::AppliedScorer(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                             const MultiProblemOptions& po)
+    : rec_(rec), mp_(build_one(rec, scan_period_s, po)) {
+  for (const Candidate& c : mp_.problem.catalogue) catalogue_names_.insert(c.name);
+}
+
+AppliedScore AppliedScorer::score(const std::vector<AppliedEffect>& effects) const {
+  const Problem& p = mp_.problem;
   AppliedScore out;
   out.used.assign(effects.size(), 0);
-  for (const Candidate& c : p.catalogue) out.catalogue_names.insert(c.name);
+  out.catalogue_names = catalogue_names_;
   Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
   for (std::size_t k = 0; k < effects.size(); ++k) {
     const AppliedEffect& e = effects[k];
@@ -109,17 +122,22 @@ AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::s
     out.used[k] = 1;
   }
   PairErrors pe;
-  for (std::size_t i = 0; i < rec.a.size(); ++i) {
-    const long ib = mp.bearing_obs[0][i], ir = mp.range_obs[0][i];
+  for (std::size_t i = 0; i < rec_.a.size(); ++i) {
+    const long ib = mp_.bearing_obs[0][i], ir = mp_.range_obs[0][i];
     if (ib < 0) continue;
-    const auto& x = rec.a[i];
+    const auto& x = rec_.a[i];
     const double yb = p.y[static_cast<std::size_t>(ib)];
     const bool range = x.has_range && ir >= 0;
     const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
     pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
   }
-  out.rows = pe.rows(rec.name);
+  out.rows = pe.rows(rec_.name);
   return out;
+}
+
+AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po) {
+  return AppliedScorer(rec, scan_period_s, po).score(effects);
 }
 
 namespace {
@@ -184,6 +202,18 @@ Calibration read_calibration(const nlohmann::json& doc, const std::string& where
     }
     out.effects.push_back(std::move(e));
   }
+  return out;
+}
+
+std::vector<Calibration> read_calibrations(const nlohmann::json& doc, const std::string& where) {
+  if (!doc.is_object() || !doc.contains("calibrations")) return {read_calibration(doc, where)};
+  if (doc.contains("effects"))
+    throw ConfigError(where + ": holds both \"effects\" (one calibration) and \"calibrations\" (several): give one");
+  if (!doc["calibrations"].is_array() || doc["calibrations"].empty())
+    throw ConfigError(where + ": \"calibrations\" must be a non-empty list of {\"effects\": [...]}");
+  std::vector<Calibration> out;
+  for (std::size_t i = 0; i < doc["calibrations"].size(); ++i)
+    out.push_back(read_calibration(doc["calibrations"][i], where + ": calibrations[" + std::to_string(i) + "]"));
   return out;
 }
 

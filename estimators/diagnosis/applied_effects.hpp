@@ -81,6 +81,20 @@ struct AppliedScore {
 AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
                            const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po);
 
+/// One recording's problem built once (the costly part: its catalogue's columns) and scored with
+/// any number of calibrations; score(effects) equals score_applied(rec, ..., effects, ...).
+class AppliedScorer {
+ public:
+  AppliedScorer(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
+                const MultiProblemOptions& po);
+  AppliedScore score(const std::vector<AppliedEffect>& effects) const;
+
+ private:
+  RecordingDetections rec_;
+  MultiProblem mp_;
+  std::set<std::string> catalogue_names_;
+};
+
 /// A calibration file read: its hardware effects, and what it holds besides.
 struct Calibration {
   std::vector<AppliedEffect> effects;  ///< hardware: applied
@@ -95,5 +109,10 @@ struct Calibration {
 /// list, a name or scope not a string, a value not a finite number) throws ConfigError naming
 /// `where` and the effect.
 Calibration read_calibration(const nlohmann::json& doc, const std::string& where);
+
+/// Reads a file of several calibrations, {"calibrations": [{"effects": [...]}, ...]} (one or
+/// more, each as read_calibration, named "calibrations[i]" in errors), or one calibration as
+/// read_calibration reads it: a list of one. A file with both keys, or an empty list, throws.
+std::vector<Calibration> read_calibrations(const nlohmann::json& doc, const std::string& where);
 
 }  // namespace rnav

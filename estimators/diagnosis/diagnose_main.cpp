@@ -211,7 +211,8 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "multi: no diagnosis; the hardware effects of FILE (a diagnosis JSON of other recordings, their values "
              "carried as the leave-one-out carries them, or {\"effects\": [{\"name\", \"scope\": {\"sensor\", "
              "\"target\"}, \"estimate\"}]} in the catalogue's units: s, rad, m) removed from each INPUT, and the error "
-             "per sensor:target pair printed, nominal and calibrated (a calibration checked on new recordings)",
+             "per sensor:target pair printed, nominal and calibrated (a calibration checked on new recordings); "
+             "{\"calibrations\": [{\"effects\": [...]}, ...]}: several checked at once (a grid), one line each",
              "none", [&a](const std::string& v) { a.apply = v; })
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
@@ -303,13 +304,19 @@ int run_multi(const Options& a) {
     std::ifstream in(a.apply);
     if (!in) throw rnav::ConfigError("--apply: cannot open '" + a.apply + "'");
     const auto doc = rnav::parse_json_checked(in, "calibration file '" + a.apply + "'", /*allow_comments=*/true);
-    const rnav::Calibration cal = rnav::read_calibration(doc, "calibration file '" + a.apply + "'");
-    rnav::CalibrationReport rep = rnav::check_calibration(recs, cal.effects, a.mo);
-    rep.source = a.apply;
-    rep.own = cal.own;
-    rep.findings = cal.findings;
-    std::cout << rep.text();
-    write_json(a, rep.to_json());
+    const std::vector<rnav::Calibration> cals = rnav::read_calibrations(doc, "calibration file '" + a.apply + "'");
+    std::vector<std::vector<rnav::AppliedEffect>> effects;
+    for (const auto& c : cals) effects.push_back(c.effects);
+    rnav::CalibrationBatch batch{a.apply, rnav::check_calibrations(recs, effects, a.mo)};
+    for (std::size_t c = 0; c < cals.size(); ++c) {
+      rnav::CalibrationReport& rep = batch.reports[c];
+      rep.source = cals.size() == 1 ? a.apply : a.apply + " calibrations[" + std::to_string(c) + "]";
+      rep.own = cals[c].own;
+      rep.findings = cals[c].findings;
+    }
+    const bool one = doc.is_object() && !doc.contains("calibrations");
+    std::cout << (one ? batch.reports.front().text() : batch.text());
+    write_json(a, one ? batch.reports.front().to_json() : batch.to_json());
     return 0;
   }
   const auto rep = rnav::diagnose_multi_pooled(recs, a.mo);

@@ -167,33 +167,57 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   return rep;
 }
 
-CalibrationReport check_calibration(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
-                                    const std::vector<AppliedEffect>& effects, const MultiDiagnoseOptions& o) {
+std::vector<CalibrationReport> check_calibrations(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                                  const std::vector<std::vector<AppliedEffect>>& calibrations,
+                                                  const MultiDiagnoseOptions& o) {
   if (recordings.empty()) throw ConfigError("calibration check: no recording");
-  CalibrationReport rep;
+  if (calibrations.empty()) throw ConfigError("calibration check: no calibration");
   const MultiProblemOptions po = problem_options(o);
-  std::vector<char> used(effects.size(), 0);  // per effect: applied in some recording
-  std::set<std::string> names;                // the catalogue's entry names
+  // each recording associated and its problem built once, for every calibration
+  std::vector<AppliedScorer> scorers;
   for (const auto& rec : recordings) {
     std::map<std::string, SensorAssociation> st;
     const RecordingDetections rd{rec.first, associate(rec.second, o.association, st)};
-    AppliedScore scored = score_applied(rd, scan_periods({&rec.second}), effects, po);
-    rep.rows.insert(rep.rows.end(), scored.rows.begin(), scored.rows.end());
-    rep.applied[rec.first] = std::move(scored.applied);
-    rep.recordings.push_back(rec.first);
-    for (std::size_t k = 0; k < effects.size(); ++k) used[k] |= scored.used[k];
-    names.insert(scored.catalogue_names.begin(), scored.catalogue_names.end());
+    scorers.emplace_back(rd, scan_periods({&rec.second}), po);
   }
-  const std::vector<std::string> known(names.begin(), names.end());
-  for (std::size_t k = 0; k < effects.size(); ++k) {
-    const AppliedEffect& e = effects[k];
-    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
-    if (!names.count(e.name))
-      throw ConfigError("calibration: " + label + ": no catalogue entry is named '" + e.name + "'" + did_you_mean(e.name, known));
-    // a boat or sensor these recordings do not have (a calibration from other recordings): named, not applied
-    if (!used[k]) rep.absent.push_back(label);
+  std::vector<CalibrationReport> out(calibrations.size());
+  for (std::size_t c = 0; c < calibrations.size(); ++c) {
+    const std::vector<AppliedEffect>& effects = calibrations[c];
+    const std::string which = calibrations.size() == 1 ? "calibration: " : "calibrations[" + std::to_string(c) + "]: ";
+    CalibrationReport& rep = out[c];
+    std::vector<char> used(effects.size(), 0);  // per effect: applied in some recording
+    std::set<std::string> names;                // the catalogue's entry names
+    for (std::size_t r = 0; r < recordings.size(); ++r) {
+      AppliedScore scored;
+      try {
+        scored = scorers[r].score(effects);
+      } catch (const ConfigError& e) {
+        if (calibrations.size() == 1) throw;
+        const std::string m = e.what(), lead = "calibration: ";
+        throw ConfigError(which + (m.rfind(lead, 0) == 0 ? m.substr(lead.size()) : m));
+      }
+      rep.rows.insert(rep.rows.end(), scored.rows.begin(), scored.rows.end());
+      rep.applied[recordings[r].first] = std::move(scored.applied);
+      rep.recordings.push_back(recordings[r].first);
+      for (std::size_t k = 0; k < effects.size(); ++k) used[k] |= scored.used[k];
+      names.insert(scored.catalogue_names.begin(), scored.catalogue_names.end());
+    }
+    const std::vector<std::string> known(names.begin(), names.end());
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      const AppliedEffect& e = effects[k];
+      const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+      if (!names.count(e.name))
+        throw ConfigError(which + label + ": no catalogue entry is named '" + e.name + "'" + did_you_mean(e.name, known));
+      // a boat or sensor these recordings do not have (a calibration from other recordings): named, not applied
+      if (!used[k]) rep.absent.push_back(label);
+    }
   }
-  return rep;
+  return out;
+}
+
+CalibrationReport check_calibration(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                    const std::vector<AppliedEffect>& effects, const MultiDiagnoseOptions& o) {
+  return check_calibrations(recordings, {effects}, o).front();
 }
 
 nlohmann::ordered_json CalibrationReport::to_json() const {
@@ -242,6 +266,40 @@ std::string CalibrationReport::text() const {
   const LeaveOneOutSummary s = summarize(rows);
   o << "  calibrated / nominal RMS over " << s.pairs << " pairs with >= " << s.min_n << " detections: geometric mean "
     << short_num(s.geomean) << ", worst " << short_num(s.worst) << " (" << s.worst_key << ")\n";
+  return o.str();
+}
+
+nlohmann::ordered_json CalibrationBatch::to_json() const {
+  nlohmann::ordered_json j;
+  j["kind"] = "multi_calibration_batch";
+  j["calibration"] = source;
+  j["calibrations"] = nlohmann::ordered_json::array();
+  for (const auto& r : reports) j["calibrations"].push_back(r.to_json());
+  return j;
+}
+
+std::string CalibrationBatch::text() const {
+  std::ostringstream o;
+  o << "  calibrations " << source << ": " << reports.size() << "\n";
+  for (std::size_t c = 0; c < reports.size(); ++c) {
+    const CalibrationReport& r = reports[c];
+    // what was applied in any recording, each label once, in order of first appearance
+    std::vector<std::string> applied;
+    for (const auto& rec : r.recordings)
+      for (const auto& x : r.applied.at(rec))
+        if (std::find(applied.begin(), applied.end(), x) == applied.end()) applied.push_back(x);
+    const LeaveOneOutSummary s = summarize(r.rows);
+    o << "  calibrations[" << c << "]:";
+    for (const auto& x : applied) o << " " << x;
+    if (applied.empty()) o << " nothing applied";
+    if (!r.absent.empty()) {
+      o << " (not applied, no observations:";
+      for (const auto& x : r.absent) o << " " << x;
+      o << ")";
+    }
+    o << ": geometric mean " << short_num(s.geomean) << ", worst " << short_num(s.worst) << " (" << s.worst_key << ") over "
+      << s.pairs << " pairs\n";
+  }
   return o.str();
 }
 

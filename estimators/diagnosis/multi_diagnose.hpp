@@ -129,4 +129,21 @@ struct CalibrationReport {
 CalibrationReport check_calibration(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
                                     const std::vector<AppliedEffect>& effects, const MultiDiagnoseOptions& o);
 
+/// Several calibrations checked on the same recordings (a file's "calibrations" list): one
+/// summary line each in the text (what was applied, geometric mean and worst of calibrated /
+/// nominal); the JSON (kind multi_calibration_batch) holds each calibration's full report.
+struct CalibrationBatch {
+  std::string source;                     ///< the file, as given
+  std::vector<CalibrationReport> reports; ///< in the file's order
+  nlohmann::ordered_json to_json() const;
+  std::string text() const;
+};
+
+/// Several calibrations checked on the same recordings, each as check_calibration (its report
+/// identical to checking it alone); the recordings are associated and their problems built once,
+/// so a grid of calibrations costs little more than one. Errors name "calibrations[i]".
+std::vector<CalibrationReport> check_calibrations(const std::vector<std::pair<std::string, MultiSensorData>>& recordings,
+                                                  const std::vector<std::vector<AppliedEffect>>& calibrations,
+                                                  const MultiDiagnoseOptions& o);
+
 }  // namespace rnav
