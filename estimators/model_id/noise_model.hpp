@@ -63,7 +63,7 @@ class NoiseFilter {
   const std::vector<double>* gain_;
   Eigen::Vector2d x_ = Eigen::Vector2d::Zero();  ///< state (a, g)
   Eigen::Matrix2d P_;
-  Eigen::RowVector2d H_;
+  Eigen::RowVector2d H_ = Eigen::RowVector2d::Ones();  ///< set by each predict()
   double S_ = 1, t_prev_ = 0;
   bool started_ = false;
 };
