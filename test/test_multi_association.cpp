@@ -8,6 +8,7 @@
 // exactly as without recentring, and the associated measurements must stay the raw ones.
 #include "multi_association.hpp"
 #include "plane_series.hpp"
+#include "reference_jumps.hpp"
 
 #include "config.hpp"
 
@@ -65,7 +66,14 @@ Eigen::Vector2d target_pos(int k, double t) {
   return k == 1 ? Eigen::Vector2d(350, -200 + 3 * t) : Eigen::Vector2d(-400 + 1 * t, -100 + 2.5 * t);
 }
 
-Scene make(std::uint64_t seed, const Bias& bias) {
+// A jump of target 1's reference (its GNSS fix changing): the reference moves by east_m from t_s
+// on; the target and its detections do not.
+struct RefJump {
+  double t_s = -1;    // [s] none before 0
+  double east_m = 0;  // [m]
+};
+
+Scene make(std::uint64_t seed, const Bias& bias, const RefJump& jump = {}) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> N(0, 1);
   std::uniform_real_distribution<double> U(0, 1);
@@ -78,7 +86,9 @@ Scene make(std::uint64_t seed, const Bias& bias) {
   d.observer_heading_deg.assign(d.observer.size(), NAN);
   for (int k = 1; k <= 2; ++k)
     for (int n = 0; n * kTruthDtS <= kSpanS + 1e-9; ++n)
-      d.truth[std::to_string(k)].push_back({n * kTruthDtS, geo(target_pos(k, n * kTruthDtS))});
+      d.truth[std::to_string(k)].push_back(
+          {n * kTruthDtS, geo(target_pos(k, n * kTruthDtS) +
+                              Eigen::Vector2d(0, k == 1 && jump.t_s >= 0 && n * kTruthDtS >= jump.t_s ? jump.east_m : 0.0))});
   struct Sensor {
     std::string name;
     double dt_s, sigma_bearing_rad, sigma_range_m, bias_bearing_rad, bias_range_m;
@@ -358,4 +368,107 @@ TEST_CASE("multi association: a unit mixed up is named before any gate", "[multi
     b.radar_range_m = 40;
     CHECK_NOTHROW(associate(make(34, b).data, AssociationOptions{}, st));
   }
+}
+
+TEST_CASE("reference jumps: a GNSS jump is found, a hard turn is not, and the longest stretch is kept") {
+  // A boat at 3 m/s turning at up to 2 m/s^2 (a 4.5 m radius: harder than any boat of the Autoferry
+  // data), its reference sampled at 25 Hz with 5 cm white noise per axis. The bound at the 0.5 s
+  // half-span is 5 * 0.25 / 2 + 6 * scatter = about 0.9 m: a turn at 2 m/s^2 bends 0.25 m off the
+  // chord, so it cannot be flagged unless the check is wrong; a 3 m jump is 3 m off for the
+  // samples beside it.
+  constexpr double kRate = 25, kSpan = 200, kSpeed = 3, kNoise = 0.05;  // [Hz], [s], [m/s], [m]
+  constexpr double kTurnAccel = 2;                                      // [m/s^2] in the turns
+  const LocalLevelFrame F(Geodetic{63.44, 10.40, 0}, 0.0);
+  auto track = [&](double jump_t, double jump_m, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> N(0, kNoise);
+    std::vector<GeoSample> v;
+    Eigen::Vector2d p(0, 0);
+    double heading = 0;
+    const double dt = 1 / kRate;
+    for (int k = 0; k * dt <= kSpan; ++k) {
+      const double t = k * dt;
+      // turning in [60, 75) s and [130, 140) s at omega = a / v
+      const double omega = ((t >= 60 && t < 75) || (t >= 130 && t < 140)) ? kTurnAccel / kSpeed : 0.0;
+      heading += omega * dt;
+      p += kSpeed * dt * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+      const Eigen::Vector2d q = p + Eigen::Vector2d(N(rng), N(rng)) + Eigen::Vector2d(0, t >= jump_t ? jump_m : 0.0);
+      v.push_back({t, F.to_geodetic(Eigen::Vector3d(q.x(), 0, q.y()))});
+    }
+    return v;
+  };
+  const ReferenceJumpOptions o;
+  SECTION("no jump: the whole track, turns included") {
+    const auto v = track(1e9, 0, 7);
+    const ReferenceIntegrity ri = check_reference_jumps(v, F, o);
+    CHECK(ri.jumps.empty());
+    CHECK(ri.samples_used == v.size());
+    CHECK(ri.used_from_s == 0);
+    CHECK(ri.used_to_s == v.back().t_s);
+  }
+  SECTION("a 3 m jump at 150 s: found there, the stretch before it kept") {
+    const auto v = track(150, 3, 7);
+    const ReferenceIntegrity ri = check_reference_jumps(v, F, o);
+    REQUIRE(ri.jumps.size() == 1);
+    CHECK(std::abs(ri.jumps[0].t_s - 150) <= 1 / kRate);  // midway between the flags: within a sample
+    CHECK(ri.jumps[0].deviation_m > ri.jumps[0].bound_m);
+    CHECK(ri.used_from_s == 0);
+    CHECK(ri.used_to_s < 150);
+    // untrusted from half a span before the first flagged sample, whose chord reaches at most
+    // half a span and one sample interval across the jump
+    CHECK(ri.used_to_s >= 150 - 2 * o.half_span_s - 1 / kRate);
+    CHECK(ri.samples_used < v.size());
+  }
+  SECTION("a 3 m jump at 40 s: the longer stretch after it kept") {
+    const auto v = track(40, 3, 7);
+    const ReferenceIntegrity ri = check_reference_jumps(v, F, o);
+    REQUIRE(ri.jumps.size() == 1);
+    CHECK(ri.used_from_s > 40);
+    CHECK(ri.used_from_s <= 40 + 2 * o.half_span_s + 1 / kRate);
+    CHECK(ri.used_to_s == v.back().t_s);
+  }
+  SECTION("options are checked") {
+    ReferenceJumpOptions bad;
+    bad.max_accel_mps2 = 0;
+    CHECK_THROWS_WITH(check_reference_jumps(track(1e9, 0, 7), F, bad), Catch::Contains("max_accel_mps2"));
+  }
+}
+
+TEST_CASE("multi association: detections scored against a reference that jumped are not associated") {
+  // Target 1's reference jumps 8 m east at 150 s (inside the 20 m gate, so without the check the
+  // radar's detections after it would be associated, 8 m off); its detections do not move.
+  constexpr double kJumpS = 150, kJumpM = 8;
+  const Scene sc = make(31, Bias{}, RefJump{kJumpS, kJumpM});
+  std::map<std::string, SensorAssociation> st;
+  std::map<std::string, ReferenceIntegrity> jumps;
+  const auto a = associate(sc.data, AssociationOptions{}, st, &jumps);
+  REQUIRE(jumps.size() == 1);
+  REQUIRE(jumps.count("1") == 1);
+  CHECK(std::abs(jumps.at("1").jumps.at(0).t_s - kJumpS) <= kTruthDtS);  // within a reference interval
+  int after = 0, before = 0;
+  for (const auto& x : a)
+    if (x.target == "1") (x.t_s >= kJumpS ? after : before)++;
+  CHECK(after == 0);
+  CHECK(before > 100);
+  AssociationOptions off_check;
+  off_check.reference_jump_accel_mps2 = 0;
+  std::map<std::string, SensorAssociation> st2;
+  const auto b = associate(sc.data, off_check, st2);
+  int after_off = 0;
+  for (const auto& x : b)
+    if (x.target == "1" && x.sensor == "radar" && x.t_s >= kJumpS) ++after_off;
+  CHECK(after_off > 10);  // the 8 m offset inside the gate: associated without the check
+  off_check.reference_jump_accel_mps2 = -1;
+  CHECK_THROWS_WITH(associate(sc.data, off_check, st2), Catch::Contains("reference_jump_accel_mps2"));
+}
+
+TEST_CASE("multi association: references without jumps associate exactly as without the check") {
+  const Scene sc = make(32, Bias{});
+  std::map<std::string, SensorAssociation> sa, sb;
+  std::map<std::string, ReferenceIntegrity> jumps;
+  AssociationOptions no_check;
+  no_check.reference_jump_accel_mps2 = 0;
+  const auto a = associate(sc.data, AssociationOptions{}, sa, &jumps);
+  CHECK(jumps.empty());
+  check_same(a, associate(sc.data, no_check, sb), sa, sb);
 }

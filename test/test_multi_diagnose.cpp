@@ -37,6 +37,9 @@ struct Hidden {
   // a detection at bearing b is late by sweep_delay_s(b, radar_sweep_end_rad, 1.7)
   bool radar_scan_stamp = false;
   double radar_sweep_end_rad = 0;
+  // target 2's reference jumps (its GNSS fix changing) this far across its course from t = 100 s
+  // on; the boat and its detections do not
+  double truth2_jump_m = 0;
 };
 
 // One recording's geometry: the whole scene turned by rotate_rad (clockwise about the observer's
@@ -60,6 +63,8 @@ Eigen::Vector2d target_pos(int k, double t) {
   return {-200 + 0.6 * s, 250 - 0.8 * s};
 }
 
+constexpr double kTruthJumpS = 100;  // [s] when target 2's reference jumps (Hidden::truth2_jump_m)
+
 MultiSensorData make(std::uint64_t seed, const Hidden& h, const Geometry& geometry = {}) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> N(0, 1);
@@ -80,7 +85,8 @@ MultiSensorData make(std::uint64_t seed, const Hidden& h, const Geometry& geomet
     for (double t = 0; t <= 180; t += 0.2) {
       const double stamp = t + (k == 2 ? h.truth2_time_offset_s : 0.0);
       // the antenna: behind the point the sensors see, along target 2's course (0.6, -0.8)
-      const Eigen::Vector2d antenna = target_pos(k, t) - (k == 2 ? h.antenna2_along_m : 0.0) * Eigen::Vector2d(0.6, -0.8);
+      const Eigen::Vector2d antenna = target_pos(k, t) - (k == 2 ? h.antenna2_along_m : 0.0) * Eigen::Vector2d(0.6, -0.8) +
+                                      (k == 2 && t >= kTruthJumpS ? h.truth2_jump_m : 0.0) * Eigen::Vector2d(0.8, 0.6);
       tr.push_back({stamp, geo(antenna + 0.05 * Eigen::Vector2d(N(rng), N(rng)))});
     }
   }
@@ -469,6 +475,52 @@ TEST_CASE("multi diagnosis, recordings together: a radar clock is hardware, a re
   REQUIRE(j.contains("leave_one_out"));
   REQUIRE(!j["leave_one_out"].empty());
   for (const char* k : {"recording", "pair", "n", "nominal_rms", "extended_rms"}) CHECK(j["leave_one_out"][0].contains(k));
+}
+
+TEST_CASE("multi diagnosis, recordings together: a reference that jumps in one recording is cut there, not fitted") {
+  // The radar's 0.4 s clock in all four recordings; in recording c target 2's reference jumps 5 m
+  // across its course at 100 s (the boat does not). The jump is found there and the reference
+  // after it not used: nothing is named on target 2 in c, the radar's clock stays within 3 SE, and
+  // c's target-2 pairs have no held-out detections (the window starts at 108 s). Without the check
+  // the 5 m (inside the 20 m gate) enters c's lidar:2 score: its held-out RMS is then over 3 m,
+  // where a consistent reference gives 0.6-2.3 m (the other recordings' lidar:2).
+  Hidden h;
+  h.radar_time_offset_s = 0.4;
+  auto recs = three_recordings(h, 0);
+  Hidden jumped = h;
+  jumped.truth2_jump_m = 5;
+  recs[2].second = make(43, jumped, {4.2, 0.7});
+  auto named_on_c2 = [](const MultiReport& r) {
+    std::vector<std::string> out;
+    for (const auto& e : r.result.effects)
+      if (e.scope.target == "2" && e.scope.recording == "c") out.push_back(e.name);
+    return out;
+  };
+  MultiDiagnoseOptions o = options();
+  o.leave_one_out = false;
+  const MultiReport r = diagnose_multi_pooled(recs, o);
+  INFO(r.text());
+  REQUIRE(r.reference_jumps.size() == 1);
+  REQUIRE(r.reference_jumps.count("c/2") == 1);
+  const ReferenceIntegrity& ri = r.reference_jumps.at("c/2");
+  REQUIRE(ri.jumps.size() == 1);
+  CHECK(std::abs(ri.jumps[0].t_s - kTruthJumpS) <= 0.2);  // within a reference interval
+  CHECK(ri.used_to_s < kTruthJumpS);                       // the longer stretch: before the jump
+  CHECK(named_on_c2(r).empty());
+  const FoundEffect* radar = find_in(r, "time_offset", {"radar", "", ""});
+  REQUIRE(radar);
+  CHECK(std::abs(radar->estimate[0] - 0.4) < 3 * radar->stderr_[0]);
+  const nlohmann::ordered_json j = r.to_json();
+  REQUIRE(j["reference_jumps"].size() == 1);
+  CHECK(j["reference_jumps"][0]["target"] == "c/2");
+  CHECK(r.text().find("reference c/2: jumps") != std::string::npos);
+  for (const char* pair : {"c/lidar:2", "c/radar:2", "c/eo:2", "c/ir:2"}) CHECK(r.gain.count(pair) == 0);
+  o.association.reference_jump_accel_mps2 = 0;
+  const MultiReport off = diagnose_multi_pooled(recs, o);
+  INFO(off.text());
+  CHECK(off.reference_jumps.empty());
+  REQUIRE(off.gain.count("c/lidar:2") == 1);
+  CHECK(off.gain.at("c/lidar:2").nominal_rms > 3);
 }
 
 TEST_CASE("multi diagnosis, recordings together: names must be distinct") {

@@ -165,6 +165,8 @@ void check_options(const AssociationOptions& o) {
     throw ConfigError("association: reference_max_gap_s must be finite and > 0");
   if (!(o.reference_accel_mps2 == -1 || (o.reference_accel_mps2 >= 0 && std::isfinite(o.reference_accel_mps2))))
     throw ConfigError("association: reference_accel_mps2 must be -1 (each target's own) or finite and >= 0");
+  if (!(o.reference_jump_accel_mps2 >= 0) || !std::isfinite(o.reference_jump_accel_mps2))
+    throw ConfigError("association: reference_jump_accel_mps2 must be finite and >= 0 (0: no jump check)");
   if (o.recentre_gates) {
     if (!(o.wide_gate_bearing_deg > 0 && o.wide_gate_bearing_deg <= kMaxWideGateDeg))
       throw ConfigError("association: wide_gate_bearing_deg must be in (0, 90]");
@@ -336,13 +338,25 @@ void associate_scan(const Scan& s, const std::vector<Detection>& det, const Asso
 }  // namespace
 
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
-                                           std::map<std::string, SensorAssociation>& stats) {
+                                           std::map<std::string, SensorAssociation>& stats,
+                                           std::map<std::string, ReferenceIntegrity>* reference) {
   check_options(o);
   if (data.truth.empty()) throw ConfigError("multi-sensor diagnosis: needs truth.csv (the targets' reference tracks)");
   const LocalLevelFrame F(data.observer.front().g, 0.0);
   const PlaneSeries observer(data.observer, F);
   std::map<std::string, PlaneSeries> truth;
-  const auto level = data.truth_on_level();
+  auto level = data.truth_on_level();  // each target's reference, cut to its stretch without jumps
+  if (o.reference_jump_accel_mps2 > 0) {
+    ReferenceJumpOptions jo;
+    jo.max_accel_mps2 = o.reference_jump_accel_mps2;
+    jo.max_gap_s = o.reference_max_gap_s;
+    for (auto& [name, v] : level) {
+      const ReferenceIntegrity ri = check_reference_jumps(v, F, jo);
+      if (ri.jumps.empty()) continue;
+      if (reference) (*reference)[name] = ri;
+      v = used_stretch(v, ri);
+    }
+  }
   for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
   const auto& det = data.detections;
   const std::vector<Scan> scans = make_scans(det, o, F, observer, truth);

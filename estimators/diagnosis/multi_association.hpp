@@ -33,6 +33,7 @@
 #pragma once
 
 #include "multi_sensor_data.hpp"
+#include "reference_jumps.hpp"
 
 #include "bearing.hpp"
 #include <Eigen/Dense>
@@ -58,6 +59,11 @@ struct AssociationOptions {
   /// (PlaneSeries::accel_rms, an upper estimate); 0: the interpolated reference taken as exact;
   /// else this value for every target, >= 0.
   double reference_accel_mps2 = -1;
+  /// [m/s^2] a reference sample further off the chord through its neighbours (about 0.5 s either
+  /// side) than a target accelerating at this much could be, beyond the track's own scatter, is a
+  /// jump of the reference (a GNSS fix changing), not of the target: each target's reference is
+  /// used only on its longest stretch without jumps (reference_jumps.hpp), >= 0; 0: no check.
+  double reference_jump_accel_mps2 = 5;
   /// Recentre each sensor's gates on its common bearing and range bias, estimated from a first
   /// pass with the wide gates below (see the file comment); false: the one-pass association.
   bool recentre_gates = true;
@@ -106,8 +112,10 @@ struct SensorAssociation {
   int wide_pairs = 0;                 ///< unambiguous first-pass pairs the shifts were estimated from
 };
 
-/// Associate every scan; stats per sensor. Throws ConfigError without truth.
+/// Associate every scan; stats per sensor; with `reference`, the jump check of each target whose
+/// reference jumped (AssociationOptions::reference_jump_accel_mps2). Throws ConfigError without truth.
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
-                                           std::map<std::string, SensorAssociation>& stats);
+                                           std::map<std::string, SensorAssociation>& stats,
+                                           std::map<std::string, ReferenceIntegrity>* reference = nullptr);
 
 }  // namespace rnav

@@ -79,13 +79,17 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   const bool pooled = recordings.size() > 1;
   MultiReport rep;
   std::vector<RecordingDetections> recs;
+  std::vector<std::map<std::string, ReferenceIntegrity>> jumped;  // per recording: the targets whose reference jumped
   for (const auto& [name, data] : recordings) {
     if (pooled && (name.empty() || name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") !=
                                        std::string::npos))
       throw ConfigError("multi diagnosis: recording name '" + name + "' must be [A-Za-z0-9_.-]+");
     std::map<std::string, SensorAssociation> st;
-    recs.push_back({pooled ? name : "", associate(data, o.association, st)});
+    std::map<std::string, ReferenceIntegrity> jumps;
+    recs.push_back({pooled ? name : "", associate(data, o.association, st, &jumps)});
     for (auto& [s, x] : st) rep.association[pooled ? name + "/" + s : s] = x;
+    for (auto& [t, x] : jumps) rep.reference_jumps[pooled ? name + "/" + t : t] = x;
+    jumped.push_back(std::move(jumps));
     if (pooled) rep.recordings.push_back(name);
   }
   MultiProblemOptions po = problem_options(o);
@@ -123,8 +127,11 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     TargetModelOptions to;
     to.search = o.search;
     to.threads = o.search.injection.threads;
-    for (const auto& [name, data] : recordings) {
-      const TargetModelResult tm = test_target_model(data.truth_on_level(), LocalLevelFrame(data.observer.front().g, 0.0), to);
+    for (std::size_t k = 0; k < recordings.size(); ++k) {
+      const auto& [name, data] = recordings[k];
+      auto tracks = data.truth_on_level();  // as associated: a reference that jumped, on its stretch without jumps
+      for (const auto& [target, ri] : jumped[k]) tracks[target] = used_stretch(tracks[target], ri);
+      const TargetModelResult tm = test_target_model(tracks, LocalLevelFrame(data.observer.front().g, 0.0), to);
       for (FoundEffect e : tm.maneuvers) {
         e.scope.recording = pooled ? name : "";
         rep.target_effects.push_back(e);
@@ -311,6 +318,12 @@ nlohmann::ordered_json MultiReport::to_json() const {
     j["association"][s] = {{"scans", st.scans}, {"detections", st.detections}, {"ambiguous_scans", st.ambiguous_scans},
                            {"associated", st.associated}, {"missed", st.missed}, {"wide_pairs", st.wide_pairs},
                            {"gate_shift_bearing_rad", st.gate_shift_bearing_rad}, {"gate_shift_range_m", st.gate_shift_range_m}};
+  j["reference_jumps"] = nlohmann::ordered_json::array();
+  for (const auto& [key, ri] : reference_jumps)
+    for (const auto& x : ri.jumps)
+      j["reference_jumps"].push_back({{"target", key}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
+                                      {"used_from_s", ri.used_from_s}, {"used_to_s", ri.used_to_s},
+                                      {"samples", ri.samples}, {"samples_used", ri.samples_used}});
   j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
   j["effects"] = core["effects"];
@@ -359,6 +372,14 @@ std::string MultiReport::text() const {
       o << ", gates recentred by " << short_num(st.gate_shift_bearing_rad / kDegToRad) << " deg, " << short_num(st.gate_shift_range_m)
         << " m (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
     o << "\n";
+  }
+  for (const auto& [key, ri] : reference_jumps) {
+    o << "  reference " << key << ": jumps";
+    for (const auto& x : ri.jumps)
+      o << " " << short_num(x.deviation_m) << " m off its path at t = " << short_num(x.t_s) << " s (" << short_num(x.t_s - ri.first_s)
+        << " s after its first sample; a target bends off by at most " << short_num(x.bound_m) << " m there)";
+    o << ": used only from " << short_num(ri.used_from_s - ri.first_s) << " to " << short_num(ri.used_to_s - ri.first_s)
+      << " s after its first sample (" << ri.samples_used << " of " << ri.samples << " samples, the longest stretch without a jump)\n";
   }
   for (const auto& d : dropped_channels) o << "  not diagnosed (fewer than 10 associated detections): " << d << "\n";
   o << search_text(problem, result);

@@ -85,6 +85,8 @@ struct MultiReport {
   std::vector<std::string> target_notes;
   std::map<std::string, MultiGain> gain;    ///< "<sensor>:<target>" ("<recording>/<sensor>:<target>" pooled)
   std::map<std::string, SensorAssociation> association;  ///< per sensor ("<recording>/<sensor>" pooled)
+  /// per target whose reference jumped ("<recording>/<target>" pooled): the jumps and the stretch used
+  std::map<std::string, ReferenceIntegrity> reference_jumps;
   double split_time_s = 0;          ///< one recording: the gain's split time
   double split_fraction = 0.6;      ///< the gain's estimation window: this fraction of each recording's span
   std::vector<std::string> recordings;  ///< pooled: the recordings' names, in input order
