@@ -9,12 +9,15 @@
 #include "multi_association.hpp"
 #include "plane_series.hpp"
 #include "reference_jumps.hpp"
+#include "autoferry_import.hpp"
 
 #include "config.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <iostream>
 #include <map>
 #include <random>
 #include <tuple>
@@ -471,4 +474,60 @@ TEST_CASE("multi association: references without jumps associate exactly as with
   const auto a = associate(sc.data, AssociationOptions{}, sa, &jumps);
   CHECK(jumps.empty());
   check_same(a, associate(sc.data, no_check, sb), sa, sb);
+}
+
+TEST_CASE("reference jumps: on the nine Autoferry recordings one track jumps, and the limit measured by injection",
+          "[multisensor][autoferry][real]") {
+  // The 18 GNSS tracks of the nine recordings (Havfruen at 25 Hz, Gunnerus and the jetboat at
+  // 5 Hz, both thinned to the samples the dataset used). Only Havfruen's in scenario 6 jumps
+  // (docs/autoferry-multi-sensor.md). Into each of the 17 others a step of J metres is injected
+  // (direction and time uniform, in the middle 80 % of the track, fixed seed), kInjections per
+  // track and size; found = exactly one jump reported, within one half-span of the step.
+  // Measured (kInjections = 10, 170 per size): 0.5 m 0 %, 1 m 86 %, 1.25 m and above 100 % (a
+  // step of J is about J / 2 off the chord beside it; the bound is 0.16 m of acceleration plus six
+  // sds of the track's scatter, 0.4-0.5 m on the 25 Hz tracks). Asserted: none of the 17 clean
+  // tracks jumps (no false alarm), and at 1.25 m at least 90 % of the 170 steps are found (the
+  // docs' limit: 153 of 170).
+  const std::string data = std::string(RNAV_SOURCE_DIR) + "/../shared/data/autoferry";
+  if (!std::filesystem::exists(data)) FAIL("the Autoferry recordings are not at " << data);
+  constexpr int kInjections = 10;
+  const double sizes_m[] = {0.5, 1.0, 1.25, 1.5, 2.0};
+  const ReferenceJumpOptions o;
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::map<double, int> found;  // per size
+  int clean = 0, tracks = 0;
+  for (int sc : {2, 3, 4, 5, 6, 13, 16, 17, 22}) {
+    const MultiSensorData d = autoferry_to_multi(load_autoferry(data + "/scenario" + std::to_string(sc)));
+    const LocalLevelFrame F(d.observer.front().g, 0.0);
+    for (const auto& [name, v] : d.truth_on_level()) {
+      ++tracks;
+      const ReferenceIntegrity ri = check_reference_jumps(v, F, o);
+      INFO("scenario " << sc << " target " << name);
+      if (sc == 6 && name == "1") {  // Havfruen's jump at 88.9 s after its first sample
+        REQUIRE(ri.jumps.size() == 1);
+        CHECK(std::abs(ri.jumps[0].t_s - v.front().t_s - 88.9) < 0.5);
+        continue;
+      }
+      CHECK(ri.jumps.empty());
+      ++clean;
+      const double t0 = v.front().t_s, span = v.back().t_s - t0;
+      for (double J : sizes_m)
+        for (int k = 0; k < kInjections; ++k) {
+          const double t_step = t0 + span * (0.1 + 0.8 * U(rng)), dir = 2 * M_PI * U(rng);
+          const Eigen::Vector3d step(J * std::cos(dir), 0, J * std::sin(dir));
+          std::vector<GeoSample> w = v;
+          for (auto& x : w)
+            if (x.t_s >= t_step) x.g = F.to_geodetic(F.from_geodetic(x.g) + step);
+          const ReferenceIntegrity rj = check_reference_jumps(w, F, o);
+          found[J] += rj.jumps.size() == 1 && std::abs(rj.jumps[0].t_s - t_step) <= o.half_span_s;
+        }
+    }
+  }
+  CHECK(tracks == 18);
+  CHECK(clean == 17);
+  for (double J : sizes_m)
+    std::cout << "reference jump of " << J << " m injected into the 17 clean Autoferry tracks: found in " << found[J]
+              << " of " << clean * kInjections << "\n";
+  CHECK(found[1.25] >= 153);
 }

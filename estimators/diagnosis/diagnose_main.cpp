@@ -202,7 +202,7 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "target's own from its reference's second differences; 0: the reference taken as exact",
              "-1", num("--reference-accel", mo.association.reference_accel_mps2))
       .value("--reference-jump-accel", "A",
-             "multi: a reference sample further off the chord through its neighbours (0.5 s either side) than a "
+             "multi: a reference sample further off the chord through its neighbours (0.25 s either side) than a "
              "target accelerating at A [m/s^2] could be, beyond the track's own scatter, is a jump of the reference "
              "(a GNSS fix changing): the reference is used only on its longest stretch without jumps (named in the "
              "report); 0: no check, >= 0", "5", num("--reference-jump-accel", mo.association.reference_jump_accel_mps2))

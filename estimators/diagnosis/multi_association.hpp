@@ -59,7 +59,7 @@ struct AssociationOptions {
   /// (PlaneSeries::accel_rms, an upper estimate); 0: the interpolated reference taken as exact;
   /// else this value for every target, >= 0.
   double reference_accel_mps2 = -1;
-  /// [m/s^2] a reference sample further off the chord through its neighbours (about 0.5 s either
+  /// [m/s^2] a reference sample further off the chord through its neighbours (about 0.25 s either
   /// side) than a target accelerating at this much could be, beyond the track's own scatter, is a
   /// jump of the reference (a GNSS fix changing), not of the target: each target's reference is
   /// used only on its longest stretch without jumps (reference_jumps.hpp), >= 0; 0: no check.
