@@ -521,6 +521,12 @@ TEST_CASE("multi diagnosis, recordings together: a reference that jumps in one r
   CHECK(off.reference_jumps.empty());
   REQUIRE(off.gain.count("c/lidar:2") == 1);
   CHECK(off.gain.at("c/lidar:2").nominal_rms > 3);
+  // a calibration checked on these recordings is scored on the same stretch, and says so
+  const CalibrationReport cal = check_calibration(recs, {}, options());
+  REQUIRE(cal.reference_jumps.count("c/2") == 1);
+  CHECK(cal.text().find("reference c/2: jumps") != std::string::npos);
+  CHECK(cal.to_json()["reference_jumps"].size() == 1);
+  for (const auto& x : cal.rows) CHECK_FALSE((x.recording == "c" && x.pair == "lidar:2" && x.nominal_rms > 3));
 }
 
 TEST_CASE("multi diagnosis, recordings together: names must be distinct") {

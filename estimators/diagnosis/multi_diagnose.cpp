@@ -66,6 +66,31 @@ std::map<std::string, double> scan_periods(const std::vector<const MultiSensorDa
   return out;
 }
 
+// The targets whose reference jumped ("<recording>/<target>" or "<target>"): one text line each.
+std::string reference_jumps_text(const std::map<std::string, ReferenceIntegrity>& jumps) {
+  std::ostringstream o;
+  for (const auto& [key, ri] : jumps) {
+    o << "  reference " << key << ": jumps";
+    for (const auto& x : ri.jumps)
+      o << " " << short_num(x.deviation_m) << " m off its path at t = " << short_num(x.t_s) << " s (" << short_num(x.t_s - ri.first_s)
+        << " s after its first sample; a target bends off by at most " << short_num(x.bound_m) << " m there)";
+    o << ": used only from " << short_num(ri.used_from_s - ri.first_s) << " to " << short_num(ri.used_to_s - ri.first_s)
+      << " s after its first sample (" << ri.samples_used << " of " << ri.samples << " samples, the longest stretch without a jump)\n";
+  }
+  return o.str();
+}
+
+// The same as JSON: one object per jump.
+nlohmann::ordered_json reference_jumps_json(const std::map<std::string, ReferenceIntegrity>& jumps) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const auto& [key, ri] : jumps)
+    for (const auto& x : ri.jumps)
+      j.push_back({{"target", key}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
+                   {"used_from_s", ri.used_from_s}, {"used_to_s", ri.used_to_s}, {"samples", ri.samples},
+                   {"samples_used", ri.samples_used}});
+  return j;
+}
+
 }  // namespace
 
 MultiReport diagnose_multi(const MultiSensorData& data, const MultiDiagnoseOptions& o) {
@@ -182,12 +207,16 @@ std::vector<CalibrationReport> check_calibrations(const std::vector<std::pair<st
   const MultiProblemOptions po = problem_options(o);
   // each recording associated and its problem built once, for every calibration
   std::vector<AppliedScorer> scorers;
+  std::map<std::string, ReferenceIntegrity> jumped;  // "<recording>/<target>"
   for (const auto& rec : recordings) {
     std::map<std::string, SensorAssociation> st;
-    const RecordingDetections rd{rec.first, associate(rec.second, o.association, st)};
+    std::map<std::string, ReferenceIntegrity> jumps;
+    const RecordingDetections rd{rec.first, associate(rec.second, o.association, st, &jumps)};
+    for (auto& [t, x] : jumps) jumped[rec.first + "/" + t] = x;
     scorers.emplace_back(rd, scan_periods({&rec.second}), po);
   }
   std::vector<CalibrationReport> out(calibrations.size());
+  for (auto& rep : out) rep.reference_jumps = jumped;
   for (std::size_t c = 0; c < calibrations.size(); ++c) {
     const std::vector<AppliedEffect>& effects = calibrations[c];
     const std::string which = calibrations.size() == 1 ? "calibration: " : "calibrations[" + std::to_string(c) + "]: ";
@@ -236,6 +265,7 @@ nlohmann::ordered_json CalibrationReport::to_json() const {
   j["not_applied_own"] = own;
   j["not_applied_findings"] = findings;
   j["not_applied_absent"] = absent;
+  j["reference_jumps"] = reference_jumps_json(reference_jumps);
   j["rows"] = nlohmann::ordered_json::array();
   for (const auto& x : rows)
     j["rows"].push_back({{"recording", x.recording}, {"pair", x.pair}, {"n", x.n}, {"nominal_rms", x.nominal_rms},
@@ -248,6 +278,7 @@ nlohmann::ordered_json CalibrationReport::to_json() const {
 std::string CalibrationReport::text() const {
   std::ostringstream o;
   o << "  calibration " << source << "\n";
+  o << reference_jumps_text(reference_jumps);
   if (!own.empty()) {
     o << "  not applied (one recording's own):";
     for (const auto& k : own) o << " " << k << ";";
@@ -288,6 +319,7 @@ nlohmann::ordered_json CalibrationBatch::to_json() const {
 std::string CalibrationBatch::text() const {
   std::ostringstream o;
   o << "  calibrations " << source << ": " << reports.size() << "\n";
+  if (!reports.empty()) o << reference_jumps_text(reports.front().reference_jumps);  // the same recordings for each
   for (std::size_t c = 0; c < reports.size(); ++c) {
     const CalibrationReport& r = reports[c];
     // what was applied in any recording, each label once, in order of first appearance
@@ -318,12 +350,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
     j["association"][s] = {{"scans", st.scans}, {"detections", st.detections}, {"ambiguous_scans", st.ambiguous_scans},
                            {"associated", st.associated}, {"missed", st.missed}, {"wide_pairs", st.wide_pairs},
                            {"gate_shift_bearing_rad", st.gate_shift_bearing_rad}, {"gate_shift_range_m", st.gate_shift_range_m}};
-  j["reference_jumps"] = nlohmann::ordered_json::array();
-  for (const auto& [key, ri] : reference_jumps)
-    for (const auto& x : ri.jumps)
-      j["reference_jumps"].push_back({{"target", key}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
-                                      {"used_from_s", ri.used_from_s}, {"used_to_s", ri.used_to_s},
-                                      {"samples", ri.samples}, {"samples_used", ri.samples_used}});
+  j["reference_jumps"] = reference_jumps_json(reference_jumps);
   j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
   j["effects"] = core["effects"];
@@ -373,14 +400,7 @@ std::string MultiReport::text() const {
         << " m (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
     o << "\n";
   }
-  for (const auto& [key, ri] : reference_jumps) {
-    o << "  reference " << key << ": jumps";
-    for (const auto& x : ri.jumps)
-      o << " " << short_num(x.deviation_m) << " m off its path at t = " << short_num(x.t_s) << " s (" << short_num(x.t_s - ri.first_s)
-        << " s after its first sample; a target bends off by at most " << short_num(x.bound_m) << " m there)";
-    o << ": used only from " << short_num(ri.used_from_s - ri.first_s) << " to " << short_num(ri.used_to_s - ri.first_s)
-      << " s after its first sample (" << ri.samples_used << " of " << ri.samples << " samples, the longest stretch without a jump)\n";
-  }
+  o << reference_jumps_text(reference_jumps);
   for (const auto& d : dropped_channels) o << "  not diagnosed (fewer than 10 associated detections): " << d << "\n";
   o << search_text(problem, result);
   for (const auto& e : target_effects)

@@ -120,6 +120,8 @@ struct CalibrationReport {
   std::vector<std::string> own;           ///< the file's effects of one recording: not applied
   int findings = 0;                       ///< the file's noise findings and track manoeuvres: not applied
   std::vector<std::string> absent;        ///< the file's hardware effects with no observations in any recording: not applied
+  /// "<recording>/<target>" whose reference jumped: scored only on its stretch without jumps
+  std::map<std::string, ReferenceIntegrity> reference_jumps;
   nlohmann::ordered_json to_json() const;
   std::string text() const;
 };
