@@ -512,7 +512,8 @@ TEST_CASE("multi diagnosis, recordings together: a reference that jumps in one r
   CHECK(std::abs(radar->estimate[0] - 0.4) < 3 * radar->stderr_[0]);
   const nlohmann::ordered_json j = r.to_json();
   REQUIRE(j["reference_jumps"].size() == 1);
-  CHECK(j["reference_jumps"][0]["target"] == "c/2");
+  CHECK(j["reference_jumps"][0]["recording"] == "c");
+  CHECK(j["reference_jumps"][0]["target"] == "2");
   CHECK(r.text().find("reference c/2: jumps") != std::string::npos);
   for (const char* pair : {"c/lidar:2", "c/radar:2", "c/eo:2", "c/ir:2"}) CHECK(r.gain.count(pair) == 0);
   o.association.reference_jump_accel_mps2 = 0;

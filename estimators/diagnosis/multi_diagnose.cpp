@@ -80,14 +80,19 @@ std::string reference_jumps_text(const std::map<std::string, ReferenceIntegrity>
   return o.str();
 }
 
-// The same as JSON: one object per jump.
+// The same as JSON: one object per jump (recording "" for one recording alone; recording names
+// hold no '/').
 nlohmann::ordered_json reference_jumps_json(const std::map<std::string, ReferenceIntegrity>& jumps) {
   nlohmann::ordered_json j = nlohmann::ordered_json::array();
-  for (const auto& [key, ri] : jumps)
+  for (const auto& [key, ri] : jumps) {
+    const std::size_t slash = key.find('/');
+    const std::string recording = slash == std::string::npos ? "" : key.substr(0, slash);
+    const std::string target = slash == std::string::npos ? key : key.substr(slash + 1);
     for (const auto& x : ri.jumps)
-      j.push_back({{"target", key}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
+      j.push_back({{"recording", recording}, {"target", target}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
                    {"used_from_s", ri.used_from_s}, {"used_to_s", ri.used_to_s}, {"samples", ri.samples},
                    {"samples_used", ri.samples_used}});
+  }
   return j;
 }
 
