@@ -16,6 +16,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 using namespace rnav;
 
@@ -183,10 +185,12 @@ namespace {
 // per channel added to radar.csv, then diagnosed.
 DiagnoseReport run_coloured(const std::vector<std::string>& effects, std::int64_t seed, double tau_s, double sigma_scale) {
   const Scenario sc = Scenario::load(kPaper, effects);
-  const fs::path d = fs::temp_directory_path() / "rnav_test_diag_coloured";
+  // one folder per process: ctest runs the test cases that share this helper at once (-j2)
+  const fs::path d = fs::temp_directory_path() / ("rnav_test_diag_coloured_" + std::to_string(::getpid()));
   fs::remove_all(d);
   REQUIRE(export_prl_flight(sc, seed, 0, d.string()) == 0);
   PrlFlightData f = PrlFlightData::read_folder(d.string());
+  fs::remove_all(d);
   std::mt19937_64 rng(static_cast<std::uint64_t>(seed) * 7919u);
   const double sig[3] = {12 * sigma_scale, 0.25 * kDegToRad * sigma_scale, 0.3 * kDegToRad * sigma_scale};
   const double norm = test::cascade_norm(tau_s);
