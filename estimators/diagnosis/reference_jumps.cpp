@@ -1,6 +1,7 @@
 #include "reference_jumps.hpp"
 
 #include "config.hpp"
+#include "stats.hpp"
 
 #include <Eigen/Dense>
 
@@ -14,19 +15,13 @@ namespace {
 constexpr std::size_t kMinChords = 5;      // fewer: no scatter to measure the bound against
 constexpr double kMadToSd = 1.4826;        // sd of a Gaussian per median absolute deviation
 
-double median_of(std::vector<double> x) {
-  const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
-  std::nth_element(x.begin(), mid, x.end());
-  return *mid;
-}
-
 // 1.4826 MAD: a robust sd, untouched by the few samples around a jump.
 double robust_sd(const std::vector<double>& x) {
-  const double m = median_of(x);
+  const double m = median(x);
   std::vector<double> d;
   d.reserve(x.size());
   for (double v : x) d.push_back(std::abs(v - m));
-  return kMadToSd * median_of(d);
+  return kMadToSd * median(d);
 }
 
 struct Chord {
