@@ -97,14 +97,29 @@ AppliedScorer::AppliedScorer(const RecordingDetections& rec, const std::map<std:
                              const MultiProblemOptions& po)
     : rec_(rec), mp_(build_one(rec, scan_period_s, po)) {
   for (const Candidate& c : mp_.problem.catalogue) catalogue_names_.insert(c.name);
+  std::map<std::string, std::size_t> index;  // pair -> position in pairs_ (sorted, as PairErrors::rows)
+  for (std::size_t i = 0; i < rec_.a.size(); ++i)
+    if (mp_.bearing_obs[0][i] >= 0) index.emplace(rec_.a[i].sensor + ":" + rec_.a[i].target, 0);
+  for (auto& [key, k] : index) {
+    k = pairs_.size();
+    pairs_.push_back(key);
+  }
+  pair_n_.assign(pairs_.size(), 0);
+  for (std::size_t i = 0; i < rec_.a.size(); ++i) {
+    const long ib = mp_.bearing_obs[0][i], ir = mp_.range_obs[0][i];
+    if (ib < 0) continue;
+    const auto& x = rec_.a[i];
+    const bool range = x.has_range && ir >= 0;
+    const std::size_t k = index.at(x.sensor + ":" + x.target);
+    scored_.push_back({k, ib, range ? ir : -1, x.range_m});
+    ++pair_n_[k];
+  }
 }
 
-AppliedScore AppliedScorer::score(const std::vector<AppliedEffect>& effects) const {
+std::vector<Eigen::VectorXd> AppliedScorer::predictions(const std::vector<AppliedEffect>& effects,
+                                                        std::vector<std::string>* labels) const {
   const Problem& p = mp_.problem;
-  AppliedScore out;
-  out.used.assign(effects.size(), 0);
-  out.catalogue_names = catalogue_names_;
-  Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(p.size()));
+  std::vector<Eigen::VectorXd> out(effects.size());
   for (std::size_t k = 0; k < effects.size(); ++k) {
     const AppliedEffect& e = effects[k];
     const std::string scope = Scope{e.sensor, e.target, ""}.label();
@@ -117,21 +132,56 @@ AppliedScore AppliedScorer::score(const std::vector<AppliedEffect>& effects) con
                         " parameter(s), got " + std::to_string(e.value.size()) + " value(s)");
     // the effect's prediction: its columns at the grid point times its value
     const Eigen::MatrixXd C = it->columns(variant_of(*it, e));
-    pred += C * Eigen::Map<const Eigen::VectorXd>(e.value.data(), static_cast<Eigen::Index>(e.value.size()));
-    out.applied.push_back(e.label(it->params, it->scan_param));
-    out.used[k] = 1;
+    out[k] = C * Eigen::Map<const Eigen::VectorXd>(e.value.data(), static_cast<Eigen::Index>(e.value.size()));
+    if (labels) labels->push_back(e.label(it->params, it->scan_param));
   }
-  PairErrors pe;
-  for (std::size_t i = 0; i < rec_.a.size(); ++i) {
-    const long ib = mp_.bearing_obs[0][i], ir = mp_.range_obs[0][i];
-    if (ib < 0) continue;
-    const auto& x = rec_.a[i];
-    const double yb = p.y[static_cast<std::size_t>(ib)];
-    const bool range = x.has_range && ir >= 0;
-    const double yr = range ? p.y[static_cast<std::size_t>(ir)] : 0.0;
-    pe.add(x.sensor + ":" + x.target, x, yb, yb - pred(ib), range, yr, range ? yr - pred(ir) : 0.0);
+  return out;
+}
+
+std::vector<LeaveOneOutRow> AppliedScorer::rows(const Eigen::VectorXd& pred) const {
+  const Problem& p = mp_.problem;
+  if (pred.size() != static_cast<Eigen::Index>(p.size()))
+    throw std::logic_error("AppliedScorer::rows: " + std::to_string(pred.size()) + " predictions for " +
+                           std::to_string(p.size()) + " observations");
+  std::vector<double> nominal(pairs_.size(), 0.0), extended(pairs_.size(), 0.0);
+  std::vector<char> range_pair(pairs_.size(), 0);
+  for (const Scored& s : scored_) {
+    const double eb0 = p.y[static_cast<std::size_t>(s.ib)], eb1 = eb0 - pred(s.ib);
+    double e0, e1;
+    if (s.ir >= 0) {
+      // position error: e = hypot(range error, range x bearing error) (as PairErrors::add)
+      const double er0 = p.y[static_cast<std::size_t>(s.ir)], er1 = er0 - pred(s.ir);
+      e0 = std::hypot(er0, s.range_m * eb0);
+      e1 = std::hypot(er1, s.range_m * eb1);
+      range_pair[s.pair] = 1;
+    } else {
+      e0 = eb0 / kDegToRad;
+      e1 = eb1 / kDegToRad;
+    }
+    nominal[s.pair] += e0 * e0;
+    extended[s.pair] += e1 * e1;
   }
-  out.rows = pe.rows(rec_.name);
+  std::vector<LeaveOneOutRow> out;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const double n = std::max(1, pair_n_[k]);
+    out.push_back({rec_.name, pairs_[k], pair_n_[k], std::sqrt(nominal[k] / n), std::sqrt(extended[k] / n),
+                   range_pair[k] ? "m" : "deg"});
+  }
+  return out;
+}
+
+AppliedScore AppliedScorer::score(const std::vector<AppliedEffect>& effects) const {
+  AppliedScore out;
+  out.catalogue_names = catalogue_names_;
+  const std::vector<Eigen::VectorXd> each = predictions(effects, &out.applied);
+  Eigen::VectorXd pred = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mp_.problem.size()));
+  out.used.assign(effects.size(), 0);
+  for (std::size_t k = 0; k < effects.size(); ++k)
+    if (each[k].size() > 0) {
+      pred += each[k];
+      out.used[k] = 1;
+    }
+  out.rows = rows(pred);
   return out;
 }
 
@@ -163,6 +213,36 @@ std::string string_or_null(const nlohmann::json& scope, const char* key, const s
 // not the multi catalogue's (the reference tracks' manoeuvres).
 bool is_noise_or_track(const std::string& name) {
   return name == "noise_scale" || name == "correlated_noise" || name == "outliers" || name == "target_maneuver";
+}
+
+// A diagnosis JSON's "carry": each hardware effect of `cal` at its carried value, those at
+// share 0 moved to cal.withheld.
+void apply_carry(const nlohmann::json& carry, const std::string& where, Calibration& cal) {
+  const std::string at = where + ": carry";
+  if (!carry.is_object() || !carry.contains("effects") || !carry["effects"].is_array())
+    throw ConfigError(at + ": must be an object with an \"effects\" list");
+  std::vector<AppliedEffect> kept;
+  for (AppliedEffect& e : cal.effects) {
+    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+    const nlohmann::json* found = nullptr;
+    for (const auto& x : carry["effects"]) {
+      if (!x.is_object() || !x.contains("name") || !x["name"].is_string() || !x.contains("scope") || !x["scope"].is_object())
+        throw ConfigError(at + ": each effect needs a \"name\" and a \"scope\"");
+      if (x["name"].get<std::string>() == e.name && string_or_null(x["scope"], "sensor", at) == e.sensor &&
+          string_or_null(x["scope"], "target", at) == e.target)
+        found = &x;
+    }
+    if (!found) throw ConfigError(at + ": no entry for the hardware effect " + label);
+    const double share = found->contains("share") ? finite_values((*found)["share"], at + " (" + label + ") share").front() : NAN;
+    if (!(share >= 0 && share <= 1)) throw ConfigError(at + " (" + label + "): \"share\" must be in [0, 1]");
+    if (share == 0) {
+      cal.withheld.push_back(label);
+      continue;
+    }
+    e.value = finite_values((*found)["estimate"], at + " (" + label + ") estimate");
+    kept.push_back(std::move(e));
+  }
+  cal.effects = std::move(kept);
 }
 
 }  // namespace
@@ -202,6 +282,7 @@ Calibration read_calibration(const nlohmann::json& doc, const std::string& where
     }
     out.effects.push_back(std::move(e));
   }
+  if (doc.contains("carry")) apply_carry(doc["carry"], where, out);
   return out;
 }
 

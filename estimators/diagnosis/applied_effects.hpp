@@ -11,6 +11,7 @@
 #include "multi_association.hpp"
 #include "multi_problem.hpp"
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -88,11 +89,30 @@ class AppliedScorer {
   AppliedScorer(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
                 const MultiProblemOptions& po);
   AppliedScore score(const std::vector<AppliedEffect>& effects) const;
+  /// Per effect: its prediction on each of the recording's observations (what score() removes),
+  /// or an empty vector when the recording has none of its observations; `labels` (optional)
+  /// gets the label of each effect with observations here. Throws as score().
+  std::vector<Eigen::VectorXd> predictions(const std::vector<AppliedEffect>& effects,
+                                           std::vector<std::string>* labels = nullptr) const;
+  /// The rows of score() with `pred` (one value per observation, e.g. a sum of predictions())
+  /// removed.
+  std::vector<LeaveOneOutRow> rows(const Eigen::VectorXd& pred) const;
+  std::size_t observations() const { return mp_.problem.size(); }
 
  private:
   RecordingDetections rec_;
   MultiProblem mp_;
   std::set<std::string> catalogue_names_;
+  // per scored detection (one with a bearing observation): its pair (index into pairs_), its
+  // observations (range -1 for a bearing-only sensor) and measured range [m]
+  struct Scored {
+    std::size_t pair;
+    long ib, ir;
+    double range_m;
+  };
+  std::vector<Scored> scored_;
+  std::vector<std::string> pairs_;  ///< "sensor:target", sorted
+  std::vector<int> pair_n_;          ///< detections per pair
 };
 
 /// A calibration file read: its hardware effects, and what it holds besides.
@@ -100,6 +120,8 @@ struct Calibration {
   std::vector<AppliedEffect> effects;  ///< hardware: applied
   std::vector<std::string> own;        ///< one recording's own effects ("name@scope in REC"): not applied
   int findings = 0;                    ///< noise findings and reference-track manoeuvres: not corrections, not applied
+  /// a diagnosis JSON's hardware effects its carry rule does not carry (share 0): "name@scope"
+  std::vector<std::string> withheld;
 };
 
 /// Reads {"effects": [{"name", "scope": {"sensor", "target"}, "estimate": number or list,
@@ -107,7 +129,9 @@ struct Calibration {
 /// carries), "scanned": {"value"} (scanned entries)}, ...]}: the diagnosis JSON's own form, so a
 /// pooled diagnosis of some recordings checks on others. Bad input (not an object, no effects
 /// list, a name or scope not a string, a value not a finite number) throws ConfigError naming
-/// `where` and the effect.
+/// `where` and the effect. A diagnosis JSON's "carry" (carry_rule.hpp: carry_json), when present,
+/// gives the hardware effects' values instead: each at its carried share, none at share 0 (listed
+/// in `withheld`); an effect it lacks, or a bad share, throws ConfigError.
 Calibration read_calibration(const nlohmann::json& doc, const std::string& where);
 
 /// Reads a file of several calibrations, {"calibrations": [{"effects": [...]}, ...]} (one or

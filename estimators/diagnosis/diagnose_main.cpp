@@ -219,6 +219,12 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "per sensor:target pair printed, nominal and calibrated (a calibration checked on new recordings); "
              "{\"calibrations\": [{\"effects\": [...]}, ...]}: several checked at once (a grid), one line each",
              "none", [&a](const std::string& v) { a.apply = v; })
+      .value("--carry-tolerance", "T",
+             "multi: a fit's hardware values are carried to another recording (each recording left out, and "
+             "--apply of the JSON) at the shares of their fitted values, on a grid in [0, 1], with the lowest error on "
+             "the recordings they were fitted on that leave none of those recordings' sensor:target pairs worse than T x "
+             "nominal (1: do no harm where fitted); 0: whole, >= 1 or 0", "0",
+             num("--carry-tolerance", mo.carry.tolerance))
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
       .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",
@@ -317,6 +323,7 @@ int run_multi(const Options& a) {
       rnav::CalibrationReport& rep = batch.reports[c];
       rep.source = cals.size() == 1 ? a.apply : a.apply + " calibrations[" + std::to_string(c) + "]";
       rep.own = cals[c].own;
+      rep.withheld = cals[c].withheld;
       rep.findings = cals[c].findings;
     }
     const bool one = doc.is_object() && !doc.contains("calibrations");

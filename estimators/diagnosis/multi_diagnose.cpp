@@ -45,6 +45,16 @@ std::vector<AppliedEffect> hardware_of(const SearchResult& fit) {
   return out;
 }
 
+// The effects of `fit` that belong to recording `name` alone, as AppliedEffect (the recording
+// dropped from their scope: as they are in that recording's own problem).
+std::vector<AppliedEffect> own_of(const SearchResult& fit, const std::string& name) {
+  std::vector<AppliedEffect> out;
+  for (const FoundEffect& e : fit.effects)
+    if (e.scope.recording == name)
+      out.push_back({e.name, e.scope.sensor, e.scope.target, e.estimate, e.scan_param.empty() ? NAN : e.scan_value});
+  return out;
+}
+
 // Per sensor: the median interval between its successive scans (distinct stamps, empty scans
 // included) over every recording given [s] (the problem uses it for range sensors).
 std::map<std::string, double> scan_periods(const std::vector<const MultiSensorData*>& recordings) {
@@ -106,6 +116,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
                                   const MultiDiagnoseOptions& o) {
   if (!(o.sigma_bearing_deg > 0) || !(o.sigma_range_m > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
   if (recordings.empty()) throw ConfigError("multi diagnosis: no recording");
+  check_carry_options(o.carry);
   const bool pooled = recordings.size() > 1;
   MultiReport rep;
   std::vector<RecordingDetections> recs;
@@ -170,7 +181,19 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     }
   }
 
-  // leave one recording out: fit on the others (no injected limits), score the one left out
+  // each recording's problem built once (scan periods of all of them, as every fit uses), to
+  // score carried hardware on: the recordings a fit saw (its shares) and the one it did not
+  std::vector<AppliedScorer> scorers;
+  for (const RecordingDetections& rec : recs) scorers.emplace_back(rec, mp.scan_period_s, po);
+  {
+    std::vector<FittedRecording> every;
+    for (std::size_t k = 0; k < recs.size(); ++k)
+      every.push_back({&scorers[k], pooled ? own_of(r, recs[k].name) : std::vector<AppliedEffect>{}});
+    rep.carry = carry_no_harm(hardware_of(r), every, o.carry);
+  }
+
+  // leave one recording out: fit on the others (no injected limits), carry its hardware as the
+  // rule above chooses on those others, score the one left out
   if (pooled && o.leave_one_out) {
     SearchOptions so = o.search;
     so.injection.injections = 0;
@@ -179,6 +202,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     const std::size_t R = recs.size();
     std::vector<std::vector<LeaveOneOutRow>> rows(R);
     std::vector<std::vector<std::string>> carried(R);
+    std::vector<CarriedHardware> shares(R);
     parallel_for(R, o.search.injection.threads, [&](std::size_t k) {
       try {
         std::vector<RecordingDetections> rest;
@@ -188,7 +212,12 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
           o.search.progress("leave one out: the others without recording " + std::to_string(k + 1) + " of " + std::to_string(R));
         const MultiProblem fp = build_multi_problem(rest, po);
         const SearchResult fr = search_effects(fp.problem, so);
-        AppliedScore scored = score_applied(recs[k], fp.scan_period_s, hardware_of(fr), po);
+        // two or more recordings fitted (R >= 3): their own effects carry their names
+        std::vector<FittedRecording> fitted_on;
+        for (std::size_t j = 0; j < R; ++j)
+          if (j != k) fitted_on.push_back({&scorers[j], rest.size() > 1 ? own_of(fr, recs[j].name) : std::vector<AppliedEffect>{}});
+        shares[k] = carry_no_harm(hardware_of(fr), fitted_on, o.carry);
+        AppliedScore scored = scorers[k].score(shares[k].carried);
         rows[k] = std::move(scored.rows);
         carried[k] = std::move(scored.applied);
       } catch (const std::exception& e) {
@@ -198,6 +227,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     for (std::size_t k = 0; k < R; ++k) {
       rep.leave_one_out.insert(rep.leave_one_out.end(), rows[k].begin(), rows[k].end());
       rep.carried[recs[k].name] = carried[k];
+      rep.fold_carry[recs[k].name] = std::move(shares[k]);
     }
   }
   rep.problem = std::move(mp.problem);
@@ -268,6 +298,7 @@ nlohmann::ordered_json CalibrationReport::to_json() const {
   j["recordings"] = recordings;
   j["applied"] = applied;
   j["not_applied_own"] = own;
+  j["not_applied_withheld"] = withheld;
   j["not_applied_findings"] = findings;
   j["not_applied_absent"] = absent;
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
@@ -287,6 +318,11 @@ std::string CalibrationReport::text() const {
   if (!own.empty()) {
     o << "  not applied (one recording's own):";
     for (const auto& k : own) o << " " << k << ";";
+    o << "\n";
+  }
+  if (!withheld.empty()) {
+    o << "  not applied (withheld by the diagnosis's carry rule: carrying it would make a pair of the recordings it was fitted on worse):";
+    for (const auto& k : withheld) o << " " << k << ";";
     o << "\n";
   }
   if (!absent.empty()) {
@@ -380,6 +416,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
   for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
   j["scan_period_s"] = scan_period_s;
+  j["carry"] = carry_json(carry);
   if (!recordings.empty()) {
     j["recordings"] = recordings;
     j["leave_one_out"] = nlohmann::ordered_json::array();
@@ -387,6 +424,8 @@ nlohmann::ordered_json MultiReport::to_json() const {
       j["leave_one_out"].push_back({{"recording", x.recording}, {"pair", x.pair}, {"n", x.n}, {"nominal_rms", x.nominal_rms},
                                     {"extended_rms", x.extended_rms}, {"unit", x.unit}});
     j["leave_one_out_carried"] = carried;
+    j["leave_one_out_carry"] = nlohmann::ordered_json::object();
+    for (const auto& [rec, c] : fold_carry) j["leave_one_out_carry"][rec] = carry_json(c);
     const LeaveOneOutSummary s = summarize(leave_one_out);
     j["leave_one_out_summary"] = {{"min_n", s.min_n}, {"pairs", s.pairs}, {"geomean_ratio", s.geomean},
                                   {"worst_ratio", s.worst}, {"worst", s.worst_key}};
@@ -423,11 +462,29 @@ std::string MultiReport::text() const {
   o << gain_fit_text(problem, result);
   if (result.holdout_effects.empty()) o << " no effect (none named, or none determined by the window)";
   o << "\n";
+  if (!carry.fitted.empty()) {
+    o << "  carried to another recording (--apply), ";
+    if (carry.tolerance > 0)
+      o << "each hardware value's largest share that leaves no pair of these recordings worse than " << short_num(carry.tolerance)
+        << " x nominal (geometric mean " << short_num(carry.chosen.geomean) << ", worst " << short_num(carry.chosen.worst)
+        << "; with every value whole " << short_num(carry.whole.geomean) << ", worst " << short_num(carry.whole.worst) << " ("
+        << carry.whole.worst_key << ")), in the catalogue's units:\n";
+    else
+      o << "every hardware value whole (--carry-tolerance 0), in the catalogue's units:\n";
+    o << carry_text(carry, "    ");
+  }
   if (!recordings.empty()) {
     for (const auto& [rec, list] : carried) {
       o << "  leave out " << rec << ": carried";
       for (const auto& c : list) o << " " << c;
-      if (list.empty()) o << " nothing (no hardware effect named on the others that applies to it)";
+      if (list.empty()) o << " nothing (no hardware effect named on the others that applies to it, or none kept by the carry rule)";
+      const auto it = fold_carry.find(rec);
+      if (it != fold_carry.end())
+        for (std::size_t k = 0; k < it->second.fitted.size(); ++k)
+          if (it->second.share[k] < 1) {
+            const AppliedEffect& e = it->second.fitted[k];
+            o << "; " << e.name << "@" << Scope{e.sensor, e.target, ""}.label() << " at share " << short_num(it->second.share[k]);
+          }
       o << "\n";
     }
     for (const auto& x : leave_one_out)

@@ -37,6 +37,8 @@
 // sensors: bearing error [deg].
 #pragma once
 
+#include "carry_rule.hpp"
+
 #include "applied_effects.hpp"
 #include "csv_columns.hpp"
 #include "effect_search.hpp"
@@ -70,6 +72,10 @@ struct MultiDiagnoseOptions {
   int step_grid = 24;               ///< scan grid of bias_step (10 % to 90 % of the span), >= 2
   bool test_target_model = true;    ///< check each reference track against the target model
   bool leave_one_out = true;        ///< pooled: score each recording with the model fitted on the others
+  /// what a fit's hardware effects are carried to another recording with (the leave-one-out's
+  /// folds, and the report's `carry`, which --apply uses): shares of their fitted values that
+  /// make no pair of the fitted recordings worse (carry_rule.hpp)
+  CarryOptions carry;
 };
 
 struct MultiGain {
@@ -93,6 +99,8 @@ struct MultiReport {
   std::map<std::string, double> scan_period_s;  ///< per range sensor: median interval between scans
   std::vector<LeaveOneOutRow> leave_one_out;    ///< pooled, per recording and pair
   std::map<std::string, std::vector<std::string>> carried;  ///< pooled, per recording left out: the hardware effects carried over
+  std::map<std::string, CarriedHardware> fold_carry;  ///< pooled, per recording left out: the fold's shares (carry_rule.hpp)
+  CarriedHardware carry;            ///< the fit's hardware effects as carried to a new recording
   std::vector<std::string> dropped_channels;  ///< sensor:target:quantity with too few detections to diagnose
   nlohmann::ordered_json to_json() const;
   std::string text() const;
@@ -118,6 +126,7 @@ struct CalibrationReport {
   std::vector<LeaveOneOutRow> rows;       ///< per recording and pair; extended_rms = calibrated
   std::map<std::string, std::vector<std::string>> applied;  ///< per recording: the effects applied
   std::vector<std::string> own;           ///< the file's effects of one recording: not applied
+  std::vector<std::string> withheld;      ///< the file's hardware effects its carry rule withholds (share 0): not applied
   int findings = 0;                       ///< the file's noise findings and track manoeuvres: not applied
   std::vector<std::string> absent;        ///< the file's hardware effects with no observations in any recording: not applied
   /// "<recording>/<target>" whose reference jumped: scored only on its stretch without jumps
