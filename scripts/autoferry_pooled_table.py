@@ -85,12 +85,32 @@ for e in sorted(own, key=lambda e: rec_key(e["scope"]["recording"])):
 if not own:
     print("| – | | | |")
 
+carry = rep.get("carry")
+if carry and carry["effects"]:
+    if carry["tolerance"] > 0:
+        print("\nCarried to a new recording (each hardware value's share, on a grid of tenths, that gives the lowest error on "
+              "these recordings while no pair of theirs gets worse than %g x its error with its recording's own effects "
+              "removed; geometric mean there %.3f, with every value whole %.3f, worst %.2f (%s)):\n"
+              % (carry["tolerance"], carry["fitted_recordings"]["chosen"]["geomean_ratio"],
+                 carry["fitted_recordings"]["whole"]["geomean_ratio"], carry["fitted_recordings"]["whole"]["worst_ratio"],
+                 carry["fitted_recordings"]["whole"]["worst"]))
+    else:
+        print("\nCarried to a new recording (every value whole: --carry-tolerance 0):\n")
+    print("| effect | on | share | carried |")
+    print("|---|---|---|---|")
+    for c in carry["effects"]:
+        fitted = next((e for e in hardware if e["name"] == c["name"] and label(e["scope"]) == label(c["scope"])), None)
+        params = fitted["params"] if fitted else ["value"] * len(c["estimate"])
+        cells = ", ".join("%s %.3g" % (("ratio" if shown(p, v)[1] == "1" else shown(p, v)[1]), shown(p, v)[0])
+                          for p, v in zip(params, c["estimate"]))
+        print("| %s | %s | %.1f | %s |" % (c["name"], label(c["scope"]), c["share"], cells if c["share"] > 0 else "not carried"))
+
 print("\nScope answers:\n")
 for q in rep["scope_support"]:
     print("- %s → **%s**" % (q["question"], q["supported"]))
 
-print("\nLeave one recording out (fitted on the other eight, hardware carried, scored on all of the left-out "
-      "recording's detections; radar, lidar: position error [m]; eo, ir: bearing error [deg]):\n")
+print("\nLeave one recording out (fitted on the other eight, hardware carried as above, its shares chosen on those eight, "
+      "scored on all of the left-out recording's detections; radar, lidar: position error [m]; eo, ir: bearing error [deg]):\n")
 rows = {}
 for x in rep["leave_one_out"]:
     rows.setdefault(x["recording"], []).append(x)

@@ -282,6 +282,23 @@ def ex_autoferry_pooled(tmp):
     for row in hardware:
         if row not in section:
             fail("pooled Autoferry example: %s lacks the hardware row '%s'" % (WHERE, row))
+    # the carried shares: the rows of the table after "Carried to a new recording"
+    lines_out = printed.splitlines()
+    start = next((i for i, l in enumerate(lines_out) if l.startswith("Carried to a new recording")), None)
+    if start is None:
+        fail("pooled Autoferry example: the study printed no carried shares")
+    else:
+        carried = []
+        for l in lines_out[start + 1:]:
+            if l.startswith("| ") and not l.startswith("| effect"):
+                carried.append(l)
+            elif carried and not l.startswith("|"):
+                break
+        if not carried:
+            fail("pooled Autoferry example: the study's carried-shares table is empty")
+        for row in carried:
+            if row not in section:
+                fail("pooled Autoferry example: %s lacks the carried row '%s'" % (WHERE, row))
     summary = next((l for l in printed.splitlines() if "pairs with >= 5 detections" in l), None)
     if summary is None or summary not in section:
         fail("pooled Autoferry example: %s lacks the leave-one-out summary '%s'" % (WHERE, summary))

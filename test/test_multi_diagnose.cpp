@@ -774,3 +774,175 @@ TEST_CASE("calibration file: a calibrations list is read in order and a file wit
   CHECK_THAT(error(R"({"calibrations": [{"effects": []}, {"effects": [{"scope": {}}]}]})"),
              Catch::Contains("grid.json: calibrations[1]: effects[0]: needs a \"name\""));
 }
+
+namespace {
+
+// Recordings associated and their problems built, as the diagnosis scores carried hardware on
+// them (no scan stamp entries: scan periods not given).
+struct Scored {
+  std::vector<AppliedScorer> scorers;
+  explicit Scored(const std::vector<std::pair<std::string, MultiSensorData>>& recs) {
+    for (const auto& [name, data] : recs) {
+      std::map<std::string, SensorAssociation> st;
+      scorers.emplace_back(RecordingDetections{name, associate(data, options().association, st)},
+                           std::map<std::string, double>{}, MultiProblemOptions{});
+    }
+  }
+  std::vector<FittedRecording> fitted(const std::map<std::size_t, std::vector<AppliedEffect>>& own = {}) const {
+    std::vector<FittedRecording> out;
+    for (std::size_t k = 0; k < scorers.size(); ++k) out.push_back({&scorers[k], own.count(k) ? own.at(k) : std::vector<AppliedEffect>{}});
+    return out;
+  }
+};
+
+CarryOptions carry(double tolerance) {
+  CarryOptions c;
+  c.tolerance = tolerance;
+  return c;
+}
+
+}  // namespace
+
+// The carry rule (carry_rule.hpp) on recordings it is given, with a radar clock of 0.4 s as the
+// fitted value. Where every recording has that clock, it is carried whole, also when one of them
+// has a reference clock of its own that masks it on one boat (the recording's own effect is known
+// where it was fitted); without that own effect the rule would withhold a correct clock. Where
+// one recording has no radar clock, the carried share is cut until none of its pairs is worse,
+// which an independent calibration check of the carried value confirms pair by pair.
+TEST_CASE("carry rule: hardware every recording shares is carried whole, shrunk where one recording lacks it") {
+  const std::vector<AppliedEffect> clock{{"time_offset", "radar", "", {0.4}}};
+  Hidden h;
+  h.radar_time_offset_s = 0.4;
+  {
+    const Scored s(three_recordings(h, 0.6));  // b: target 2's reference 0.6 s late
+    const AppliedEffect ref_b{"truth_time_offset", "", "2", {0.6}};
+    const CarriedHardware known = carry_no_harm(clock, s.fitted({{1, {ref_b}}}), carry(1.0));
+    INFO(carry_text(known, "  "));
+    CHECK(known.share == std::vector<double>{1.0});
+    REQUIRE(known.carried.size() == 1);
+    CHECK(known.carried[0].value == std::vector<double>{0.4});
+    CHECK(known.chosen.worst <= 1.0);
+    CHECK(known.choices == 11);  // 0, 0.1, ..., 1
+    // without b's own reference clock the correct radar clock looks harmful on b's radar:2
+    const CarriedHardware blind = carry_no_harm(clock, s.fitted(), carry(1.0));
+    CHECK(blind.share[0] < 1.0);
+    CHECK(blind.whole.worst > 1.0);
+    CHECK(blind.whole.worst_key == "b radar:2");
+  }
+  Hidden none;  // a recording whose radar has no clock offset
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{
+      {"a", make(41, h, {0.0, 1.0})}, {"c", make(43, h, {4.2, 0.7})}, {"e", make(45, none, {1.0, 1.2})}};
+  const Scored s(recs);
+  const CarriedHardware whole = carry_no_harm(clock, s.fitted(), carry(0.0));
+  CHECK(whole.share == std::vector<double>{1.0});
+  CHECK(whole.choices == 1);
+  CHECK(whole.whole.worst > 1.0);
+  CHECK(whole.whole.worst_key.rfind("e radar:", 0) == 0);
+  const CarriedHardware safe = carry_no_harm(clock, s.fitted(), carry(1.0));
+  INFO(carry_text(safe, "  "));
+  REQUIRE(safe.share.size() == 1);
+  CHECK(safe.share[0] < 1.0);
+  CHECK(std::abs(safe.share[0] * 10 - std::round(safe.share[0] * 10)) < 1e-12);  // on the grid
+  CHECK(safe.chosen.worst <= 1.0);
+  CHECK(safe.chosen.geomean <= 1.0);
+  // the same value through the calibration check: no pair with >= 5 detections is worse
+  const CalibrationReport check = check_calibration(recs, safe.carried, options());
+  int checked = 0;
+  for (const auto& x : check.rows) {
+    if (x.n < 5) continue;
+    INFO(x.recording << " " << x.pair);
+    CHECK(x.extended_rms <= x.nominal_rms * (1 + 1e-12));
+    ++checked;
+  }
+  CHECK(checked == 24);  // 3 recordings x 4 sensors x 2 boats
+  // a looser tolerance carries at least as much
+  CHECK(carry_no_harm(clock, s.fitted(), carry(1.5)).share[0] >= safe.share[0]);
+  // more effects: a coarser grid within max_choices (6^4 = 1296 <= 1500 < 7^4)
+  const std::vector<AppliedEffect> four{clock[0], {"time_offset", "lidar", "", {0.1}}, {"range_bias", "lidar", "", {0.5}},
+                                        {"bearing_bias", "eo", "", {0.001}}};
+  CHECK(carry_no_harm(four, s.fitted(), carry(1.0)).choices == 1296);
+  for (double bad : {0.5, -1.0, double(NAN), double(INFINITY)}) CHECK_THROWS_AS(carry_no_harm(clock, s.fitted(), carry(bad)), ConfigError);
+  CarryOptions few = carry(1.0);
+  few.max_choices = 1;
+  CHECK_THROWS_AS(carry_no_harm(clock, s.fitted(), few), ConfigError);
+}
+
+// The diagnosis carries hardware by the rule in each fold of the leave-one-out, and its JSON's
+// "carry" is what --apply applies: the recordings without one, diagnosed together, applied to it,
+// give the leave-one-out's rows for it, to the last digit. (alpha 0.2: three recordings, one
+// without the radar's clock, still name it, so that the rule has a clock to cut.)
+TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives the leave-one-out's rows") {
+  Hidden h;
+  h.radar_time_offset_s = 0.4;
+  Hidden none;
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})},
+                                                                  {"c", make(43, h, {4.2, 0.7})},
+                                                                  {"d", make(44, h, {1.0, 1.2})},
+                                                                  {"e", make(45, none, {2.1, 1.4})}};
+  MultiDiagnoseOptions o = options();
+  o.carry.tolerance = 1.0;
+  o.search.alpha = 0.2;
+  const MultiReport all = diagnose_multi_pooled(recs, o);
+  INFO(all.text());
+  REQUIRE(all.fold_carry.count("a"));
+  for (const auto& [rec, c] : all.fold_carry) {
+    INFO(rec);
+    CHECK(c.chosen.worst <= 1.0);  // no pair of the fitted recordings made worse
+  }
+  // the fold without a names the radar's clock and cuts it (e has none)
+  const CarriedHardware& fold_a = all.fold_carry.at("a");
+  REQUIRE(fold_a.fitted.size() >= 1);
+  bool cut = false;
+  for (std::size_t k = 0; k < fold_a.fitted.size(); ++k)
+    cut |= fold_a.fitted[k].name == "time_offset" && fold_a.fitted[k].sensor == "radar" && fold_a.share[k] < 1;
+  CHECK(cut);
+  o.leave_one_out = false;
+  const MultiReport others = diagnose_multi_pooled({recs[1], recs[2], recs[3]}, o);
+  const nlohmann::ordered_json j = others.to_json();
+  REQUIRE(j.contains("carry"));
+  const Calibration cal = read_calibration(nlohmann::json::parse(j.dump()), "others.json");
+  const CalibrationReport applied = check_calibration({recs[0]}, cal.effects, o);
+  std::vector<LeaveOneOutRow> loo;
+  for (const auto& x : all.leave_one_out)
+    if (x.recording == "a") loo.push_back(x);
+  REQUIRE(loo.size() == applied.rows.size());
+  for (std::size_t i = 0; i < loo.size(); ++i) {
+    INFO(loo[i].pair);
+    CHECK(loo[i].pair == applied.rows[i].pair);
+    CHECK(loo[i].extended_rms == applied.rows[i].extended_rms);
+  }
+  CHECK(all.carried.at("a") == applied.applied.at("a"));
+}
+
+TEST_CASE("calibration file: a diagnosis JSON's carry gives the values applied, withholds share 0 and bad input is named") {
+  const char* effects = R"("effects": [
+      {"name": "time_offset", "scope": {"sensor": "radar", "target": null}, "estimate": 0.5, "replication": {"mean": [0.8]}},
+      {"name": "bearing_bias", "scope": {"sensor": "eo", "target": null}, "estimate": 0.01}])";
+  auto read = [&](const std::string& carry) {
+    return read_calibration(nlohmann::json::parse("{" + std::string(effects) + ", \"carry\": " + carry + "}"), "fit.json");
+  };
+  const Calibration c = read(R"({"effects": [
+      {"name": "bearing_bias", "scope": {"sensor": "eo", "target": null}, "share": 0, "estimate": [0]},
+      {"name": "time_offset", "scope": {"sensor": "radar", "target": null}, "share": 0.5, "estimate": [0.4]}]})");
+  REQUIRE(c.effects.size() == 1);
+  CHECK(c.effects[0].name == "time_offset");
+  CHECK(c.effects[0].value == std::vector<double>{0.4});
+  CHECK(c.withheld == std::vector<std::string>{"bearing_bias@sensor eo"});
+  auto error = [&](const std::string& carry) -> std::string {
+    try {
+      read(carry);
+    } catch (const ConfigError& x) {
+      return x.what();
+    }
+    return "";
+  };
+  CHECK_THAT(error("[]"), Catch::Contains("fit.json: carry: must be an object with an \"effects\" list"));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1, "estimate": [0.8]}]})"),
+             Catch::Contains("fit.json: carry: no entry for the hardware effect bearing_bias@sensor eo"));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1.5, "estimate": [0.8]},
+                                   {"name": "bearing_bias", "scope": {"sensor": "eo"}, "share": 1, "estimate": [0.01]}]})"),
+             Catch::Contains("fit.json: carry (time_offset@sensor radar): \"share\" must be in [0, 1]"));
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1, "estimate": ["x"]},
+                                   {"name": "bearing_bias", "scope": {"sensor": "eo"}, "share": 1, "estimate": [0.01]}]})"),
+             Catch::Contains("is not a finite number"));
+}

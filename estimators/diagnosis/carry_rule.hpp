@@ -24,8 +24,8 @@ namespace rnav {
 struct CarryOptions {
   /// [1] the most a carried calibration may raise any pair (with at least min_n detections) of
   /// the recordings it was fitted on, as calibrated / nominal RMS error, >= 1; 0: no check, the
-  /// random-effects means carried whole (the default).
-  double tolerance = 0.0;
+  /// random-effects means carried whole. Default 1: no such pair made worse.
+  double tolerance = 1.0;
   int min_n = 5;            ///< pairs with fewer detections are not checked (as LeaveOneOutSummary), >= 1
   /// the grid of shares holds at most this many choices: 0, 0.1, ..., 1 per effect while 11^m
   /// fits (m effects), coarser beyond (at least 0 and 1 each), >= 2

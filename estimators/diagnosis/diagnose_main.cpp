@@ -223,7 +223,7 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "multi: a fit's hardware values are carried to another recording (each recording left out, and "
              "--apply of the JSON) at the shares of their fitted values, on a grid in [0, 1], with the lowest error on "
              "the recordings they were fitted on that leave none of those recordings' sensor:target pairs worse than T x "
-             "nominal (1: do no harm where fitted); 0: whole, >= 1 or 0", "0",
+             "nominal (1: do no harm where fitted); 0: whole, >= 1 or 0", "1",
              num("--carry-tolerance", mo.carry.tolerance))
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
