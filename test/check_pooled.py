@@ -10,7 +10,10 @@ courses and seeds), through the command line as a user runs it:
 3. `leave_one_out` has a row per recording and radar:target pair with n > 0, and leaving each
    recording out the hardware bias carried lowers that recording's radar error (summed over its
    ships: the bias is 26 m at 5 km against 15 m of range noise);
-4. the command line refuses two folders of one name and several INPUTs for another KIND.
+4. the hardware bias is carried whole by the default carry rule (JSON `carry`: share 1, every
+   recording sharing it);
+5. the command line refuses two folders of one name, several INPUTs for another KIND, and a
+   carry tolerance below 1.
 
   python3 test/check_pooled.py SOURCE_DIR BUILD_DIR
 """
@@ -56,6 +59,9 @@ with tempfile.TemporaryDirectory(prefix="check_pooled.") as tmp:
         check(len(own) == 1 and abs(own[0]["estimate"] - 60) < 3 * own[0]["stderr"],
               "the 60 m range bias is recording r2's own, within 3 SE: %s" % named)
         check(not [e for e in rb if not e["scope"].get("recording")], "no hardware range bias")
+        carry = [c for c in rep.get("carry", {}).get("effects", []) if c["name"] == "bearing_bias" and c["scope"]["sensor"] == "radar"]
+        check(len(carry) == 1 and carry[0]["share"] == 1 and rep["carry"]["tolerance"] == 1,
+              "the bias every recording shares is carried whole by the default carry rule: %s" % carry)
         rows = rep["leave_one_out"]
         for rec in ("r1", "r2", "r3", "r4"):
             mine = [x for x in rows if x["recording"] == rec and x["pair"].startswith("radar:") and x["n"] > 0]
@@ -63,6 +69,8 @@ with tempfile.TemporaryDirectory(prefix="check_pooled.") as tmp:
             ext = sum(x["n"] * x["extended_rms"] ** 2 for x in mine)
             check(mine and ext < nom, "leaving out %s: its radar error falls with the carried bias (%.1f -> %.1f m RMS over %d ships)"
                   % (rec, math.sqrt(nom / max(1, sum(x["n"] for x in mine))), math.sqrt(ext / max(1, sum(x["n"] for x in mine))), len(mine)))
+    p = run(DIAG, "multi", dirs[0], dirs[1], "--carry-tolerance", "0.5", *OPTS)
+    check(p.returncode == 2 and "tolerance must be >= 1" in p.stderr, "a carry tolerance below 1 refused: %s" % p.stderr.strip()[-200:])
     twin = os.path.join(tmp, "other", "r1")
     os.makedirs(os.path.dirname(twin))
     os.symlink(dirs[0], twin)
