@@ -18,6 +18,7 @@ import os
 import sys
 
 import matplotlib
+import numpy
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -90,16 +91,15 @@ def plot(j, folder, out, window, near):
     def ne(lat, lon):
         return (math.radians(lat - lat0) * EARTH_M, math.radians(lon - lon0) * EARTH_M * cos0)
 
-    def interp(series, t):  # series: sorted (t, (a, b)); linear, None outside
-        lo, hi = 0, len(series) - 1
-        if t < series[lo][0] or t > series[hi][0]:
-            return None
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            lo, hi = (mid, hi) if series[mid][0] <= t else (lo, mid)
-        (ta, a), (tb, b) = series[lo], series[hi]
-        w = 0.0 if tb == ta else (t - ta) / (tb - ta)
-        return tuple(a[k] + w * (b[k] - a[k]) for k in range(2))
+    def interpolator(series):  # series: sorted (t, (a, b)) -> t -> (a, b) linear in t, None outside
+        ts = numpy.array([x[0] for x in series])
+        ab = numpy.array([x[1] for x in series]).reshape(-1, 2)
+
+        def at(t):
+            if not len(ts) or t < ts[0] or t > ts[-1]:
+                return None
+            return (float(numpy.interp(t, ts, ab[:, 0])), float(numpy.interp(t, ts, ab[:, 1])))
+        return at
 
     inside = [(t, ne(*p)) for t, p in track if abs(t - t_jump) <= window]
     own = [(t, ne(la, lo)) for t, la, lo in observer]
@@ -110,7 +110,7 @@ def plot(j, folder, out, window, near):
         ax.plot([p[1] for _, p in used], [p[0] for _, p in used], "-", color="k", lw=1.5, label="reference, used")
     if cut:
         ax.plot([p[1] for _, p in cut], [p[0] for _, p in cut], "--", color="tab:red", lw=1.5, label="reference, not used")
-    ref = [(t, p) for t, p in inside]
+    own_at, ref_at = interpolator(own), interpolator(inside)
     for sensor, marker in (("lidar", "o"), ("radar", "s")):
         pts = []
         for r in detections:
@@ -119,7 +119,7 @@ def plot(j, folder, out, window, near):
             t = float(r["t_s"])
             if abs(t - t_jump) > window:
                 continue
-            o, p_ref = interp(own, t), interp(ref, t)
+            o, p_ref = own_at(t), ref_at(t)
             if o is None or p_ref is None:
                 continue
             b, rng = math.radians(float(r["bearing_deg"])), float(r["range_m"])
