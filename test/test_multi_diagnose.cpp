@@ -4,6 +4,7 @@
 // Gauss-Markov process). Hidden effects must be named with their scope, within 3 SE, with a
 // positive held-out gain; nominal data must name no mean effect; the turn must be named.
 #include "config.hpp"
+#include "config_error.hpp"
 #include "csv_units.hpp"
 #include "multi_diagnose.hpp"
 #include "scan_stamp.hpp"
@@ -928,14 +929,7 @@ TEST_CASE("calibration file: a diagnosis JSON's carry gives the values applied, 
   CHECK(c.effects[0].name == "time_offset");
   CHECK(c.effects[0].value == std::vector<double>{0.4});
   CHECK(c.withheld == std::vector<std::string>{"bearing_bias@sensor eo"});
-  auto error = [&](const std::string& carry) -> std::string {
-    try {
-      read(carry);
-    } catch (const ConfigError& x) {
-      return x.what();
-    }
-    return "";
-  };
+  auto error = [&](const std::string& carry) { return rnav_test::config_error([&] { read(carry); }); };
   CHECK_THAT(error("[]"), Catch::Contains("fit.json: carry: must be an object with an \"effects\" list"));
   CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1, "estimate": [0.8]}]})"),
              Catch::Contains("fit.json: carry: no entry for the hardware effect bearing_bias@sensor eo"));

@@ -24,20 +24,21 @@ LeaveOneOutSummary summarize(const std::vector<LeaveOneOutRow>& rows, int min_n)
   return s;
 }
 
+namespace {
+
+// One detection's pair error: a range sensor's position error e = hypot(range error, range x
+// bearing error) [m]; a bearing-only sensor's bearing error [deg]. eb [rad], er [m], range_m [m].
+double pair_error(bool range, double range_m, double eb, double er) {
+  return range ? std::hypot(er, range_m * eb) : eb / kDegToRad;
+}
+
+}  // namespace
+
 void PairErrors::add(const std::string& key, const AssociatedDetection& x, double eb0, double eb1, bool range, double er0,
                      double er1) {
   Sums& g = sums[key];
-  double e0, e1;
-  if (range) {
-    // position error: e = hypot(range error, range x bearing error)
-    e0 = std::hypot(er0, x.range_m * eb0);
-    e1 = std::hypot(er1, x.range_m * eb1);
-    g.unit = "m";
-  } else {
-    e0 = eb0 / kDegToRad;
-    e1 = eb1 / kDegToRad;
-    g.unit = "deg";
-  }
+  const double e0 = pair_error(range, x.range_m, eb0, er0), e1 = pair_error(range, x.range_m, eb1, er1);
+  g.unit = range ? "m" : "deg";
   g.nominal += e0 * e0;
   g.extended += e1 * e1;
   ++g.n;
@@ -146,18 +147,11 @@ std::vector<LeaveOneOutRow> AppliedScorer::rows(const Eigen::VectorXd& pred) con
   std::vector<double> nominal(pairs_.size(), 0.0), extended(pairs_.size(), 0.0);
   std::vector<char> range_pair(pairs_.size(), 0);
   for (const Scored& s : scored_) {
+    const bool range = s.ir >= 0;
     const double eb0 = p.y[static_cast<std::size_t>(s.ib)], eb1 = eb0 - pred(s.ib);
-    double e0, e1;
-    if (s.ir >= 0) {
-      // position error: e = hypot(range error, range x bearing error) (as PairErrors::add)
-      const double er0 = p.y[static_cast<std::size_t>(s.ir)], er1 = er0 - pred(s.ir);
-      e0 = std::hypot(er0, s.range_m * eb0);
-      e1 = std::hypot(er1, s.range_m * eb1);
-      range_pair[s.pair] = 1;
-    } else {
-      e0 = eb0 / kDegToRad;
-      e1 = eb1 / kDegToRad;
-    }
+    const double er0 = range ? p.y[static_cast<std::size_t>(s.ir)] : 0.0, er1 = range ? er0 - pred(s.ir) : 0.0;
+    const double e0 = pair_error(range, s.range_m, eb0, er0), e1 = pair_error(range, s.range_m, eb1, er1);
+    range_pair[s.pair] |= range;
     nominal[s.pair] += e0 * e0;
     extended[s.pair] += e1 * e1;
   }
@@ -185,10 +179,6 @@ AppliedScore AppliedScorer::score(const std::vector<AppliedEffect>& effects) con
   return out;
 }
 
-AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
-                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po) {
-  return AppliedScorer(rec, scan_period_s, po).score(effects);
-}
 
 namespace {
 

@@ -75,19 +75,16 @@ struct AppliedScore {
   std::set<std::string> catalogue_names;    ///< the names of this recording's catalogue entries
 };
 
-/// The recording's detections scored with the effects removed (those with observations in it).
-/// scan_period_s: per range sensor, as the effects were fitted with (it sets which sensors have a
-/// scan stamp entry). Throws ConfigError when an effect's value count or scan value does not fit
-/// its catalogue entry.
-AppliedScore score_applied(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
-                           const std::vector<AppliedEffect>& effects, const MultiProblemOptions& po);
-
 /// One recording's problem built once (the costly part: its catalogue's columns) and scored with
-/// any number of calibrations; score(effects) equals score_applied(rec, ..., effects, ...).
+/// any number of calibrations. scan_period_s: per range sensor, as the effects were fitted with
+/// (it sets which sensors have a scan stamp entry).
 class AppliedScorer {
  public:
   AppliedScorer(const RecordingDetections& rec, const std::map<std::string, double>& scan_period_s,
                 const MultiProblemOptions& po);
+  /// The recording's detections scored with the effects removed (those with observations in
+  /// it). Throws ConfigError when an effect's value count or scan value does not fit its
+  /// catalogue entry.
   AppliedScore score(const std::vector<AppliedEffect>& effects) const;
   /// Per effect: its prediction on each of the recording's observations (what score() removes),
   /// or an empty vector when the recording has none of its observations; `labels` (optional)

@@ -134,9 +134,7 @@ nlohmann::ordered_json carry_json(const CarriedHardware& c) {
     x["scope"] = {{"sensor", str_or_null(e.sensor)}, {"target", str_or_null(e.target)}};
     x["share"] = c.share[k];
     x["fitted"] = e.value;
-    std::vector<double> v = e.value;
-    for (double& y : v) y *= c.share[k];
-    x["estimate"] = v;
+    x["estimate"] = scaled(e, c.share[k]).value;
     if (std::isfinite(e.scan_value)) x["scanned"] = {{"value", e.scan_value}};
     j["effects"].push_back(x);
   }

@@ -465,8 +465,8 @@ std::string MultiReport::text() const {
   if (!carry.fitted.empty()) {
     o << "  carried to another recording (--apply), ";
     if (carry.tolerance > 0)
-      o << "each hardware value's largest share that leaves no pair of these recordings worse than " << short_num(carry.tolerance)
-        << " x nominal (geometric mean " << short_num(carry.chosen.geomean) << ", worst " << short_num(carry.chosen.worst)
+      o << "each hardware value at the share (a grid in [0, 1]) with the lowest error on these recordings that leaves none of their "
+           "pairs worse than " << short_num(carry.tolerance) << " x its error with its recording's own effects removed (geometric mean " << short_num(carry.chosen.geomean) << ", worst " << short_num(carry.chosen.worst)
         << "; with every value whole " << short_num(carry.whole.geomean) << ", worst " << short_num(carry.whole.worst) << " ("
         << carry.whole.worst_key << ")), in the catalogue's units:\n";
     else
