@@ -88,14 +88,16 @@ if not own:
 carry = rep.get("carry")
 if carry and carry["effects"]:
     if carry["tolerance"] > 0:
-        print("\nCarried to a new recording (each hardware value's share, on a grid of tenths, that gives the lowest error on "
+        print("\nCarried to a new recording (the hardware of the fit at alpha = %g, a prediction: the causes above are "
+              "named at the report's alpha; each hardware value's share, on a grid of tenths, that gives the lowest error on "
               "these recordings while no pair of theirs gets worse than %g x its error with its recording's own effects "
               "removed; geometric mean there %.3f, with every value whole %.3f, worst %.2f (%s)):\n"
-              % (carry["tolerance"], carry["fitted_recordings"]["chosen"]["geomean_ratio"],
+              % (carry["alpha"], carry["tolerance"], carry["fitted_recordings"]["chosen"]["geomean_ratio"],
                  carry["fitted_recordings"]["whole"]["geomean_ratio"], carry["fitted_recordings"]["whole"]["worst_ratio"],
                  carry["fitted_recordings"]["whole"]["worst"]))
     else:
-        print("\nCarried to a new recording (every value whole: --carry-tolerance 0):\n")
+        print("\nCarried to a new recording (the hardware of the fit at alpha = %g, every value whole: --carry-tolerance 0):\n"
+              % carry["alpha"])
     print("| effect | on | share | carried |")
     print("|---|---|---|---|")
     for c in carry["effects"]:

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <set>
 
 using namespace rnav;
@@ -883,6 +884,7 @@ TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives 
   MultiDiagnoseOptions o = options();
   o.carry.tolerance = 1.0;
   o.search.alpha = 0.2;
+  o.carry_alpha = 0.2;
   const MultiReport all = diagnose_multi_pooled(recs, o);
   INFO(all.text());
   REQUIRE(all.fold_carry.count("a"));
@@ -915,6 +917,54 @@ TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives 
   CHECK(all.carried.at("a") == applied.applied.at("a"));
 }
 
+// The carried calibration is a prediction fitted at its own level (carry_alpha); the causes
+// named stay at alpha. Four recordings with a radar clock of 0.4 s in three: at alpha 0.2 the
+// search names more than at 0.01 (required below, so that the two levels differ here).
+TEST_CASE("carry alpha: the causes named do not depend on it, the carried hardware is the fit's at it") {
+  Hidden h;
+  h.radar_time_offset_s = 0.4;
+  Hidden none;
+  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})},
+                                                                  {"c", make(43, h, {4.2, 0.7})},
+                                                                  {"d", make(44, h, {1.0, 1.2})},
+                                                                  {"e", make(45, none, {2.1, 1.4})}};
+  auto run = [&](double alpha, double carry_alpha) {
+    MultiDiagnoseOptions o = options();
+    o.leave_one_out = false;
+    o.test_target_model = false;
+    o.search.alpha = alpha;
+    o.carry_alpha = carry_alpha;
+    return diagnose_multi_pooled(recs, o);
+  };
+  auto named = [](const MultiReport& r) {
+    std::vector<std::string> out;
+    for (const FoundEffect& e : r.result.effects) out.push_back(e.name + "@" + e.scope.label());
+    return out;
+  };
+  auto carried = [](const MultiReport& r) {
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < r.carry.fitted.size(); ++k) {
+      std::ostringstream x;
+      x << r.carry.fitted[k].name << "@" << r.carry.fitted[k].sensor << ":" << r.carry.fitted[k].target << " share " << r.carry.share[k];
+      for (double v : r.carry.fitted[k].value) x << " " << v;
+      out.push_back(x.str());
+    }
+    return out;
+  };
+  const MultiReport strict = run(0.01, 0.01), split = run(0.01, 0.2), loose = run(0.2, 0.2);
+  REQUIRE(named(loose) != named(strict));      // the two levels name different effects on these recordings
+  REQUIRE(carried(loose) != carried(strict));  // and carry different hardware (else the check below could not fail)
+  CHECK(named(split) == named(strict));    // naming at 0.01 whatever is carried
+  CHECK(carried(split) == carried(loose)); // carried as the fit at 0.2
+  CHECK(split.to_json()["carry"]["alpha"] == 0.2);
+  CHECK(strict.to_json()["carry"]["alpha"] == 0.01);
+  for (double bad : {0.0, 0.5, std::nan("")}) {
+    MultiDiagnoseOptions o = options();
+    o.carry_alpha = bad;
+    CHECK_THAT(rnav_test::config_error([&] { diagnose_multi_pooled(recs, o); }), Catch::Contains("carry alpha must be in (0, 0.5)"));
+  }
+}
+
 TEST_CASE("calibration file: a diagnosis JSON's carry gives the values applied, withholds share 0 and bad input is named") {
   const char* effects = R"("effects": [
       {"name": "time_offset", "scope": {"sensor": "radar", "target": null}, "estimate": 0.5, "replication": {"mean": [0.8]}},
@@ -931,8 +981,16 @@ TEST_CASE("calibration file: a diagnosis JSON's carry gives the values applied, 
   CHECK(c.withheld == std::vector<std::string>{"bearing_bias@sensor eo"});
   auto error = [&](const std::string& carry) { return rnav_test::config_error([&] { read(carry); }); };
   CHECK_THAT(error("[]"), Catch::Contains("fit.json: carry: must be an object with an \"effects\" list"));
-  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1, "estimate": [0.8]}]})"),
-             Catch::Contains("fit.json: carry: no entry for the hardware effect bearing_bias@sensor eo"));
+  // the carry replaces the named hardware: an effect it lacks is withheld, one it adds is applied
+  const Calibration other = read(R"({"effects": [
+      {"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1, "estimate": [0.8]},
+      {"name": "range_gain", "scope": {"sensor": "lidar"}, "share": 0.4, "estimate": [-0.008]}]})");
+  REQUIRE(other.effects.size() == 2);
+  CHECK(other.effects[1].name == "range_gain");
+  CHECK(other.effects[1].value == std::vector<double>{-0.008});
+  CHECK(other.withheld == std::vector<std::string>{"bearing_bias@sensor eo"});
+  CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1}]})"),
+             Catch::Contains("fit.json: carry (time_offset@sensor radar): needs an \"estimate\""));
   CHECK_THAT(error(R"({"effects": [{"name": "time_offset", "scope": {"sensor": "radar"}, "share": 1.5, "estimate": [0.8]},
                                    {"name": "bearing_bias", "scope": {"sensor": "eo"}, "share": 1, "estimate": [0.01]}]})"),
              Catch::Contains("fit.json: carry (time_offset@sensor radar): \"share\" must be in [0, 1]"));

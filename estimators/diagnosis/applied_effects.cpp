@@ -205,32 +205,43 @@ bool is_noise_or_track(const std::string& name) {
   return name == "noise_scale" || name == "correlated_noise" || name == "outliers" || name == "target_maneuver";
 }
 
-// A diagnosis JSON's "carry": each hardware effect of `cal` at its carried value, those at
-// share 0 moved to cal.withheld.
+// A diagnosis JSON's "carry" (carry_rule.hpp's carry_json): its effects replace cal's hardware
+// effects, each at its carried "estimate" (a scanned one at its "scanned" value); those at share
+// 0, and the named hardware effects the carried fit did not take (it may be fitted at another
+// level: MultiDiagnoseOptions::carry_alpha), go to cal.withheld.
 void apply_carry(const nlohmann::json& carry, const std::string& where, Calibration& cal) {
   const std::string at = where + ": carry";
   if (!carry.is_object() || !carry.contains("effects") || !carry["effects"].is_array())
     throw ConfigError(at + ": must be an object with an \"effects\" list");
   std::vector<AppliedEffect> kept;
-  for (AppliedEffect& e : cal.effects) {
+  std::vector<std::string> labels;
+  for (const auto& x : carry["effects"]) {
+    if (!x.is_object() || !x.contains("name") || !x["name"].is_string() || !x.contains("scope") || !x["scope"].is_object())
+      throw ConfigError(at + ": each effect needs a \"name\" and a \"scope\"");
+    AppliedEffect e;
+    e.name = x["name"].get<std::string>();
+    e.sensor = string_or_null(x["scope"], "sensor", at);
+    e.target = string_or_null(x["scope"], "target", at);
     const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
-    const nlohmann::json* found = nullptr;
-    for (const auto& x : carry["effects"]) {
-      if (!x.is_object() || !x.contains("name") || !x["name"].is_string() || !x.contains("scope") || !x["scope"].is_object())
-        throw ConfigError(at + ": each effect needs a \"name\" and a \"scope\"");
-      if (x["name"].get<std::string>() == e.name && string_or_null(x["scope"], "sensor", at) == e.sensor &&
-          string_or_null(x["scope"], "target", at) == e.target)
-        found = &x;
-    }
-    if (!found) throw ConfigError(at + ": no entry for the hardware effect " + label);
-    const double share = found->contains("share") ? finite_values((*found)["share"], at + " (" + label + ") share").front() : NAN;
+    labels.push_back(label);
+    const double share = x.contains("share") ? finite_values(x["share"], at + " (" + label + ") share").front() : NAN;
     if (!(share >= 0 && share <= 1)) throw ConfigError(at + " (" + label + "): \"share\" must be in [0, 1]");
     if (share == 0) {
       cal.withheld.push_back(label);
       continue;
     }
-    e.value = finite_values((*found)["estimate"], at + " (" + label + ") estimate");
+    if (!x.contains("estimate")) throw ConfigError(at + " (" + label + "): needs an \"estimate\"");
+    e.value = finite_values(x["estimate"], at + " (" + label + ") estimate");
+    if (x.contains("scanned")) {
+      if (!x["scanned"].is_object() || !x["scanned"].contains("value"))
+        throw ConfigError(at + " (" + label + "): \"scanned\" must be an object with a \"value\"");
+      e.scan_value = finite_values(x["scanned"]["value"], at + " (" + label + ") scanned.value").front();
+    }
     kept.push_back(std::move(e));
+  }
+  for (const AppliedEffect& e : cal.effects) {
+    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+    if (std::find(labels.begin(), labels.end(), label) == labels.end()) cal.withheld.push_back(label);
   }
   cal.effects = std::move(kept);
 }

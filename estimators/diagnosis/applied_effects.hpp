@@ -117,7 +117,8 @@ struct Calibration {
   std::vector<AppliedEffect> effects;  ///< hardware: applied
   std::vector<std::string> own;        ///< one recording's own effects ("name@scope in REC"): not applied
   int findings = 0;                    ///< noise findings and reference-track manoeuvres: not corrections, not applied
-  /// a diagnosis JSON's hardware effects its carry rule does not carry (share 0): "name@scope"
+  /// a diagnosis JSON's hardware effects not carried (share 0, or named but not taken by the
+  /// carried fit): "name@scope"
   std::vector<std::string> withheld;
 };
 
@@ -127,8 +128,9 @@ struct Calibration {
 /// pooled diagnosis of some recordings checks on others. Bad input (not an object, no effects
 /// list, a name or scope not a string, a value not a finite number) throws ConfigError naming
 /// `where` and the effect. A diagnosis JSON's "carry" (carry_rule.hpp: carry_json), when present,
-/// gives the hardware effects' values instead: each at its carried share, none at share 0 (listed
-/// in `withheld`); an effect it lacks, or a bad share, throws ConfigError.
+/// gives the hardware effects instead: each of its effects at its carried "estimate", none at
+/// share 0; those, and named hardware it lacks (the carried fit may be at another level), are
+/// listed in `withheld`; a bad share or estimate throws ConfigError.
 Calibration read_calibration(const nlohmann::json& doc, const std::string& where);
 
 /// Reads a file of several calibrations, {"calibrations": [{"effects": [...]}, ...]} (one or

@@ -225,6 +225,10 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "the recordings they were fitted on that leave none of those recordings' sensor:target pairs worse than T x "
              "nominal (1: do no harm where fitted); 0: whole, >= 1 or 0", "1",
              num("--carry-tolerance", mo.carry.tolerance))
+      .value("--carry-alpha", "A",
+             "multi with several INPUTs: the familywise level of the fits whose hardware is carried (each recording left "
+             "out, and the JSON's carry that --apply uses); the causes named stay at --alpha, (0, 0.5)", "0.1",
+             num("--carry-alpha", mo.carry_alpha))
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
       .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",

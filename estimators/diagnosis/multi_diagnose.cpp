@@ -117,6 +117,8 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   if (!(o.sigma_bearing_deg > 0) || !(o.sigma_range_m > 0)) throw ConfigError("multi diagnosis: nominal sigmas must be > 0");
   if (recordings.empty()) throw ConfigError("multi diagnosis: no recording");
   check_carry_options(o.carry);
+  if (!(o.carry_alpha > 0 && o.carry_alpha < 0.5))
+    throw ConfigError("multi diagnosis: carry alpha must be in (0, 0.5), got " + short_num(o.carry_alpha));
   const bool pooled = recordings.size() > 1;
   MultiReport rep;
   std::vector<RecordingDetections> recs;
@@ -185,18 +187,32 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   // score carried hardware on: the recordings a fit saw (its shares) and the one it did not
   std::vector<AppliedScorer> scorers;
   for (const RecordingDetections& rec : recs) scorers.emplace_back(rec, mp.scan_period_s, po);
+  // pooled, the carried hardware comes from a fit at carry_alpha (no injected limits): the
+  // report's own fit where the levels are the same
+  SearchOptions carry_search = o.search;
+  carry_search.injection.injections = 0;
+  if (pooled) carry_search.alpha = o.carry_alpha;
   {
+    SearchResult carry_fit;
+    const bool own_fit = carry_search.alpha == o.search.alpha;
+    if (!own_fit) {
+      if (o.search.progress) o.search.progress("the fit carried to new recordings, at alpha " + short_num(carry_search.alpha));
+      SearchOptions so = carry_search;
+      so.progress = nullptr;
+      carry_fit = search_effects(mp.problem, so);
+    }
+    const SearchResult& cf = own_fit ? r : carry_fit;
     std::vector<FittedRecording> every;
     for (std::size_t k = 0; k < recs.size(); ++k)
-      every.push_back({&scorers[k], pooled ? own_of(r, recs[k].name) : std::vector<AppliedEffect>{}});
-    rep.carry = carry_no_harm(hardware_of(r), every, o.carry);
+      every.push_back({&scorers[k], pooled ? own_of(cf, recs[k].name) : std::vector<AppliedEffect>{}});
+    rep.carry = carry_no_harm(hardware_of(cf), every, o.carry);
+    rep.carry_alpha = carry_search.alpha;
   }
 
   // leave one recording out: fit on the others (no injected limits), carry its hardware as the
   // rule above chooses on those others, score the one left out
   if (pooled && o.leave_one_out) {
-    SearchOptions so = o.search;
-    so.injection.injections = 0;
+    SearchOptions so = carry_search;
     so.threads = 1;  // the recordings left out are searched at once instead
     so.progress = nullptr;  // one line per recording left out instead (below)
     const std::size_t R = recs.size();
@@ -321,7 +337,8 @@ std::string CalibrationReport::text() const {
     o << "\n";
   }
   if (!withheld.empty()) {
-    o << "  not applied (withheld by the diagnosis's carry rule: carrying it would make a pair of the recordings it was fitted on worse):";
+    o << "  not applied (withheld by the diagnosis's carry: at share 0, carrying it would make a pair of the recordings it was fitted "
+         "on worse, or not taken by the fit it carries):";
     for (const auto& k : withheld) o << " " << k << ";";
     o << "\n";
   }
@@ -417,6 +434,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["target_model"] = target_notes;
   j["scan_period_s"] = scan_period_s;
   j["carry"] = carry_json(carry);
+  j["carry"]["alpha"] = carry_alpha;
   if (!recordings.empty()) {
     j["recordings"] = recordings;
     j["leave_one_out"] = nlohmann::ordered_json::array();
@@ -463,7 +481,7 @@ std::string MultiReport::text() const {
   if (result.holdout_effects.empty()) o << " no effect (none named, or none determined by the window)";
   o << "\n";
   if (!carry.fitted.empty()) {
-    o << "  carried to another recording (--apply), ";
+    o << "  carried to another recording (--apply; hardware of the fit at alpha " << short_num(carry_alpha) << "), ";
     if (carry.tolerance > 0)
       o << "each hardware value at the share (a grid in [0, 1]) with the lowest error on these recordings that leaves none of their "
            "pairs worse than " << short_num(carry.tolerance) << " x its error with its recording's own effects removed (geometric mean " << short_num(carry.chosen.geomean) << ", worst " << short_num(carry.chosen.worst)
