@@ -30,8 +30,10 @@
 // value in every recording, per-recording entries (a reference clock, a bias step) one per
 // recording; each hardware kind is asked whether one value or one per recording fits (BIC), and
 // a boat's along-track offset whether it is the same in metres, in seconds, or per recording.
-// Leave one recording out: the model fitted on the others, its hardware entries carried over
-// (per-recording entries not), scored on the one left out.
+// The causes are named at search.alpha; the calibration carried to a new recording is the
+// hardware of a fit at carry_alpha, each value at the share the carry rule chooses
+// (carry_rule.hpp). Leave one recording out: the others fitted at carry_alpha, their hardware
+// carried so (per-recording entries not), scored on the one left out.
 // Gain, keyed "<sensor>:<target>": fit on the first split_fraction of the span, score the rest;
 // range sensors: position error of the detection against the reference [m]; bearing-only
 // sensors: bearing error [deg].
