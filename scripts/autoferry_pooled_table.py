@@ -51,6 +51,13 @@ def label(s):
     return core
 
 
+def scope_label(s):
+    """A scope as the report's keys write it: "sensor S", "target T", "S:T" or "common"."""
+    sensor, target = s.get("sensor"), s.get("target")
+    return "%s:%s" % (sensor, target) if sensor and target else "sensor " + sensor if sensor else \
+        "target " + target if target else "common"
+
+
 def rec_key(name):
     m = re.search(r"(\d+)$", name)
     return (int(m.group(1)) if m else 0, name)
@@ -102,7 +109,9 @@ if carry and carry["effects"]:
     print("|---|---|---|---|")
     for c in carry["effects"]:
         fitted = next((e for e in hardware if e["name"] == c["name"] and label(e["scope"]) == label(c["scope"])), None)
-        params = fitted["params"] if fitted else ["value"] * len(c["estimate"])
+        # not named (the carried fit is at its own level): its parameters from the catalogue's limits
+        limits = rep.get("detection_limits", {}).get("%s@%s" % (c["name"], scope_label(c["scope"])), {})
+        params = fitted["params"] if fitted else list(limits) if len(limits) == len(c["estimate"]) else ["value"] * len(c["estimate"])
         cells = ", ".join("%s %.3g" % (("ratio" if shown(p, v)[1] == "1" else shown(p, v)[1]), shown(p, v)[0])
                           for p, v in zip(params, c["estimate"]))
         print("| %s | %s | %.1f | %s |" % (c["name"], label(c["scope"]), c["share"], cells if c["share"] > 0 else "not carried"))
