@@ -9,6 +9,7 @@ import math
 import re
 
 from rnav import cli_args
+from rnav.effect_labels import scope_text
 
 MEAN_EFFECTS_SKIPPED = ("noise_scale", "correlated_noise", "outliers", "target_maneuver")
 MIN_N = 5          # detections a pair needs to count in the summary (the issue's rule)
@@ -49,13 +50,6 @@ def listify(x):
 def label(s):
     core = ":".join(x for x in (s.get("sensor"), s.get("target")) if x) or "common"
     return core
-
-
-def scope_label(s):
-    """A scope as the report's keys write it: "sensor S", "target T", "S:T" or "common"."""
-    sensor, target = s.get("sensor"), s.get("target")
-    return "%s:%s" % (sensor, target) if sensor and target else "sensor " + sensor if sensor else \
-        "target " + target if target else "common"
 
 
 def rec_key(name):
@@ -110,7 +104,7 @@ if carry and carry["effects"]:
     for c in carry["effects"]:
         fitted = next((e for e in hardware if e["name"] == c["name"] and label(e["scope"]) == label(c["scope"])), None)
         # not named (the carried fit is at its own level): its parameters from the catalogue's limits
-        limits = rep.get("detection_limits", {}).get("%s@%s" % (c["name"], scope_label(c["scope"])), {})
+        limits = rep.get("detection_limits", {}).get("%s@%s" % (c["name"], scope_text(c) or "common"), {})
         params = fitted["params"] if fitted else list(limits) if len(limits) == len(c["estimate"]) else ["value"] * len(c["estimate"])
         cells = ", ".join("%s %.3g" % (("ratio" if shown(p, v)[1] == "1" else shown(p, v)[1]), shown(p, v)[0])
                           for p, v in zip(params, c["estimate"]))

@@ -873,14 +873,15 @@ TEST_CASE("carry rule: hardware every recording shares is carried whole, shrunk 
 // "carry" is what --apply applies: the recordings without one, diagnosed together, applied to it,
 // give the leave-one-out's rows for it, to the last digit. (alpha 0.2: three recordings, one
 // without the radar's clock, still name it, so that the rule has a clock to cut.)
-TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives the leave-one-out's rows") {
+// Four recordings a, c, d (a radar clock of 0.4 s) and e (none), each its own geometry.
+std::vector<std::pair<std::string, MultiSensorData>> radar_clock_in_three_of_four() {
   Hidden h;
   h.radar_time_offset_s = 0.4;
-  Hidden none;
-  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})},
-                                                                  {"c", make(43, h, {4.2, 0.7})},
-                                                                  {"d", make(44, h, {1.0, 1.2})},
-                                                                  {"e", make(45, none, {2.1, 1.4})}};
+  return {{"a", make(41, h, {0.0, 1.0})}, {"c", make(43, h, {4.2, 0.7})}, {"d", make(44, h, {1.0, 1.2})}, {"e", make(45, Hidden{}, {2.1, 1.4})}};
+}
+
+TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives the leave-one-out's rows") {
+  const auto recs = radar_clock_in_three_of_four();
   MultiDiagnoseOptions o = options();
   o.carry.tolerance = 1.0;
   o.search.alpha = 0.2;
@@ -921,13 +922,7 @@ TEST_CASE("carry rule: a diagnosis JSON applied to the recording left out gives 
 // named stay at alpha. Four recordings with a radar clock of 0.4 s in three: at alpha 0.2 the
 // search names more than at 0.01 (required below, so that the two levels differ here).
 TEST_CASE("carry alpha: the causes named do not depend on it, the carried hardware is the fit's at it") {
-  Hidden h;
-  h.radar_time_offset_s = 0.4;
-  Hidden none;
-  const std::vector<std::pair<std::string, MultiSensorData>> recs{{"a", make(41, h, {0.0, 1.0})},
-                                                                  {"c", make(43, h, {4.2, 0.7})},
-                                                                  {"d", make(44, h, {1.0, 1.2})},
-                                                                  {"e", make(45, none, {2.1, 1.4})}};
+  const auto recs = radar_clock_in_three_of_four();
   auto run = [&](double alpha, double carry_alpha) {
     MultiDiagnoseOptions o = options();
     o.leave_one_out = false;

@@ -53,9 +53,10 @@ std::vector<LeaveOneOutRow> PairErrors::rows(const std::string& recording) const
   return out;
 }
 
+std::string AppliedEffect::key() const { return name + "@" + Scope{sensor, target, ""}.label(); }
+
 std::string AppliedEffect::label(const std::vector<std::string>& params, const std::string& scan_param) const {
-  const Scope scope{sensor, target, ""};
-  std::string what = name + "@" + scope.label() + " (";
+  std::string what = key() + " (";
   for (std::size_t j = 0; j < value.size(); ++j)
     what += (j ? " " : "") + (j < params.size() && params[j] == "1" ? std::string("ratio") : j < params.size() ? params[j] : "?") +
             "=" + short_num(value[j]);
@@ -199,6 +200,14 @@ std::string string_or_null(const nlohmann::json& scope, const char* key, const s
   return scope[key].get<std::string>();
 }
 
+// A calibration entry's "scanned": {"value"} (scanned entries), NaN when absent; `what` names it in errors.
+double scanned_value(const nlohmann::json& x, const std::string& what) {
+  if (!x.contains("scanned")) return NAN;
+  if (!x["scanned"].is_object() || !x["scanned"].contains("value"))
+    throw ConfigError(what + ": \"scanned\" must be an object with a \"value\"");
+  return finite_values(x["scanned"]["value"], what + " scanned.value").front();
+}
+
 // Entries of the engine that are not catalogue mean effects (search_json's noise findings) or
 // not the multi catalogue's (the reference tracks' manoeuvres).
 bool is_noise_or_track(const std::string& name) {
@@ -222,7 +231,7 @@ void apply_carry(const nlohmann::json& carry, const std::string& where, Calibrat
     e.name = x["name"].get<std::string>();
     e.sensor = string_or_null(x["scope"], "sensor", at);
     e.target = string_or_null(x["scope"], "target", at);
-    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+    const std::string label = e.key();
     labels.push_back(label);
     const double share = x.contains("share") ? finite_values(x["share"], at + " (" + label + ") share").front() : NAN;
     if (!(share >= 0 && share <= 1)) throw ConfigError(at + " (" + label + "): \"share\" must be in [0, 1]");
@@ -232,17 +241,11 @@ void apply_carry(const nlohmann::json& carry, const std::string& where, Calibrat
     }
     if (!x.contains("estimate")) throw ConfigError(at + " (" + label + "): needs an \"estimate\"");
     e.value = finite_values(x["estimate"], at + " (" + label + ") estimate");
-    if (x.contains("scanned")) {
-      if (!x["scanned"].is_object() || !x["scanned"].contains("value"))
-        throw ConfigError(at + " (" + label + "): \"scanned\" must be an object with a \"value\"");
-      e.scan_value = finite_values(x["scanned"]["value"], at + " (" + label + ") scanned.value").front();
-    }
+    e.scan_value = scanned_value(x, at + " (" + label + ")");
     kept.push_back(std::move(e));
   }
-  for (const AppliedEffect& e : cal.effects) {
-    const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
-    if (std::find(labels.begin(), labels.end(), label) == labels.end()) cal.withheld.push_back(label);
-  }
+  for (const AppliedEffect& e : cal.effects)
+    if (std::find(labels.begin(), labels.end(), e.key()) == labels.end()) cal.withheld.push_back(e.key());
   cal.effects = std::move(kept);
 }
 
@@ -276,11 +279,7 @@ Calibration read_calibration(const nlohmann::json& doc, const std::string& where
     const bool has_mean = x.contains("replication") && x["replication"].is_object() && x["replication"].contains("mean");
     if (!has_mean && !x.contains("estimate")) throw ConfigError(what + ": needs an \"estimate\"");
     e.value = finite_values(has_mean ? x["replication"]["mean"] : x["estimate"], what + (has_mean ? " replication.mean" : " estimate"));
-    if (x.contains("scanned")) {
-      if (!x["scanned"].is_object() || !x["scanned"].contains("value"))
-        throw ConfigError(what + ": \"scanned\" must be an object with a \"value\"");
-      e.scan_value = finite_values(x["scanned"]["value"], what + " scanned.value").front();
-    }
+    e.scan_value = scanned_value(x, what);
     out.effects.push_back(std::move(e));
   }
   if (doc.contains("carry")) apply_carry(doc["carry"], where, out);

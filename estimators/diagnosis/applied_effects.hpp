@@ -63,6 +63,8 @@ struct AppliedEffect {
   /// scanned entries (scan_time_offset): the grid value of the scanned parameter (e.g. the
   /// sweep's end bearing [deg]); NaN for entries without a scan
   double scan_value = NAN;
+  /// "name@scope" (Scope::label without a recording), e.g. "time_offset@sensor radar"
+  std::string key() const;
   /// "name@scope (param=value ...)" as the reports print it
   std::string label(const std::vector<std::string>& params, const std::string& scan_param) const;
 };

@@ -145,7 +145,7 @@ std::string carry_text(const CarriedHardware& c, const std::string& indent) {
   std::ostringstream o;
   for (std::size_t k = 0; k < c.fitted.size(); ++k) {
     const AppliedEffect& e = c.fitted[k];
-    o << indent << e.name << "@" << Scope{e.sensor, e.target, ""}.label() << ": share " << short_num(c.share[k]) << " (";
+    o << indent << e.key() << ": share " << short_num(c.share[k]) << " (";
     for (std::size_t j = 0; j < e.value.size(); ++j) o << (j ? ", " : "") << short_num(c.share[k] * e.value[j]);
     o << " of";
     for (std::size_t j = 0; j < e.value.size(); ++j) o << (j ? ", " : " ") << short_num(e.value[j]);

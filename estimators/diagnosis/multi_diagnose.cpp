@@ -292,7 +292,7 @@ std::vector<CalibrationReport> check_calibrations(const std::vector<std::pair<st
     const std::vector<std::string> known(names.begin(), names.end());
     for (std::size_t k = 0; k < effects.size(); ++k) {
       const AppliedEffect& e = effects[k];
-      const std::string label = e.name + "@" + Scope{e.sensor, e.target, ""}.label();
+      const std::string label = e.key();
       if (!names.count(e.name))
         throw ConfigError(which + label + ": no catalogue entry is named '" + e.name + "'" + did_you_mean(e.name, known));
       // a boat or sensor these recordings do not have (a calibration from other recordings): named, not applied
@@ -501,7 +501,7 @@ std::string MultiReport::text() const {
         for (std::size_t k = 0; k < it->second.fitted.size(); ++k)
           if (it->second.share[k] < 1) {
             const AppliedEffect& e = it->second.fitted[k];
-            o << "; " << e.name << "@" << Scope{e.sensor, e.target, ""}.label() << " at share " << short_num(it->second.share[k]);
+            o << "; " << e.key() << " at share " << short_num(it->second.share[k]);
           }
       o << "\n";
     }
