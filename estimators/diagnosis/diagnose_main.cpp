@@ -229,6 +229,16 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
              "multi with several INPUTs: the familywise level of the fits whose hardware is carried (each recording left "
              "out, and the JSON's carry that --apply uses); the causes named stay at --alpha, (0, 0.5)", "0.1",
              num("--carry-alpha", mo.carry_alpha))
+      .value("--max-hull-m", "L,B",
+             "multi: a target without a size on record (targets.csv: target,length_m,beam_m) is at most L m long and B m "
+             "wide; an antenna or hull offset beyond its hull is refused as an explanation (a sign of wrong association), "
+             "each > 0", "400,62 (the largest ships afloat)",
+             [&mo](const std::string& v) {
+               const auto c = v.find(',');
+               if (c == std::string::npos) throw rnav::ConfigError("--max-hull-m: expected L,B (metres), got '" + v + "'");
+               mo.max_hull_length_m = rnav::cli::number("--max-hull-m", v.substr(0, c), 1e-3, 1e4);
+               mo.max_hull_beam_m = rnav::cli::number("--max-hull-m", v.substr(c + 1), 1e-3, 1e4);
+             })
       .flag("--no-leave-one-out", "multi with several INPUTs: skip scoring each recording with the model fitted on the others",
             [&mo] { mo.leave_one_out = false; })
       .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",

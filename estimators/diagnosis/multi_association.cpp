@@ -1,8 +1,10 @@
 #include "multi_association.hpp"
 
+#include "assignment.hpp"
 #include "config.hpp"
 #include "gross_check.hpp"
 #include "plane_series.hpp"
+#include "rotation_scans.hpp"
 #include "stats.hpp"
 
 #include <algorithm>
@@ -36,11 +38,13 @@ struct Pred {
   double interp_sd_m = 0, interval_s = 0;  // AssociatedDetection::ref_interp_sd_m, ref_interval_s
 };
 
-// One scan: rows [begin, end) of one sensor with one t_s, and the reference geometry at its time
-// (frame F, (north, east)).
+// One scan: the rows of one sensor with one t_s (or, for a sensor read as rotations, the rows of
+// one rotation, each at its own time), and the reference geometry at its time (frame F, (north, east)).
 struct Scan {
-  std::size_t begin = 0, end = 0;
+  std::string sensor;
+  double t = 0;                   // [s] the scan's time (a rotation's middle)
   std::vector<std::size_t> rows;  // the rows with a detection
+  std::vector<double> dt;         // [s] per row: its time minus t (0 for a scan stamped once)
   bool ranged = false;
   Eigen::Vector2d po, vo;   // [m], [m/s] the observer's position and velocity
   double gamma = 0;         // [rad] the observer's local north, clockwise from the frame's north
@@ -48,50 +52,33 @@ struct Scan {
 };
 
 
-// Distance of detection dk from prediction p (metres for range sensors, radians for bearing-only;
-// its bearing turned into the frame).
-double distance(const Detection& dk, const Scan& s, const Eigen::Vector2d& p) {
-  const Eigen::Vector2d d = p - s.po;
+// Target minus observer for row i of scan s, at the row's own time (the scan's prediction moved
+// along both velocities by the row's dt; exactly the scan's own without dt).
+Eigen::Vector2d rel(const Scan& s, std::size_t i, const Pred& pr) {
+  const double dt = s.dt[i];
+  if (dt == 0) return pr.p - s.po;
+  return (pr.p + dt * pr.v) - (s.po + dt * s.vo);
+}
+
+// The relative position d moved by a bearing shift db [rad] and a range shift dr [m] about the observer:
+//   d' = max(0, |d| + dr) (cos(atan2(d_e, d_n) + db), sin(atan2(d_e, d_n) + db));  d itself without shift.
+Eigen::Vector2d shifted(const Eigen::Vector2d& d, double db, double dr) {
+  if (db == 0 && dr == 0) return d;
+  const double b = bearing_rad(d) + db, r = std::max(0.0, d.norm() + dr);
+  return r * Eigen::Vector2d(std::cos(b), std::sin(b));
+}
+
+// Distance of row i's detection from the relative prediction d (metres for range sensors,
+// radians for bearing-only; its bearing turned into the frame).
+double distance(const Detection& dk, const Scan& s, const Eigen::Vector2d& d) {
   const double b_F = dk.bearing_rad + s.gamma;
-  if (s.ranged) {
-    const Eigen::Vector2d q = s.po + dk.range_m * Eigen::Vector2d(std::cos(b_F), std::sin(b_F));
-    return (q - p).norm();
-  }
+  if (s.ranged) return (dk.range_m * Eigen::Vector2d(std::cos(b_F), std::sin(b_F)) - d).norm();
   return std::abs(wrap_pi(b_F - bearing_rad(d)));
 }
 
-// Separation of two predictions, in the units of distance().
-double separation(const Scan& s, const Eigen::Vector2d& pa, const Eigen::Vector2d& pb) {
-  const Eigen::Vector2d da = pa - s.po, db = pb - s.po;
-  return s.ranged ? (pa - pb).norm() : std::abs(wrap_pi(bearing_rad(da) - bearing_rad(db)));
-}
-
-// The prediction p moved by a bearing shift db [rad] and a range shift dr [m] about the observer:
-//   d = p - p_O,  p' = p_O + max(0, |d| + dr) (cos(atan2(d_e, d_n) + db), sin(atan2(d_e, d_n) + db))
-// p itself (bit for bit) without shift.
-Eigen::Vector2d shifted(const Scan& s, const Eigen::Vector2d& p, double db, double dr) {
-  if (db == 0 && dr == 0) return p;
-  const Eigen::Vector2d d = p - s.po;
-  const double b = bearing_rad(d) + db, r = std::max(0.0, d.norm() + dr);
-  return s.po + r * Eigen::Vector2d(std::cos(b), std::sin(b));
-}
-
-// One sensor's unambiguous first-pass residuals.
-struct WideResiduals {
-  std::vector<double> bearing_rad;   // wrap(b_meas - b_pred) [rad]
-  std::vector<double> range_m;       // r_meas - |d| [m], range sensors
-  std::vector<double> pred_range_m;  // |d| [m], range sensors
-};
-
-// The shift a median of `r` earns: the median if there are `min_pairs`, beyond kShiftMinSe standard
-// errors and, as `scale` x median, beyond kShiftMinGateFraction of `gate`; else 0.
-double shift_of(const std::vector<double>& r, int min_pairs, double scale, double gate) {
-  if (static_cast<int>(r.size()) < min_pairs) return 0;
-  const double m = median(r);
-  std::vector<double> dev(r.size());
-  for (std::size_t i = 0; i < r.size(); ++i) dev[i] = std::abs(r[i] - m);
-  const double se = kMedianSeFactor * kMadToSigma * median(dev) / std::sqrt(static_cast<double>(r.size()));
-  return std::abs(m) > kShiftMinSe * se && std::abs(m) * scale > kShiftMinGateFraction * gate ? m : 0.0;
+// Separation of two relative predictions, in the units of distance().
+double separation(const Scan& s, const Eigen::Vector2d& da, const Eigen::Vector2d& db) {
+  return s.ranged ? (da - db).norm() : std::abs(wrap_pi(bearing_rad(da) - bearing_rad(db)));
 }
 
 }  // namespace
@@ -117,7 +104,7 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
   std::map<std::string, Acc> acc;
   for (const Scan& s : scans) {
     if (s.preds.empty() || s.rows.empty()) continue;
-    Acc& a = acc[det[s.begin].sensor];
+    Acc& a = acc[s.sensor];
     for (const auto& pr : s.preds) {
       ++a.preds;
       a.preds_outside += outside_radians_band(wrap_pi(bearing_rad(pr.p - s.po) - s.gamma));
@@ -130,10 +117,11 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
     // per target: of the detections within kUnitsBearingDeg of its bearing, the ratio nearest 1
     // (clutter at other ranges on its bearing, a shore or a wake, does not count)
     for (const auto& pr : s.preds) {
-      const Eigen::Vector2d d = pr.p - s.po;
-      if (d.norm() < kMinPredRange) continue;
+      if ((pr.p - s.po).norm() < kMinPredRange) continue;
       double best = INFINITY, q = 0;
-      for (auto k : s.rows) {
+      for (std::size_t i = 0; i < s.rows.size(); ++i) {
+        const auto k = s.rows[i];
+        const Eigen::Vector2d d = rel(s, i, pr);
         if (std::abs(wrap_pi(det[k].bearing_rad + s.gamma - bearing_rad(d))) > kUnitsBearingDeg * kDegToRad) continue;
         const double r = det[k].range_m / d.norm();
         if (r > 0 && std::abs(std::log(r)) < best) best = std::abs(std::log(r)), q = r;
@@ -173,49 +161,202 @@ void check_options(const AssociationOptions& o) {
     if (!(o.wide_gate_position_m > 0) || !std::isfinite(o.wide_gate_position_m))
       throw ConfigError("association: wide_gate_position_m must be finite and > 0");
     if (o.recentre_min_pairs < kMinPairsFloor) throw ConfigError("association: recentre_min_pairs must be >= 3");
+    if (o.max_passes < 1) throw ConfigError("association: max_passes must be >= 1");
   }
+  if (!(o.ambiguous_gates > 0) || !std::isfinite(o.ambiguous_gates))
+    throw ConfigError("association: ambiguous_gates must be finite and > 0");
+}
+
+// One sensor's unambiguous first-pass residuals, per target.
+struct WideResiduals {
+  std::map<std::string, std::vector<double>> bearing_rad;  // wrap(b_meas - b_pred) [rad]
+  std::map<std::string, std::vector<double>> range_m;      // r_meas - |d| [m], range sensors
+  std::vector<double> pred_range_m;                        // |d| [m], range sensors
+  bool ranged = false;
+  int pairs = 0;
+};
+
+std::vector<double> pooled(const std::map<std::string, std::vector<double>>& by_target) {
+  std::vector<double> all;
+  for (const auto& [t, v] : by_target) all.insert(all.end(), v.begin(), v.end());
+  return all;
+}
+
+// A shift and its standard error (value 0: not applied).
+struct ShiftEstimate {
+  double value = 0, se = 0;
+};
+
+// On pairs: the median of `r` if there are `min_pairs`, beyond kShiftMinSe standard errors and,
+// as `scale` x median, beyond kShiftMinGateFraction of `gate`; else 0.
+ShiftEstimate shift_on_pairs(const std::vector<double>& r, int min_pairs, double scale, double gate) {
+  if (static_cast<int>(r.size()) < min_pairs) return {};
+  const double m = median(r);
+  std::vector<double> dev(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) dev[i] = std::abs(r[i] - m);
+  const double se = kMedianSeFactor * kMadToSigma * median(dev) / std::sqrt(static_cast<double>(r.size()));
+  return {std::abs(m) > kShiftMinSe * se && std::abs(m) * scale > kShiftMinGateFraction * gate ? m : 0.0, se};
+}
+
+// The targets' medians (targets with kMinTargetPairs pairs or more).
+std::vector<double> target_medians(const std::map<std::string, std::vector<double>>& by_target) {
+  std::vector<double> m;
+  for (const auto& [t, v] : by_target)
+    if (static_cast<int>(v.size()) >= kMinTargetPairs) m.push_back(median(v));
+  return m;
+}
+
+// Across targets: the median of the targets' medians, beyond kShiftMinSe standard errors of a
+// median over targets; else 0.
+ShiftEstimate shift_across_targets(const std::vector<double>& m) {
+  const double c = median(m);
+  std::vector<double> dev(m.size());
+  for (std::size_t i = 0; i < m.size(); ++i) dev[i] = std::abs(m[i] - c);
+  const double se = kMedianSeFactor * kMadToSigma * median(dev) / std::sqrt(static_cast<double>(m.size()));
+  return {std::abs(c) > kShiftMinSe * se ? c : 0.0, se};
+}
+
+// Per sensor: (bearing [rad], range [m]) shifts for gating, and whether they are judged across
+// targets (and iterated).
+struct SensorShift {
+  ShiftEstimate bearing, range;
+  bool across_targets = false;
+  int targets = 0;
+};
+using Shifts = std::map<std::string, SensorShift>;
+
+// A sensor's shifts from its residuals per target (first pass, or the pairs of the last pass).
+SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o) {
+  SensorShift sh;
+  const std::vector<double> mb = target_medians(w.bearing_rad);
+  if (static_cast<int>(mb.size()) >= kMinCommonTargets) {
+    sh.across_targets = true;
+    sh.targets = static_cast<int>(mb.size());
+    sh.bearing = shift_across_targets(mb);
+    if (w.ranged) {
+      const std::vector<double> mr = target_medians(w.range_m);
+      if (static_cast<int>(mr.size()) >= kMinCommonTargets) sh.range = shift_across_targets(mr);
+    }
+    return sh;
+  }
+  const double gate_b = o.gate_bearing_deg * kDegToRad;
+  // a range sensor's bearing shift is judged as metres across the line of sight at the pairs' median range
+  const double scale = w.pred_range_m.empty() ? 1.0 : median(w.pred_range_m);  // [m/rad] or [1]
+  sh.bearing = shift_on_pairs(pooled(w.bearing_rad), o.recentre_min_pairs, scale, w.ranged ? o.gate_position_m : gate_b);
+  if (w.ranged) sh.range = shift_on_pairs(pooled(w.range_m), o.recentre_min_pairs, 1.0, o.gate_position_m);
+  return sh;
+}
+
+// Everything the passes need: the detections, the options and the reference series (for a
+// rotation's rows, each evaluated at its own time).
+struct Context {
+  const std::vector<Detection>& det;
+  const AssociationOptions& o;
+  const PlaneSeries& observer;
+  const std::map<std::string, PlaneSeries>& truth;
+};
+
+// The reference at t of one target (and the observer): false where either is not defined.
+bool pred_at(const Context& c, const PlaneSeries& series, double t, Pred& pr) {
+  double b = 0;
+  if (!series.at(t, pr.p) || !series.velocity(t, c.o.velocity_half_span_s, pr.v) || !series.bridge(t, b, pr.interval_s)) return false;
+  // the chord's miss a b / 2 (PlaneSeries::bridge)
+  const double accel = c.o.reference_accel_mps2 < 0 ? series.accel_rms() : c.o.reference_accel_mps2;
+  pr.interp_sd_m = 0.5 * accel * b;
+  return true;
+}
+
+// The observer and the targets' predictions at the scan's time.
+void set_geometry(const Context& c, const LocalLevelFrame& F, Scan& s) {
+  if (!(c.observer.at(s.t, s.po) && c.observer.velocity(s.t, c.o.velocity_half_span_s, s.vo))) return;
+  // gamma: the observer's local north, clockwise from the frame's north (meridian convergence,
+  // about dlon sin(lat): 0.2 deg after 20 km east at 63 deg N). Bearings are measured from the
+  // local north, so every vector is turned into the observer's local orientation.
+  const Eigen::Vector3d north_F = F.from_ned(F.to_geodetic(Eigen::Vector3d(s.po.x(), 0.0, s.po.y())), Eigen::Vector3d::UnitX());
+  s.gamma = std::atan2(north_F.z(), north_F.x());
+  for (const auto& [name, series] : c.truth) {
+    Pred pr{name, {}, {}};
+    if (pred_at(c, series, s.t, pr)) s.preds.push_back(pr);
+  }
+}
+
+// Per sensor: the rotation period if it stamps (nearly) every detection at a time of its own
+// and its detections follow one rotating beam (rotation_scans.hpp); absent otherwise.
+constexpr double kOwnStampFraction = 0.9;  // at least this share of its stamps hold one detection
+std::map<std::string, double> rotating_sensors(const std::vector<Detection>& det) {
+  struct Rows {
+    std::vector<double> t, b;
+    int stamps = 0, single = 0, in_stamp = 0;
+    double last = NAN;
+    bool ranged = false;
+  };
+  std::map<std::string, Rows> by;
+  for (const Detection& x : det) {
+    if (x.empty_scan()) continue;
+    Rows& r = by[x.sensor];
+    r.ranged = std::isfinite(x.range_m);
+    if (x.t_s != r.last) {
+      r.single += r.in_stamp == 1;
+      ++r.stamps, r.in_stamp = 0, r.last = x.t_s;
+    }
+    ++r.in_stamp;
+    r.t.push_back(x.t_s);
+    r.b.push_back(x.bearing_rad);
+  }
+  std::map<std::string, double> out;
+  for (auto& [sensor, r] : by) {
+    r.single += r.in_stamp == 1;
+    if (!r.ranged || r.stamps < kMinRotationDetections || r.single < kOwnStampFraction * r.stamps) continue;
+    const RotationEstimate e = rotation_period(r.t, r.b);
+    if (e.period_s > 0) out[sensor] = e.period_s;
+  }
+  return out;
 }
 
 // The scans of det, each with the observer and the targets' predictions at its time (frame F).
-std::vector<Scan> make_scans(const std::vector<Detection>& det, const AssociationOptions& o, const LocalLevelFrame& F,
-                             const PlaneSeries& observer, const std::map<std::string, PlaneSeries>& truth) {
-  const double h = o.velocity_half_span_s;
-  // scans: consecutive rows of one sensor with one t_s (sensors may interleave between scans)
+std::vector<Scan> make_scans(const Context& c, const LocalLevelFrame& F, const std::map<std::string, double>& rotating) {
+  const auto& det = c.det;
   std::vector<Scan> scans;
+  // scans: consecutive rows of one sensor with one t_s (sensors may interleave between scans)
   for (std::size_t i = 0; i < det.size();) {
     std::size_t j = i + 1;
     while (j < det.size() && det[j].sensor == det[i].sensor && det[j].t_s == det[i].t_s) ++j;
-    Scan s;
-    s.begin = i;
-    s.end = j;
-    const double t = det[i].t_s;
-    for (std::size_t k = i; k < j; ++k)
-      if (!det[k].empty_scan()) s.rows.push_back(k);
-    s.ranged = !s.rows.empty() && std::isfinite(det[s.rows[0]].range_m);
-    // gamma: the observer's local north, clockwise from the frame's north (meridian convergence,
-    // about dlon sin(lat): 0.2 deg after 20 km east at 63 deg N). Bearings are measured from the
-    // local north, so every vector is turned into the observer's local orientation.
-    if (observer.at(t, s.po) && observer.velocity(t, h, s.vo)) {
-      const Eigen::Vector3d north_F =
-          F.from_ned(F.to_geodetic(Eigen::Vector3d(s.po.x(), 0.0, s.po.y())), Eigen::Vector3d::UnitX());
-      s.gamma = std::atan2(north_F.z(), north_F.x());
-      for (const auto& [name, series] : truth) {
-        Pred pr{name, {}, {}};
-        double b = 0;
-        if (!series.at(t, pr.p) || !series.velocity(t, h, pr.v) || !series.bridge(t, b, pr.interval_s)) continue;
-        // the chord's miss a b / 2 (PlaneSeries::bridge)
-        const double accel = o.reference_accel_mps2 < 0 ? series.accel_rms() : o.reference_accel_mps2;
-        pr.interp_sd_m = 0.5 * accel * b;
-        s.preds.push_back(pr);
-      }
+    if (rotating.count(det[i].sensor)) {
+      i = j;
+      continue;
     }
+    Scan s;
+    s.sensor = det[i].sensor;
+    s.t = det[i].t_s;
+    for (std::size_t k = i; k < j; ++k)
+      if (!det[k].empty_scan()) s.rows.push_back(k), s.dt.push_back(0.0);
+    s.ranged = !s.rows.empty() && std::isfinite(det[s.rows[0]].range_m);
+    set_geometry(c, F, s);
     scans.push_back(std::move(s));
     i = j;
   }
+  if (rotating.empty()) return scans;
+  // a rotating sensor's rotations: k = floor((t - t_first) / P), each a scan at its middle
+  for (const auto& [sensor, P] : rotating) {
+    std::map<long, Scan> rot;
+    double t_first = NAN;
+    for (std::size_t k = 0; k < det.size(); ++k) {
+      if (det[k].sensor != sensor || det[k].empty_scan()) continue;
+      if (!std::isfinite(t_first)) t_first = det[k].t_s;
+      const long n = static_cast<long>(std::floor((det[k].t_s - t_first) / P));
+      Scan& s = rot[n];
+      if (s.rows.empty()) s.sensor = sensor, s.t = t_first + (static_cast<double>(n) + 0.5) * P, s.ranged = true;
+      s.rows.push_back(k);
+      s.dt.push_back(det[k].t_s - s.t);
+    }
+    for (auto& [n, s] : rot) {
+      set_geometry(c, F, s);
+      scans.push_back(std::move(s));
+    }
+  }
+  std::stable_sort(scans.begin(), scans.end(), [](const Scan& a, const Scan& b) { return a.t < b.t; });
   return scans;
 }
-
-using Shifts = std::map<std::string, std::pair<double, double>>;  // per sensor: (bearing [rad], range [m])
 
 // First pass: per sensor, the residuals of the unambiguous pairs inside the wide gates.
 std::map<std::string, WideResiduals> wide_residuals(const std::vector<Scan>& scans, const std::vector<Detection>& det,
@@ -224,27 +365,31 @@ std::map<std::string, WideResiduals> wide_residuals(const std::vector<Scan>& sca
   const double wide_m = std::max(o.wide_gate_position_m, o.gate_position_m);
   std::map<std::string, WideResiduals> wide;
   for (const Scan& s : scans) {
-    WideResiduals& w = wide[det[s.begin].sensor];
+    WideResiduals& w = wide[s.sensor];
+    w.ranged = w.ranged || s.ranged;
     const double gate = s.ranged ? wide_m : wide_b;
     for (std::size_t a = 0; a < s.preds.size(); ++a) {
-      const Eigen::Vector2d& pa = s.preds[a].p;
-      const Eigen::Vector2d d = pa - s.po;
-      if (d.norm() < kMinPredRange) continue;
+      const Eigen::Vector2d da = s.preds[a].p - s.po;
+      if (da.norm() < kMinPredRange) continue;
       bool crowded = false;  // another target's prediction within the wide gate
-      for (std::size_t b = 0; b < s.preds.size(); ++b) crowded |= b != a && separation(s, pa, s.preds[b].p) < gate;
+      for (std::size_t b = 0; b < s.preds.size(); ++b) crowded |= b != a && separation(s, da, s.preds[b].p - s.po) < gate;
       if (crowded) continue;
       int inside = 0;
       std::size_t hit = 0;
-      for (auto k : s.rows)
-        if (distance(det[k], s, pa) <= gate) ++inside, hit = k;
+      for (std::size_t i = 0; i < s.rows.size(); ++i)
+        if (distance(det[s.rows[i]], s, rel(s, i, s.preds[a])) <= gate) ++inside, hit = i;
       if (inside != 1) continue;
       bool shared = false;  // the detection inside another target's wide gate, too
       for (std::size_t b = 0; b < s.preds.size(); ++b)
-        shared |= b != a && distance(det[hit], s, s.preds[b].p) <= gate;
+        shared |= b != a && distance(det[s.rows[hit]], s, rel(s, hit, s.preds[b])) <= gate;
       if (shared) continue;
-      w.bearing_rad.push_back(wrap_pi(det[hit].bearing_rad + s.gamma - bearing_rad(d)));
+      const Eigen::Vector2d d = rel(s, hit, s.preds[a]);
+      const Detection& dk = det[s.rows[hit]];
+      const std::string& t = s.preds[a].target;
+      w.bearing_rad[t].push_back(wrap_pi(dk.bearing_rad + s.gamma - bearing_rad(d)));
+      ++w.pairs;
       if (s.ranged) {
-        w.range_m.push_back(det[hit].range_m - d.norm());
+        w.range_m[t].push_back(dk.range_m - d.norm());
         w.pred_range_m.push_back(d.norm());
       }
     }
@@ -252,87 +397,128 @@ std::map<std::string, WideResiduals> wide_residuals(const std::vector<Scan>& sca
   return wide;
 }
 
-// Each sensor's gate shifts from its first-pass residuals, recorded in its stats too.
-Shifts gate_shifts(const std::vector<Scan>& scans, const std::vector<Detection>& det, const AssociationOptions& o,
-                   std::map<std::string, SensorAssociation>& stats) {
-  const double gate_b = o.gate_bearing_deg * kDegToRad;
-  Shifts shift;
-  for (const auto& [sensor, w] : wide_residuals(scans, det, o)) {
-    const bool ranged = !w.range_m.empty();
-    // a range sensor's bearing shift is judged as metres across the line of sight at the pairs' median range
-    const double scale = ranged ? median(w.pred_range_m) : 1.0;  // [m/rad] or [1]
-    const double db = shift_of(w.bearing_rad, o.recentre_min_pairs, scale, ranged ? o.gate_position_m : gate_b);
-    const double dr = ranged ? shift_of(w.range_m, o.recentre_min_pairs, 1.0, o.gate_position_m) : 0.0;
-    shift[sensor] = {db, dr};
-    SensorAssociation& st = stats[sensor];
-    st.gate_shift_bearing_rad = db;
-    st.gate_shift_range_m = dr;
-    st.wide_pairs = static_cast<int>(w.bearing_rad.size());
+// The residuals of a pass's associated pairs, per sensor and target.
+std::map<std::string, WideResiduals> pass_residuals(const std::vector<AssociatedDetection>& out) {
+  std::map<std::string, WideResiduals> r;
+  for (const AssociatedDetection& x : out) {
+    WideResiduals& w = r[x.sensor];
+    w.ranged = w.ranged || x.has_range;
+    w.bearing_rad[x.target].push_back(wrap_pi(x.bearing_rad - x.bearing_pred()));
+    ++w.pairs;
+    if (x.has_range) {
+      w.range_m[x.target].push_back(x.range_m - x.range_pred());
+      w.pred_range_m.push_back(x.range_pred());
+    }
   }
-  return shift;
+  return r;
 }
 
-// Final pass over scan s: each unambiguous prediction's nearest detection inside its gate, appended to out.
-void associate_scan(const Scan& s, const std::vector<Detection>& det, const AssociationOptions& o, const Shifts& shift,
-                    std::map<std::string, SensorAssociation>& stats, std::vector<AssociatedDetection>& out) {
+// The associated detection of target pr and row i of scan s: raw measurements and the reference
+// geometry at the row's own time (never the shifted prediction). kNoReference where the
+// reference is not defined there (a rotation's row beyond a gap), kOnObserver where the target is
+// on top of the observer (no bearing: neither associated nor missed).
+enum Outcome { kAssociated, kNoReference, kOnObserver };
+Outcome associated(const Context& c, const Scan& s, std::size_t i, const Pred& pr, AssociatedDetection& x) {
+  const Detection& dk = c.det[s.rows[i]];
+  Pred at = pr;
+  Eigen::Vector2d po = s.po, vo = s.vo;
+  if (s.dt[i] != 0) {
+    if (!(c.observer.at(dk.t_s, po) && c.observer.velocity(dk.t_s, c.o.velocity_half_span_s, vo) &&
+          pred_at(c, c.truth.at(pr.target), dk.t_s, at)))
+      return kNoReference;
+  }
+  const Eigen::Rotation2Dd to_local(-s.gamma);
+  x.t_s = s.dt[i] != 0 ? dk.t_s : s.t;
+  x.sensor = s.sensor;
+  x.target = pr.target;
+  x.has_range = s.ranged;
+  x.bearing_rad = dk.bearing_rad;
+  x.range_m = s.ranged ? dk.range_m : 0.0;
+  x.d = to_local * (at.p - po);
+  x.v_target = to_local * at.v;
+  x.v_rel = to_local * (at.v - vo);
+  const double speed = at.v.norm();
+  x.u_course = speed > c.o.min_speed_mps ? Eigen::Vector2d(to_local * at.v / speed) : Eigen::Vector2d::Zero();
+  x.ref_interp_sd_m = at.interp_sd_m;
+  x.ref_interval_s = at.interval_s;
+  return x.d.norm() >= kMinPredRange ? kAssociated : kOnObserver;
+}
+
+// Final pass over scan s: the unambiguous predictions' gates assigned detections one to one
+// (assignment.hpp), appended to out.
+void associate_scan(const Context& c, const Scan& s, const Shifts& shift, std::map<std::string, SensorAssociation>& stats,
+                    std::vector<AssociatedDetection>& out) {
+  const auto& det = c.det;
+  const AssociationOptions& o = c.o;
   const double gate_b = o.gate_bearing_deg * kDegToRad;
-  const std::string& sensor = det[s.begin].sensor;
-  const double t = det[s.begin].t_s;
-  SensorAssociation& st = stats[sensor];
+  SensorAssociation& st = stats[s.sensor];
   ++st.scans;
   st.detections += static_cast<int>(s.rows.size());
-  const auto sh = shift.find(sensor);
-  std::vector<Eigen::Vector2d> gp;  // gating predictions
-  for (const auto& pr : s.preds)
-    gp.push_back(sh == shift.end() ? pr.p : shifted(s, pr.p, sh->second.first, sh->second.second));
-  const Eigen::Rotation2Dd to_local(-s.gamma);
-  auto dist = [&](std::size_t k, const Eigen::Vector2d& p) { return distance(det[k], s, p); };
+  const auto sh = shift.find(s.sensor);
+  const double db = sh == shift.end() ? 0.0 : sh->second.bearing.value, dr = sh == shift.end() ? 0.0 : sh->second.range.value;
   const double gate = s.ranged ? o.gate_position_m : gate_b;
-  // ambiguity: two predictions within one gate of each other
-  std::vector<char> ambiguous(s.preds.size(), 0);
-  for (std::size_t a = 0; a < s.preds.size(); ++a)
-    for (std::size_t b = a + 1; b < s.preds.size(); ++b)
-      if (separation(s, gp[a], gp[b]) < 2 * gate) ambiguous[a] = ambiguous[b] = 1;
-  if (std::any_of(ambiguous.begin(), ambiguous.end(), [](char c) { return c; })) ++st.ambiguous_scans;
-  std::vector<long> claim(s.preds.size(), -1);
-  for (std::size_t a = 0; a < s.preds.size(); ++a) {
+  const std::size_t T = s.preds.size();
+  // ambiguity: two gating predictions within ambiguous_gates gates of each other
+  std::vector<Eigen::Vector2d> gp;  // gating predictions relative to the observer, at the scan's time
+  for (const auto& pr : s.preds) gp.push_back(shifted(pr.p - s.po, db, dr));
+  std::vector<char> ambiguous(T, 0);
+  for (std::size_t a = 0; a < T; ++a)
+    for (std::size_t b = a + 1; b < T; ++b)
+      if (separation(s, gp[a], gp[b]) < o.ambiguous_gates * gate) ambiguous[a] = ambiguous[b] = 1;
+  if (std::any_of(ambiguous.begin(), ambiguous.end(), [](char x) { return x; })) ++st.ambiguous_scans;
+  // cost (distance / gate)^2 inside the gate, a miss 1
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(T), static_cast<Eigen::Index>(s.rows.size()),
+                                                   std::numeric_limits<double>::infinity());
+  for (std::size_t a = 0; a < T; ++a) {
     if (ambiguous[a]) continue;
-    double best = std::numeric_limits<double>::infinity();
-    for (auto k : s.rows)
-      if (dist(k, gp[a]) < best) best = dist(k, gp[a]), claim[a] = static_cast<long>(k);
-    if (!(best <= gate)) claim[a] = -1;
+    for (std::size_t i = 0; i < s.rows.size(); ++i) {
+      const double x = distance(det[s.rows[i]], s, shifted(rel(s, i, s.preds[a]), db, dr)) / gate;
+      if (x <= 1) cost(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(i)) = x * x;
+    }
   }
-  for (std::size_t a = 0; a < s.preds.size(); ++a) {
-    if (ambiguous[a]) continue;
-    bool lost = claim[a] < 0;
-    for (std::size_t b = 0; b < s.preds.size() && !lost; ++b)
-      if (b != a && claim[b] == claim[a] &&
-          dist(static_cast<std::size_t>(claim[a]), gp[b]) < dist(static_cast<std::size_t>(claim[a]), gp[a]))
-        lost = true;
-    if (lost) {
-      ++st.missed[s.preds[a].target];
+  const std::vector<long> col = assign_min_cost(cost, std::vector<double>(T, 1.0));
+  for (std::size_t a = 0; a < T; ++a) {
+    const Pred& pr = s.preds[a];
+    if (ambiguous[a]) {
+      ++st.ambiguous[pr.target];
       continue;
     }
-    const Pred& pr = s.preds[a];
-    const Detection& dk = det[static_cast<std::size_t>(claim[a])];
-    AssociatedDetection x;  // raw measurements and reference geometry (never the shifted prediction)
-    x.t_s = t;
-    x.sensor = sensor;
-    x.target = pr.target;
-    x.has_range = s.ranged;
-    x.bearing_rad = dk.bearing_rad;
-    x.range_m = s.ranged ? dk.range_m : 0.0;
-    x.d = to_local * (pr.p - s.po);
-    x.v_target = to_local * pr.v;
-    x.v_rel = to_local * (pr.v - s.vo);
-    const double speed = pr.v.norm();
-    x.u_course = speed > o.min_speed_mps ? Eigen::Vector2d(to_local * pr.v / speed) : Eigen::Vector2d::Zero();
-    x.ref_interp_sd_m = pr.interp_sd_m;
-    x.ref_interval_s = pr.interval_s;
-    if (x.d.norm() < kMinPredRange) continue;  // on top of the observer: no bearing
+    AssociatedDetection x;
+    const Outcome got = col[a] < 0 ? kNoReference : associated(c, s, static_cast<std::size_t>(col[a]), pr, x);
+    if (got == kOnObserver) continue;
+    if (got == kNoReference) {
+      ++st.missed[pr.target];
+      continue;
+    }
     out.push_back(x);
     ++st.associated[x.target];
   }
+}
+
+// One pass over every scan with the given shifts; stats of this pass alone into `stats`.
+std::vector<AssociatedDetection> associate_all(const Context& c, const std::vector<Scan>& scans, const Shifts& shift,
+                                               std::map<std::string, SensorAssociation>& stats) {
+  std::vector<AssociatedDetection> out;
+  for (const Scan& s : scans) associate_scan(c, s, shift, stats, out);
+  return out;
+}
+
+// The shifts' record in a sensor's stats.
+void record_shift(SensorAssociation& st, const SensorShift& sh, int wide_pairs) {
+  st.gate_shift_bearing_rad = sh.bearing.value;
+  st.gate_shift_range_m = sh.range.value;
+  st.gate_shift_bearing_se_rad = sh.bearing.se;
+  st.gate_shift_range_se_m = sh.range.se;
+  st.wide_pairs = wide_pairs;
+  st.shift_rule = sh.across_targets ? "targets" : "pairs";
+  st.shift_targets = sh.targets;
+}
+
+// A shift moved by more than kConvergedSe of its standard error (0 and 0: unmoved).
+constexpr double kConvergedSe = 0.1;
+bool moved(const ShiftEstimate& a, const ShiftEstimate& b) {
+  if (a.value == b.value) return false;
+  return std::abs(a.value - b.value) > kConvergedSe * std::max(b.se, 1e-300);
 }
 
 }  // namespace
@@ -358,18 +544,49 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     }
   }
   for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
-  const auto& det = data.detections;
-  const std::vector<Scan> scans = make_scans(det, o, F, observer, truth);
+  const Context c{data.detections, o, observer, truth};
+  const std::map<std::string, double> rotating = rotating_sensors(data.detections);
+  const std::vector<Scan> scans = make_scans(c, F, rotating);
 
-  check_units(scans, det);
+  check_units(scans, data.detections);
 
   // first pass (recentre_gates): unambiguous pairs inside the wide gates, and each sensor's shifts
-  Shifts shift;  // per sensor: (bearing [rad], range [m])
-  if (o.recentre_gates) shift = gate_shifts(scans, det, o, stats);
+  Shifts shift;
+  std::map<std::string, int> wide_pairs;
+  if (o.recentre_gates)
+    for (const auto& [sensor, w] : wide_residuals(scans, data.detections, o)) {
+      shift[sensor] = sensor_shift(w, o);
+      wide_pairs[sensor] = w.pairs;
+    }
 
-  // final pass: the gates around the predictions, moved by the sensor's shifts for gating only
-  std::vector<AssociatedDetection> out;
-  for (const Scan& s : scans) associate_scan(s, det, o, shift, stats, out);
+  // the passes: gates around the predictions moved by each sensor's shifts (for gating only);
+  // sensors whose shifts are judged across targets re-estimate them from the pairs associated
+  std::map<std::string, SensorAssociation> st;
+  std::vector<AssociatedDetection> out = associate_all(c, scans, shift, st);
+  int passes = 1;
+  const bool iterate = std::any_of(shift.begin(), shift.end(), [](const auto& x) { return x.second.across_targets; });
+  while (iterate && passes < o.max_passes) {
+    bool any_moved = false;
+    for (auto& [sensor, w] : pass_residuals(out)) {
+      auto it = shift.find(sensor);
+      if (it == shift.end() || !it->second.across_targets) continue;
+      const SensorShift next = sensor_shift(w, o);
+      if (!next.across_targets) continue;  // too few targets left: keep the shifts
+      any_moved |= moved(it->second.bearing, next.bearing) || moved(it->second.range, next.range);
+      it->second = next;
+    }
+    if (!any_moved) break;
+    st.clear();
+    out = associate_all(c, scans, shift, st);
+    ++passes;
+  }
+  for (auto& [sensor, x] : st) {
+    if (rotating.count(sensor)) x.rotation_period_s = rotating.at(sensor);
+    const auto it = shift.find(sensor);
+    if (it != shift.end()) record_shift(x, it->second, wide_pairs[sensor]);
+    x.passes = it != shift.end() && it->second.across_targets ? passes : 1;
+    stats[sensor] = x;
+  }
   return out;
 }
 

@@ -14,22 +14,44 @@
 // nearer. Clutter (detections of nothing) and missed detections are normal.
 //
 // Gates recentred on each sensor's common bias (AssociationOptions::recentre_gates): a sensor
-// whose bearings (or ranges) are off by more than its gate (a 5 deg bearing bias is 26 m at
-// 300 m, beyond the 20 m position gate) would associate nearly nothing, and the diagnosis could
-// not see the bias. So a first pass with wide gates takes only unambiguous pairs (exactly one
-// detection inside a target's wide gate, that detection inside no other target's wide gate, and
-// no other target's prediction within the wide gate), and per sensor
-//   bearing shift  db = median(wrap(b_meas - b_pred))   [rad]
-//   range shift    dr = median(r_meas - |d|)            [m] (range sensors)
-// with their robust standard errors se = sqrt(pi/2) 1.4826 MAD / sqrt(n) (the median's SE for
-// Gaussian residuals). A shift is applied only with n >= recentre_min_pairs, |shift| > 3 se and
-// |shift| beyond the final gate itself (a range sensor's bearing shift as metres at the pairs'
-// median range): only a bias the gate would lose. The final pass is the one above,
-// each prediction's bearing and range moved by its sensor's shifts for gating only: the
-// associated measurements and geometry stay the raw ones, so the diagnosis estimates the bias
-// itself from the raw residuals. Without an applied shift the final pass is exactly the one-pass
+// whose bearings (or ranges) are off would otherwise be associated through gates centred on the
+// unbiased prediction. Beyond the gate it associates nearly nothing (a 5 deg bearing bias is
+// 26 m at 300 m, beyond a 20 m gate); inside it, the gate keeps mostly the detections whose
+// error happens to be small, and in a busy picture whatever return lies nearest the unbiased
+// prediction (another ship, a buoy, clutter), so the bias comes out pulled towards zero. A
+// first pass with wide gates takes only unambiguous pairs (exactly one detection inside a
+// target's wide gate, that detection inside no other target's wide gate, and no other target's
+// prediction within the wide gate); per sensor and target the medians of
+//   bearing residual  wrap(b_meas - b_pred)   [rad]
+//   range residual    r_meas - |d|            [m] (range sensors)
+// A common shift is judged in one of two ways:
+//  * across targets (at least kMinCommonTargets targets with kMinTargetPairs pairs each): the
+//    median m of the targets' medians, with the standard error of a median over targets
+//    se = sqrt(pi/2) 1.4826 MAD(target medians) / sqrt(J); applied when |m| > 3 se (a bias every
+//    target shares, whatever its size against the gate: per-target offsets - hulls seen away from
+//    their antennas, a reference's own clock - scatter the targets' medians and raise se). The
+//    association then iterates: associate with the gates around the prediction moved by the
+//    shifts, re-estimate the shifts from the pairs associated (gates centred on the corrected
+//    prediction truncate symmetrically), until no shift moves by more than a tenth of its se, or
+//    max_passes;
+//  * on pairs (fewer targets, as on the Autoferry recordings' two or three boats, whose
+//    per-target offsets cannot be told from a common one): the median over all unambiguous
+//    pairs, with se = sqrt(pi/2) 1.4826 MAD / sqrt(n), applied only with n >= recentre_min_pairs,
+//    |shift| > 3 se and |shift| beyond the final gate itself (a range sensor's bearing shift as
+//    metres at the pairs' median range): only a bias the gate would lose. One pass.
+// The shifts move each prediction's bearing and range for gating only: the associated
+// measurements and geometry stay the raw ones, so the diagnosis estimates the bias itself from
+// the raw residuals. Without an applied shift the final pass is exactly the one-pass
 // association. A sensor's clock offset moves each target along its own velocity: a common shift
 // takes up only its mean over the pairs.
+//
+// Assignment: in each scan the targets' gates are assigned detections jointly, one detection per
+// target and one target per detection (assignment.hpp), minimising the sum of (distance /
+// gate)^2 with a miss costing 1 (a gate's edge).
+//
+// A rotating radar that stamps each detection at its own illumination time (nearly every stamp
+// holds one detection) is read as scans of one rotation each (rotation_scans.hpp); each
+// detection's prediction is taken at its own time.
 #pragma once
 
 #include "multi_sensor_data.hpp"
@@ -77,7 +99,20 @@ struct AssociationOptions {
   /// Unambiguous first-pass pairs a sensor needs before its shifts are estimated, >= 3 (10 by
   /// default: a median that one or two clutter pairs cannot carry).
   int recentre_min_pairs = 10;
+  /// Passes of the association with gates recentred across targets (see the file comment), >= 1.
+  int max_passes = 6;
+  /// Two targets whose predictions lie closer than this many gates in a scan are ambiguous there
+  /// and both left out of it, > 0. 2 (the default) keeps each gate clear of the other target's
+  /// (the one-to-one assignment then equals each target's nearest detection); 1 lets the
+  /// assignment decide between targets one to two gates apart.
+  double ambiguous_gates = 2;
 };
+
+/// A common gate shift is judged across targets when at least this many targets have
+/// kMinTargetPairs pairs each (a median and MAD over targets need a handful; the Autoferry
+/// recordings' two or three boats stay with the rule on pairs).
+constexpr int kMinCommonTargets = 5;
+constexpr int kMinTargetPairs = 5;  ///< pairs a target needs for its median to count
 
 /// One detection associated to a target, with its reference geometry.
 struct AssociatedDetection {
@@ -105,11 +140,22 @@ struct AssociatedDetection {
 struct SensorAssociation {
   int scans = 0, detections = 0, ambiguous_scans = 0;
   std::map<std::string, int> associated, missed;  ///< per target
+  std::map<std::string, int> ambiguous;           ///< per target: scans where it was left out as ambiguous
   /// Gate recentring (AssociationOptions::recentre_gates): the shifts the final pass's predictions
   /// were moved by for gating, 0 where not applied (too few pairs, not significant, or off).
   double gate_shift_bearing_rad = 0;  ///< [rad] added to every predicted bearing, clockwise
   double gate_shift_range_m = 0;      ///< [m] added to every predicted range (range sensors)
   int wide_pairs = 0;                 ///< unambiguous first-pass pairs the shifts were estimated from
+  /// "targets": the shifts are medians over targets (shift_targets of them), iterated; "pairs":
+  /// a median over pairs applied only beyond the gate; "" without recentring
+  std::string shift_rule;
+  int shift_targets = 0;              ///< targets whose medians gave the shifts ("targets" rule)
+  double gate_shift_bearing_se_rad = 0;  ///< [rad] the bearing shift's standard error
+  double gate_shift_range_se_m = 0;      ///< [m] the range shift's standard error
+  int passes = 1;                     ///< association passes run (the last one's pairs are used)
+  /// [s] > 0: the sensor stamps each detection at its own time and was read as scans of one
+  /// rotation of this period each (rotation_scans.hpp); 0: scans as stamped
+  double rotation_period_s = 0;
 };
 
 /// Associate every scan; stats per sensor; with `reference`, the jump check of each target whose

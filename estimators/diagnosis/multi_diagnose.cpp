@@ -30,6 +30,8 @@ MultiProblemOptions problem_options(const MultiDiagnoseOptions& o) {
   po.sigma_range_m = o.sigma_range_m;
   po.split_fraction = o.split_fraction;
   po.step_grid = o.step_grid;
+  po.max_hull_length_m = o.max_hull_length_m;
+  po.max_hull_beam_m = o.max_hull_beam_m;
   return po;
 }
 
@@ -139,6 +141,8 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   std::vector<const MultiSensorData*> all;
   for (const auto& rec : recordings) all.push_back(&rec.second);
   po.scan_period_s = scan_periods(all);
+  for (const auto& rec : recordings)  // each boat's size on record (the first recording that gives one)
+    for (const auto& [t, h] : rec.second.hull) po.hull.emplace(t, h);
   MultiProblem mp = build_multi_problem(recs, po);
   rep.split_time_s = mp.split_time_s.front();
   rep.split_fraction = o.split_fraction;
@@ -406,8 +410,11 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["association"] = nlohmann::ordered_json::object();
   for (const auto& [s, st] : association)
     j["association"][s] = {{"scans", st.scans}, {"detections", st.detections}, {"ambiguous_scans", st.ambiguous_scans},
-                           {"associated", st.associated}, {"missed", st.missed}, {"wide_pairs", st.wide_pairs},
-                           {"gate_shift_bearing_rad", st.gate_shift_bearing_rad}, {"gate_shift_range_m", st.gate_shift_range_m}};
+                           {"associated", st.associated}, {"missed", st.missed}, {"ambiguous", st.ambiguous},
+                           {"wide_pairs", st.wide_pairs}, {"gate_shift_bearing_rad", st.gate_shift_bearing_rad},
+                           {"gate_shift_range_m", st.gate_shift_range_m}, {"gate_shift_bearing_se_rad", st.gate_shift_bearing_se_rad},
+                           {"gate_shift_range_se_m", st.gate_shift_range_se_m}, {"shift_rule", st.shift_rule},
+                           {"shift_targets", st.shift_targets}, {"passes", st.passes}, {"rotation_period_s", st.rotation_period_s}};
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
   j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
@@ -430,7 +437,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["gain_window"] = recordings.empty() ? "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s"
                                         : "fit on the first " + short_num(100 * split_fraction) + " % of each recording, scored on the rest";
   j["gain_effects"] = result.holdout_effects;
-  for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "familywise"}) j[k] = core[k];
+  for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "refused", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
   j["scan_period_s"] = scan_period_s;
   j["carry"] = carry_json(carry);
@@ -457,9 +464,20 @@ std::string MultiReport::text() const {
     o << "  sensor " << s << ": " << st.scans << " scans, " << st.detections << " detections, associated";
     for (const auto& [t, n] : st.associated) o << " " << t << ":" << n;
     o << " (ambiguous scans " << st.ambiguous_scans << ")";
-    if (st.gate_shift_bearing_rad != 0 || st.gate_shift_range_m != 0)
-      o << ", gates recentred by " << short_num(st.gate_shift_bearing_rad / kDegToRad) << " deg, " << short_num(st.gate_shift_range_m)
-        << " m (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
+    if (st.rotation_period_s > 0)
+      o << ", each detection stamped at its own time: read as rotations of " << short_num(st.rotation_period_s) << " s";
+    if (st.gate_shift_bearing_rad != 0 || st.gate_shift_range_m != 0) {
+      o << ", gates recentred by " << short_num(st.gate_shift_bearing_rad / kDegToRad) << " deg, "
+        << short_num(st.gate_shift_range_m) << " m";
+      if (st.shift_rule == "targets")
+        o << " (the sensor's common offset: the median over " << st.shift_targets << " targets' medians, +- "
+          << short_num(st.gate_shift_bearing_se_rad / kDegToRad) << " deg, " << short_num(st.gate_shift_range_se_m) << " m; "
+          << st.passes << " pass" << (st.passes == 1 ? "" : "es") << ")";
+      else
+        o << " (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
+    } else if (st.shift_rule == "targets") {
+      o << ", gates centred on the prediction (no common offset over " << st.shift_targets << " targets)";
+    }
     o << "\n";
   }
   o << reference_jumps_text(reference_jumps);

@@ -86,6 +86,10 @@ struct MultiDiagnoseOptions {
   /// at 0.01 (worst pair 1.04), 0.904 at 0.05 (1.00) and 0.881 at 0.1 (1.00); 0.1 was chosen
   /// after measuring those three.
   double carry_alpha = 0.1;
+  /// [m] a target without a size on record (targets.csv) is at most this long and wide: its
+  /// antenna and hull offsets are bounded by them (MultiProblemOptions), > 0
+  double max_hull_length_m = 400;
+  double max_hull_beam_m = 62;
 };
 
 struct MultiGain {

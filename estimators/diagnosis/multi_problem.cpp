@@ -14,6 +14,8 @@ namespace rnav {
 
 namespace {
 
+constexpr double kHullBoundSe = 2;  // an offset breaks the hull's bound only beyond 2 standard errors
+
 // Per observation: the geometry the columns need.
 struct ObsGeom {
   bool is_range = false;
@@ -88,6 +90,8 @@ void check_inputs(const std::vector<RecordingDetections>& recs, const MultiProbl
   if (!(o.split_fraction > 0.2 && o.split_fraction < 0.9)) throw ConfigError("multi diagnosis: split fraction must be in (0.2, 0.9)");
   if (o.step_grid < 2 || o.sweep_grid < 2) throw ConfigError("multi diagnosis: step and sweep grids must be >= 2");
   if (!(o.min_sweep_period_s > 0)) throw ConfigError("multi diagnosis: min_sweep_period_s must be > 0");
+  if (!(o.max_hull_length_m > 0 && o.max_hull_beam_m > 0) || !std::isfinite(o.max_hull_length_m) || !std::isfinite(o.max_hull_beam_m))
+    throw ConfigError("multi diagnosis: the largest hull's length and beam must be finite and > 0");
   if (recs.empty()) throw ConfigError("multi diagnosis: no recording");
   const bool pooled = recs.size() > 1;
   std::set<std::string> names;
@@ -291,6 +295,31 @@ struct CatalogueBuilder {
     }
   }
 
+  // An antenna or hull offset's physical bound: the sensed point and the reference's antenna
+  // both lie on the hull, so |along| <= its length and |starboard| <= its beam, each beyond 2
+  // standard errors (MultiProblemOptions::hull, or the largest ship afloat for a target of
+  // unknown size). Beyond it the offset is not the hull's: detections of something else were
+  // associated to the target (or its size on record is wrong).
+  std::function<std::string(const std::vector<double>&, const std::vector<double>&)> hull_bound(const std::string& t) const {
+    const auto it = o.hull.find(t);
+    const bool known_l = it != o.hull.end() && std::isfinite(it->second.length_m);
+    const bool known_b = it != o.hull.end() && std::isfinite(it->second.beam_m);
+    const double L = known_l ? it->second.length_m : o.max_hull_length_m, B = known_b ? it->second.beam_m : o.max_hull_beam_m;
+    return [t, L, B, known_l, known_b](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
+      const bool along = std::abs(x[0]) - kHullBoundSe * se[0] > L, starboard = std::abs(x[1]) - kHullBoundSe * se[1] > B;
+      if (!along && !starboard) return "";
+      char b[400];
+      std::snprintf(b, sizeof b,
+                    "an offset of %.3g m along, %.3g m starboard (+- %.2g, %.2g) is beyond the hull of target %s (%s %.3g m long, %.3g m "
+                    "wide%s): not where its antenna or hull is, but a sign that detections of something else were associated "
+                    "to it%s",
+                    x[0], x[1], se[0], se[1], t.c_str(), known_l || known_b ? "on record" : "at most", L, B,
+                    known_l || known_b ? ", targets.csv" : ", the largest ships afloat; its size is not on record",
+                    known_l || known_b ? ", or that its size on record is wrong" : "");
+      return b;
+    };
+  }
+
   // Per target: its reference clock in each recording (and, pooled, per boat), its antenna
   // offset, and its hull offset as each range sensor sees it.
   void add_target_entries() {
@@ -311,12 +340,15 @@ struct CatalogueBuilder {
       if (pooled)  // "the same in seconds in every recording": the boat's reference logger
         target_clock_hw.push_back(hardware("reference clocks (truth_time_offset per boat)",
                                            {"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, {}}, 1, is_t, truth_rate));
-      target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)",
-                                       {"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}}, 2, is_t, offset_cols));
-      for (const auto& s : range_sensors)
-        pair_offset.push_back(hardware("hull offsets per sensor and target (antenna_offset)",
-                                       {"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {}, {}}, 2,
+      Candidate boat{"antenna_offset", {"", t}, {"along_m", "starboard_m"}, off_sig, "", {}, {}};
+      boat.bound = hull_bound(t);
+      target_offset.push_back(hardware("boat antenna offsets (antenna_offset per target)", boat, 2, is_t, offset_cols));
+      for (const auto& s : range_sensors) {
+        Candidate pair{"antenna_offset", {s, t}, {"along_m", "starboard_m"}, off_sig + " seen by " + s, "", {}, {}};
+        pair.bound = hull_bound(t);
+        pair_offset.push_back(hardware("hull offsets per sensor and target (antenna_offset)", pair, 2,
                                        [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t; }, offset_cols));
+      }
     }
   }
 

@@ -33,6 +33,11 @@ struct MultiProblemOptions {
   /// the caller over every recording; a recording scored with a model fitted on others takes
   /// theirs); each > 0. A range sensor without one gets no scan_time_offset.
   std::map<std::string, double> scan_period_s;
+  /// per target: its hull size (targets.csv), which bounds its antenna and hull offsets; a
+  /// target without one (or with a NaN) is bounded by the max_hull sizes below
+  std::map<std::string, HullSize> hull;
+  double max_hull_length_m = 400;  ///< [m] a target of unknown length is at most this long (the largest ships afloat), > 0
+  double max_hull_beam_m = 62;     ///< [m] and at most this wide, > 0
 };
 
 struct MultiProblem {

@@ -130,6 +130,26 @@ void read_truth(const std::string& file, MultiSensorData& d) {
   }
 }
 
+// targets.csv: each target's hull size; 0 (AIS: not available) and empty cells are unknown.
+constexpr double kMaxHullM = 1000;  // [m] no ship is longer (the largest ever built: 458 m)
+void read_targets(const std::string& file, MultiSensorData& d) {
+  const CsvTable t = CsvTable::read_columns(
+      file, {{"target", CsvKind::kText}, {"length_m", CsvKind::kNumberOrEmpty}, {"beam_m", CsvKind::kNumberOrEmpty}});
+  for (std::size_t i = 0; i < t.rows(); ++i) {
+    const std::string& name = t.text("target")[i];
+    if (!valid_target_name(name)) fail(t, i, "target", "'" + name + "' is not a target name ([A-Za-z0-9_]+)");
+    if (d.hull.count(name)) fail(t, i, "target", "target '" + name + "' has a second row");
+    HullSize h;
+    for (const char* col : {"length_m", "beam_m"}) {
+      const double x = t.col(col)[i];
+      if (std::isnan(x)) continue;
+      if (!(x >= 0 && x <= kMaxHullM)) fail(t, i, col, "must be in [0, 1000] m (0 or empty: unknown), got " + num(x));
+      (std::string(col) == "length_m" ? h.length_m : h.beam_m) = x > 0 ? x : NAN;
+    }
+    d.hull[name] = h;
+  }
+}
+
 /// A CSV file's text, built in memory from the header of `columns`; close() writes it with
 /// write_file_atomic (exclusive partial file, every byte checked, renamed into place), then its
 /// description beside it (NAME.units.json), throwing naming the file on any failure.
@@ -245,6 +265,7 @@ MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
   read_observer(dir + "/observer.csv", d);
   read_detections(dir + "/detections.csv", d);
   if (std::filesystem::exists(dir + "/truth.csv")) read_truth(dir + "/truth.csv", d);
+  if (std::filesystem::exists(dir + "/targets.csv")) read_targets(dir + "/targets.csv", d);
   check_units(d);
   d.validate(dir);
   return d;

@@ -13,6 +13,10 @@
 //   truth.csv       optional file: t_s,target,lat_deg,lon_deg[,h_m]
 //                   each target's reference track; target: [A-Za-z0-9_]+; per target t_s
 //                   strictly increasing; h_m optional column, cells may be empty.
+//   targets.csv     optional file: target,length_m,beam_m
+//                   each target's hull size as its AIS static data give it (length = A + B,
+//                   beam = C + D); cells may be empty, and 0 (AIS: not available) is unknown;
+//                   a target at most once; targets without a row are of unknown size.
 // Times are in one time scale for all files (e.g. Unix seconds, UTC). Headers are required,
 // extra columns ignored; every violation is a ConfigError naming file:line and the column.
 #pragma once
@@ -20,6 +24,7 @@
 #include "csv_columns.hpp"
 #include "frames.hpp"
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -37,11 +42,18 @@ struct Detection {
   bool empty_scan() const;
 };
 
+/// A target's hull size [m] (NaN: unknown), e.g. from its AIS static data.
+struct HullSize {
+  double length_m = NAN;
+  double beam_m = NAN;
+};
+
 struct MultiSensorData {
   std::vector<GeoSample> observer;           ///< observer's position, t_s strictly increasing
   std::vector<double> observer_heading_deg;  ///< observer's heading at observer[i].t_s [deg], clockwise from true north, [0, 360); NaN where absent. Same length as observer (write_folder also accepts it empty: no heading)
   std::vector<Detection> detections;         ///< file order: per sensor non-decreasing t_s
   std::map<std::string, std::vector<GeoSample>> truth;  ///< per target name, t_s strictly increasing; h_m NaN where unknown; empty without truth.csv
+  std::map<std::string, HullSize> hull;  ///< per target name with a targets.csv row; empty without targets.csv
 
   /// The sensor names of `detections`, sorted and distinct.
   std::vector<std::string> sensors() const;

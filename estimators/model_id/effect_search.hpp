@@ -91,6 +91,11 @@ struct Candidate {
   /// residual, a shape replaces a physical cause only by more than explaining as well
   /// (search_design.hpp's as_well_margin; effect_search.cpp, swap_for_better).
   bool shape = false;
+  /// Physical bound (empty: none): given the entry's estimate and standard errors in the
+  /// selected model (one per param), "" where they are physically possible, else why not (e.g.
+  /// "a lever arm of 299 m on a hull 40 m long"). An entry whose estimate breaks its bound is
+  /// refused as an explanation: the selection is repeated without it (SearchResult::refused).
+  std::function<std::string(const std::vector<double>& estimate, const std::vector<double>& se)> bound{};
   bool scanned() const { return !scan.empty(); }
   bool is_shape() const { return shape || scanned(); }
   std::size_t variants() const { return scan.empty() ? 1 : scan.size(); }
@@ -297,8 +302,19 @@ struct SeparationLimit {
   double naming_size = 0;
 };
 
+/// An entry the selection took whose estimate broke its physical bound (Candidate::bound).
+struct RefusedEffect {
+  std::size_t entry = 0;
+  std::string name;
+  Scope scope;
+  std::vector<std::string> params;
+  std::vector<double> estimate, stderr_;  ///< in the model it was selected into
+  std::string reason;                     ///< the bound's words
+};
+
 struct SearchResult {
   std::vector<FoundEffect> effects;
+  std::vector<RefusedEffect> refused;           ///< refused as explanations (physical bounds), in the order found
   std::vector<ChannelNoise> noise;              ///< per channel
   Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit (the extended model's two parts)
   Eigen::VectorXd nominal_fit;                  ///< per observation, the nominal model (nuisance alone) fitted to all data

@@ -119,6 +119,10 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
     j["scope_support"].push_back(q);
   }
   j["unexplained"] = r.unexplained;
+  j["refused"] = nlohmann::ordered_json::array();
+  for (const auto& x : r.refused)
+    j["refused"].push_back({{"name", x.name}, {"scope", scope_json(x.scope)}, {"params", x.params}, {"estimate", x.estimate},
+                            {"stderr", x.stderr_}, {"reason", x.reason}});
   j["familywise"] = r.familywise;
   return j;
 }
@@ -240,6 +244,7 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
   }
   for (const auto& s : r.scopes) o << "  scope    " << s.question << " -> " << s.supported << "\n";
   for (const auto& u : r.unexplained) o << "  unexplained: " << u << "\n";
+  for (const auto& x : r.refused) o << "  REFUSED  " << x.name << " [" << x.scope.label() << "]: " << x.reason << "\n";
   return o.str();
 }
 
