@@ -264,6 +264,32 @@ TEST_CASE("multi diagnosis: an antenna offset along target 2's hull is the targe
   check_found(diagnose_multi(make(5, h), options()), {"antenna_offset", "", "2", 2, {"lidar:2", "eo:2", "ir:2", "radar:2"}});
 }
 
+TEST_CASE("multi diagnosis: an antenna offset beyond the target's hull is refused, and the selection goes on without it") {
+  // The same 2 m along target 2's hull as above, but its size on record (targets.csv) is 1 m x
+  // 0.5 m: an offset of 2 m (its SE a few cm) cannot lie on that hull.
+  Hidden h;
+  h.antenna2_along_m = 2;
+  MultiSensorData d = make(5, h);
+  d.hull["2"] = {1.0, 0.5};
+  const MultiReport r = diagnose_multi(d, options());
+  CHECK_FALSE(find(r, "antenna_offset", "", "2"));
+  REQUIRE_FALSE(r.result.refused.empty());
+  const RefusedEffect& x = r.result.refused.front();
+  CHECK(x.name == "antenna_offset");
+  CHECK(x.scope.target == "2");
+  CHECK(std::abs(x.estimate[0]) > 1 + 2 * x.stderr_[0]);
+  CHECK(x.reason.find("beyond the hull of target 2") != std::string::npos);
+  CHECK(r.to_json()["refused"].size() == r.result.refused.size());
+  CHECK(r.text().find("REFUSED  antenna_offset") != std::string::npos);
+  // with the hull 30 m long on record the offset stands, as without a size
+  d.hull["2"] = {30.0, 6.0};
+  CHECK(find(diagnose_multi(d, options()), "antenna_offset", "", "2"));
+  // the largest hull of unknown targets must be positive
+  MultiDiagnoseOptions o = options();
+  o.max_hull_length_m = 0;
+  CHECK_THROWS_AS(diagnose_multi(d, o), ConfigError);
+}
+
 TEST_CASE("multi diagnosis: an EO step is found at its time") {
   Hidden h;
   h.eo_step_rad = 0.025;
