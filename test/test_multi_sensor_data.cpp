@@ -357,6 +357,21 @@ TEST_CASE("multi-sensor data: bad observer and truth name file and line and colu
     CHECK(read_error(dir).empty());
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
   }
+  SECTION("targets.csv: hull sizes, 0 and empty unknown; bad name, value or a second row named") {
+    std::ofstream(dir / "targets.csv") << "target,length_m,beam_m\nA,120.5,18\nB,0,\n";
+    REQUIRE(read_error(dir).empty());
+    const MultiSensorData d = MultiSensorData::read_folder(dir.string());
+    CHECK(d.hull.at("A").length_m == 120.5);
+    CHECK(d.hull.at("A").beam_m == 18);
+    CHECK(std::isnan(d.hull.at("B").length_m));
+    CHECK(std::isnan(d.hull.at("B").beam_m));
+    f.expect_in("targets.csv", "target,length_m,beam_m\nA,-3,18\n", "targets.csv:2", "length_m");
+    f.expect_in("targets.csv", "target,length_m,beam_m\nA,30,5000\n", "targets.csv:2", "beam_m");
+    f.expect_in("targets.csv", "target,length_m,beam_m\nA,30,5\nA,31,5\n", "targets.csv:3", "target");
+    f.expect_in("targets.csv", "target,length_m,beam_m\nboat-1,30,5\n", "targets.csv:2", "target");
+    f.expect_in("targets.csv", "target,length_m\nA,30\n", "targets.csv", "beam_m");
+    fs::remove(dir / "targets.csv");
+  }
 }
 
 TEST_CASE("Autoferry import: counts of the README, radar and lidar on the GNSS truth",
