@@ -92,6 +92,8 @@ void check_inputs(const std::vector<RecordingDetections>& recs, const MultiProbl
   if (!(o.min_sweep_period_s > 0)) throw ConfigError("multi diagnosis: min_sweep_period_s must be > 0");
   if (!(o.max_hull_length_m > 0 && o.max_hull_beam_m > 0) || !std::isfinite(o.max_hull_length_m) || !std::isfinite(o.max_hull_beam_m))
     throw ConfigError("multi diagnosis: the largest hull's length and beam must be finite and > 0");
+  if (!(o.max_reference_clock_s > 0) || !std::isfinite(o.max_reference_clock_s))
+    throw ConfigError("multi diagnosis: max_reference_clock_s must be finite and > 0");
   if (recs.empty()) throw ConfigError("multi diagnosis: no recording");
   const bool pooled = recs.size() > 1;
   std::set<std::string> names;
@@ -246,6 +248,34 @@ struct CatalogueBuilder {
 
   std::string rec_name(int r) const { return recs[static_cast<std::size_t>(r)].name; }
 
+  // The targets with observations selected by `in` (one recording alone), if there are at least
+  // kMinCommonTargets of them: a picture of many targets, where a sensor's common offset is asked
+  // across its targets (below); else none (the Autoferry recordings' two or three boats).
+  std::vector<std::string> many_targets(const std::function<bool(const ObsGeom&)>& in) const {
+    if (pooled) return {};
+    std::vector<std::string> out;
+    for (const auto& t : targets)
+      if (any(G, [&](const ObsGeom& g) { return g.target == t && in(g); })) out.push_back(t);
+    return static_cast<int>(out.size()) >= kMinCommonTargets ? out : std::vector<std::string>{};
+  }
+
+  // Sensor entry hw asked across the targets: one scope_only copy per target (its replicates,
+  // replication.hpp), so it enters only when the targets' values agree on it (their
+  // random-effects mean significant; with one_value, also one value by Cochran's Q).
+  void across_targets(std::size_t hw, const std::vector<std::string>& ts, const std::function<bool(const ObsGeom&)>& in,
+                      const Val& val, int k, bool one_value) {
+    for (const auto& t : ts) {
+      Candidate cr = p.catalogue[hw];
+      cr.scope.target = t;
+      cr.scope_only = true;
+      cr.replicates.clear();
+      cr.columns = cols(G, k, [in, t](const ObsGeom& g) { return g.target == t && in(g); }, val);
+      const std::size_t i = add(cr);
+      p.catalogue[hw].replicates.push_back(i);
+    }
+    p.catalogue[hw].one_value = one_value;
+  }
+
   // Per sensor: its clock, its bearing bias, and a bearing step in each recording.
   void add_sensor_entries() {
     const std::string rate_sig = "the rate of the sensor's measurement (target and observer motion)";
@@ -253,9 +283,17 @@ struct CatalogueBuilder {
       auto is_s = [s](const ObsGeom& g) { return g.sensor == s; };
       auto is_sb = [s](const ObsGeom& g) { return g.sensor == s && !g.is_range; };
       sensor_clock.push_back(hardware("sensor clocks (time_offset)", {"time_offset", {s, ""}, {"s"}, rate_sig, "", {}, {}}, 1, is_s, rate_column));
+      // many targets: the clock is their random-effects mean (an echo ahead of or behind its
+      // antenna along the hull moves a ship's measurements as a clock would, either way)
+      const auto ts_c = many_targets(is_s);
+      if (!ts_c.empty()) across_targets(sensor_clock.back(), ts_c, is_s, rate_column, 1, false);
       sensor_bias.push_back(hardware("sensor bearing biases (bearing_bias)",
                                      {"bearing_bias", {s, ""}, {"rad"}, "a constant on this sensor's bearings", "", {}, {}}, 1, is_sb,
                                      unit_column, true));
+      // many targets: the bias is their random-effects mean (each hull's echo lies to port or to
+      // starboard of its antenna as often as not: those departures average out)
+      const auto ts_b = many_targets(is_sb);
+      if (!ts_b.empty()) across_targets(sensor_bias.back(), ts_b, is_sb, unit_column, 1, false);
       for (int r = 0; r < R; ++r) {  // a step belongs to one recording
         if (!any(G, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; })) continue;
         std::vector<double> grid;
@@ -271,10 +309,26 @@ struct CatalogueBuilder {
   void add_range_sensor_entries() {
     for (const auto& s : range_sensors) {
       auto is_sr = [s](const ObsGeom& g) { return g.sensor == s && g.is_range; };
-      hardware("range biases (range_bias)", {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr,
-               unit_column, true);
-      hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr,
-               [](const ObsGeom& g, std::size_t) { return one(g.range_pred); });
+      const std::size_t rb = hardware("range biases (range_bias)",
+                                      {"range_bias", {s, ""}, {"m"}, "a constant on this sensor's ranges", "", {}, {}}, 1, is_sr,
+                                      unit_column, true);
+      // many targets: one value for all of them (Cochran's Q), since every hull's echo comes from
+      // its near side (a shortfall of up to its length, never a surplus): a mean of such offsets
+      // is no radar bias. Each target's own offset is its entry (echo_range_offset), bounded by
+      // its hull's length.
+      const auto ts_r = many_targets(is_sr);
+      if (!ts_r.empty()) {
+        across_targets(rb, ts_r, is_sr, unit_column, 1, true);
+        for (const auto& t : ts_r) {
+          Candidate e{"echo_range_offset", {s, t}, {"m"}, "a constant on " + s + "'s ranges of this target (where its echo lies on the hull)",
+                      "", {}, cols(G, 1, [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t && g.is_range; }, unit_column)};
+          e.bound = hull_length_bound(t);
+          add(e);
+        }
+      }
+      const Val range_col = [](const ObsGeom& g, std::size_t) { return one(g.range_pred); };
+      const std::size_t rg = hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr, range_col);
+      if (!ts_r.empty()) across_targets(rg, ts_r, is_sr, range_col, 1, true);  // the near sides, as the range bias
       const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
       if (std::isfinite(T) && T >= o.min_sweep_period_s) {
         // scan_time_offset: dt = c + f ((beta_end - beta) mod 2 pi) / omega (sweep_delay_s), beta_end scanned
@@ -320,6 +374,37 @@ struct CatalogueBuilder {
     };
   }
 
+  // An echo's range offset from the target's antenna: at most its hull's length, beyond 2 SE.
+  std::function<std::string(const std::vector<double>&, const std::vector<double>&)> hull_length_bound(const std::string& t) const {
+    const auto it = o.hull.find(t);
+    const bool known = it != o.hull.end() && std::isfinite(it->second.length_m);
+    const double L = known ? it->second.length_m : o.max_hull_length_m;
+    return [t, L, known](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
+      if (!(std::abs(x[0]) - kHullBoundSe * se[0] > L)) return "";
+      char b[300];
+      std::snprintf(b, sizeof b,
+                    "a range offset of %.3g m (+- %.2g) is beyond the hull of target %s (%s %.3g m long%s): a sign that detections "
+                    "of something else were associated to it%s",
+                    x[0], se[0], t.c_str(), known ? "on record" : "at most", L, known ? ", targets.csv" : ", its size not on record",
+                    known ? ", or that its size on record is wrong" : "");
+      return b;
+    };
+  }
+
+  // A reference's clock offset: at most max_reference_clock_s (beyond 2 SE).
+  std::function<std::string(const std::vector<double>&, const std::vector<double>&)> reference_clock_bound(const std::string& t) const {
+    const double lim = o.max_reference_clock_s;
+    return [t, lim](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
+      if (!(std::abs(x[0]) - kHullBoundSe * se[0] > lim)) return "";
+      char b[300];
+      std::snprintf(b, sizeof b,
+                    "a reference clock offset of %.3g s (+- %.2g) for target %s is beyond %.3g s (a GNSS or AIS position is "
+                    "stamped with its fix's time): it stands in for something else, e.g. an echo along the hull away from its antenna",
+                    x[0], se[0], t.c_str(), lim);
+      return b;
+    };
+  }
+
   // Per target: its reference clock in each recording (and, pooled, per boat), its antenna
   // offset, and its hull offset as each range sensor sees it.
   void add_target_entries() {
@@ -334,9 +419,12 @@ struct CatalogueBuilder {
     for (const auto& t : targets) {
       auto is_t = [t](const ObsGeom& g) { return g.target == t; };
       for (int r = 0; r < R; ++r)  // a reference clock belongs to one recording
-        if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }))
-          target_clock.push_back(add({"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
-                                      cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)}));
+        if (any(G, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; })) {
+          Candidate c{"truth_time_offset", {"", t, pooled ? rec_name(r) : ""}, {"s"}, truth_sig, "", {},
+                      cols(G, 1, [t, r](const ObsGeom& g) { return g.rec == r && g.target == t; }, truth_rate)};
+          c.bound = reference_clock_bound(t);
+          target_clock.push_back(add(c));
+        }
       if (pooled)  // "the same in seconds in every recording": the boat's reference logger
         target_clock_hw.push_back(hardware("reference clocks (truth_time_offset per boat)",
                                            {"truth_time_offset", {"", t}, {"s"}, truth_sig, "", {}, {}}, 1, is_t, truth_rate));

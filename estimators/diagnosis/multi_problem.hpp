@@ -38,6 +38,10 @@ struct MultiProblemOptions {
   std::map<std::string, HullSize> hull;
   double max_hull_length_m = 400;  ///< [m] a target of unknown length is at most this long (the largest ships afloat), > 0
   double max_hull_beam_m = 62;     ///< [m] and at most this wide, > 0
+  /// [s] a target reference's clock offset (truth_time_offset) is at most this: a GNSS or AIS
+  /// position is stamped with its fix's time, and a report later than its interval would show
+  /// as a jump; a larger fitted value stands in for something else and is refused, > 0
+  double max_reference_clock_s = 10;
 };
 
 struct MultiProblem {

@@ -59,16 +59,23 @@ struct Selection {
 // error there. Entries without replicates, or with fewer than two carrying data, pass.
 // log10 of the replication p of chosen entry s given the others: -inf where nothing is tested
 // (no replicates, or fewer than two carrying data). The entry agrees when it is below log10 alpha.
-double replication_log10_p(const Design& d, const Chosen& chosen, std::size_t s) {
-  if (d.pb->catalogue[chosen[s].first].replicates.empty()) return -INFINITY;
+// log10 p of chosen entry s's replication (-inf: no replicates to ask); an entry that claims one
+// value (Candidate::one_value) whose replicates do not agree with one value at alpha, or could
+// not be fitted, gets 0 (p = 1).
+double replication_log10_p(const Design& d, const Chosen& chosen, std::size_t s, double alpha) {
+  const Candidate& c = d.pb->catalogue[chosen[s].first];
+  if (c.replicates.empty()) return -INFINITY;
   const Replication r = search_detail::replication(d, chosen, s);
-  return r.tested ? r.log10_p : -INFINITY;
+  // one value claimed but its replicates not fitted (one inside the rest of the model, e.g. a
+  // target's own offset beside a sensor's): that they agree is not shown
+  if (!r.tested) return c.one_value ? 0.0 : -INFINITY;
+  return c.one_value && r.homogeneity_log10_p < std::log10(alpha) ? 0.0 : r.log10_p;
 }
 
 bool replicates_agree(const Design& d, const Chosen& chosen, std::size_t e, std::size_t v, double alpha) {
   Chosen with = chosen;
   with.push_back({e, v});
-  return replication_log10_p(d, with, with.size() - 1) < std::log10(alpha);
+  return replication_log10_p(d, with, with.size() - 1, alpha) < std::log10(alpha);
 }
 
 // Of two entries that explain the same residual (rival(): the report's confounding note), the
@@ -255,7 +262,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     double worst = std::log10(o.alpha);
     std::size_t wi = out.chosen.size();
     for (std::size_t i = 0; i < out.chosen.size(); ++i) {
-      const double lp = replication_log10_p(d, out.chosen, i);
+      const double lp = replication_log10_p(d, out.chosen, i, o.alpha);
       if (lp >= worst) worst = lp, wi = i;
     }
     if (wi == out.chosen.size()) break;

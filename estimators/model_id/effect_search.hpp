@@ -86,6 +86,11 @@ struct Candidate {
   /// scope_only copies, one per replicate, same grid. It enters only when the replicates agree
   /// (replication.hpp); empty: no such claim.
   std::vector<std::size_t> replicates{};
+  /// With replicates: they must also agree with one value (Cochran's Q of their values not
+  /// significant at alpha), not only have a significant mean. For an offset whose per-replicate
+  /// departures do not average out (every ship's echo comes from its near side, so every
+  /// target's range offset is short): a mean over such replicates is no common cause.
+  bool one_value = false;
   /// A shape in time (a drift) rather than a physical cause; every scanned entry (a step, a
   /// period, a manoeuvre time) is one as well (is_shape). Of two entries that explain the same
   /// residual, a shape replaces a physical cause only by more than explaining as well
@@ -230,6 +235,10 @@ struct Replication {
   std::vector<double> mean, mean_se;     ///< per parameter: random-effects mean and its Hartung-Knapp SE
   std::vector<double> between_sd;        ///< per parameter: DerSimonian-Laird between-replicate sd
   double log10_p = 0;                    ///< two-sided t(R - 1) p of the mean, Bonferroni over the parameters
+  /// Cochran's Q of the replicates' values about their fixed-effect mean, chi^2(R - 1): log10 of
+  /// its p, Bonferroni over the parameters (small: they do not agree with one value)
+  double homogeneity_log10_p = 0;
+  std::string over = "recordings";       ///< what the replicates are: "recordings" or "targets"
 };
 
 struct FoundEffect {

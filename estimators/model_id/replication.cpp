@@ -42,7 +42,9 @@ Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
   const auto R = static_cast<Eigen::Index>(reps.size());
   Eigen::MatrixXd b(R, k), se(R, k);
   for (Eigen::Index r = 0; r < R; ++r) {
-    out.recordings.push_back(p.catalogue[reps[static_cast<std::size_t>(r)]].scope.recording);
+    const Scope& rs = p.catalogue[reps[static_cast<std::size_t>(r)]].scope;
+    if (rs.recording.empty() && !rs.target.empty()) out.over = "targets";
+    out.recordings.push_back(rs.recording.empty() ? rs.target : rs.recording);
     for (Eigen::Index j = 0; j < k; ++j) {
       const Eigen::Index col = base + r * k + j;
       b(r, j) = f.beta(col);
@@ -57,13 +59,14 @@ Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
       out.stderr_[static_cast<std::size_t>(r)][static_cast<std::size_t>(j)] = se(r, j);
     }
   const double nu = static_cast<double>(R - 1);
-  double min_p = 1;
+  double min_p = 1, min_q = 1;
   for (Eigen::Index j = 0; j < k; ++j) {
     // DerSimonian-Laird: w_r = 1 / se_r^2, Q = sum w_r (b_r - b_FE)^2,
     //   tau^2 = max(0, (Q - (R - 1)) / (sum w - sum w^2 / sum w))
     const Eigen::VectorXd w = se.col(j).array().square().inverse();
     const double sw = w.sum(), b_fe = w.dot(b.col(j)) / sw;
     const double Q = (w.array() * (b.col(j).array() - b_fe).square()).sum();
+    min_q = std::min(min_q, chi2_sf(Q, nu));
     const double tau2 = std::max(0.0, (Q - nu) / (sw - w.squaredNorm() / sw));
     // random-effects weights w*_r = 1 / (se_r^2 + tau^2); mean m = sum w* b / sum w*;
     // Hartung-Knapp: SE^2 = sum w* (b_r - m)^2 / ((R - 1) sum w*), t = m / SE ~ t(R - 1)
@@ -78,6 +81,7 @@ Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
   }
   out.tested = true;
   out.log10_p = std::log10(std::max(1e-300, std::min(1.0, min_p * static_cast<double>(k))));  // Bonferroni over its parameters
+  out.homogeneity_log10_p = std::log10(std::max(1e-300, std::min(1.0, min_q * static_cast<double>(k))));
   return out;
 }
 

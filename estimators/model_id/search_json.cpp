@@ -224,11 +224,11 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
     o << "\n";
     if (e.replication.tested) {
       const Replication& rp = e.replication;
-      o << "           replicated in " << rp.recordings.size() << " recordings:";
+      o << "           replicated in " << rp.recordings.size() << " " << rp.over << ":";
       for (std::size_t i = 0; i < rp.mean.size(); ++i) {
         const ShownUnit u = shown_unit(e.params[i]);
         o << " " << u.name << " mean " << short_num(u.factor * rp.mean[i]) << " +- " << short_num(u.factor * rp.mean_se[i])
-          << " (between recordings sd " << short_num(u.factor * rp.between_sd[i]) << ")";
+          << " (between " << rp.over << " sd " << short_num(u.factor * rp.between_sd[i]) << ")";
       }
       o << ", log10 p " << short_num(rp.log10_p) << "\n";
     }
