@@ -7,13 +7,16 @@ and random streams.
 
   scripts/flightgen.py landing OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]   site.json radar.csv nav.csv truth.csv
   scripts/flightgen.py uav OUTDIR [--seed N] [--noise-seed N] [--set key=value ...]       observer.csv bearings.csv truth.csv
-  scripts/flightgen.py shipradar OUTDIR [--seed N] [--noise-seed N] [--set key=value ...] observer.csv detections.csv truth.csv
+  scripts/flightgen.py shipradar OUTDIR [--seed N] [--noise-seed N] [--set key=value ...] observer.csv detections.csv truth.csv [targets.csv]
   scripts/flightgen.py landing|uav|shipradar --list-keys                 every key: default, range, unit
 As a module: landing(outdir, seed, overrides, noise_seed), uav(...) and shipradar(...)
 (noise_seed None: seed; it seeds the noise streams alone, so one geometry takes many noise draws) write the files and
 return {"params": every key's value and the derived ones (the truth), "files", "truth", "nav" |
 "observer", "plots" | "bearings" | "detections": the unrounded rows} (shipradar also "targets": each
-target's drawn motion, and "illuminations": every illumination with its target). Prints the params as JSON on stdout.
+target's drawn motion, hull, mooring, AIS and noise; "illuminations": every illumination with its
+target; "sources": beside each detection row its origin, ("ship", (ids...)) (more than one id:
+unresolved echoes merged), ("clutter",), ("sea",) or ("land", j); "land": the reflectors' (lat, lon)).
+Prints the params as JSON on stdout.
 Same seed and keys: byte-identical files. Random streams: Python's random.Random seeded with the
 string "flightgen:MODE:SEED:STREAM" (streams geometry, nav, white, outlier, coloured.CHANNEL; shipradar's
 below). The random defaults are drawn from `geometry` in the table's order whether overridden or not, so
@@ -115,11 +118,81 @@ antenna at h = antenna_h_m.
   Clutter (stream clutter): per scan Poisson(clutter_per_scan) false detections, range
   U[max(min_range_m, 1), max_range_m], bearing U[0, 360), stamped as a target at that bearing
   (illumination t = k P + ((bearing - beta0) mod 360)/omega). Rows sorted by t_s, ties by bearing;
-  no target ids.
+  no target ids. Drawn as measured values: range_gain and the biases would only move the uniform
+  law's limits (and the files must stay as they were); the sea clutter below takes them.
   truth.csv (AIS): target i reports at t_1 = u D_1, t_(j+1) = t_j + D_(j+1), D ~ U[ais_min_s, ais_max_s],
   u ~ U[0, 1) (stream ais_times.i), while t <= duration_s; the report stamped t gives the position at
   t - ais_time_offset_s plus ais_sigma_m (w_e, w_n) in the plane (stream ais_noise.i). Rows sorted
-  by t_s, then target id. Noise streams (--noise-seed): detect.i, white.i, clutter, ais_noise.i.
+  by t_s, then target id. Noise streams (--noise-seed): detect.i, white.i, clutter, ais_noise.i,
+  sea_clutter, land.j; every other stream from --seed.
+  Scenes (scene): open keeps the table's defaults (point targets 2-12 km away, white noise, no
+  clutter, land, moored ships or merged echoes: the files exactly as before the keys below
+  existed); harbour takes the defaults of "Scene harbour" below instead (a key given with --set
+  wins), a busy harbour as a real recording shows it. Each feature below is off at its open default.
+  Hulls (hull_max_length_m > 0; stream hull.i): length L = hull_min_length_m (hull_max_length_m /
+  hull_min_length_m)^u (log-uniform), beam B = max(3 m, L U[0.12, 0.2]); the AIS antenna A =
+  U[0.15, 0.85] L behind the bow on the centreline and C = U[0.2, 0.8] B from the port side (AIS
+  static data A, B = L - A to the stern, C, D = B - C to starboard). The track is the antenna's, and
+  the truth reports it. The hull is the rectangle x in [A - L, A] ahead of, y in [-C, B - C] to
+  starboard of the antenna, in the tangent plane at the antenna (h = 0), heading = the true bearing
+  there of the track's course (the plane's course turned by the meridian convergence, about
+  dE tan(lat) / a: 0.35 deg 20 km east of the site at 63 deg N). Its echo: with q(x, y) the hull
+  point in the radar antenna's ENU, q0 = q(A, -C), a = q(A, B - C) - q0, b = q(A - L, -C) - q0
+  (orthogonal), range r = |q0 + s a + t b|, s = clamp(-q0.a / a.a), t = clamp(-q0.b / b.b) into
+  [0, 1] (the rectangle's nearest point, slant: its leading edge); bearing beta = beta_c +
+  (min_j d_j + max_j d_j) / 2, d_j = wrap180(bearing of corner j - beta_c), beta_c the bearing of the
+  hull's centre (the middle of its angular extent; beta_c itself if the radar is over the hull).
+  This r and beta replace the point's in the illumination and the detection (a point target, L = 0:
+  the antenna's as above). End-on a long hull's range is up to 0.85 L short of the antenna's,
+  broadside about C or D; it is never short by less than min(A, L - A, C, D).
+  Moored ships (stream moor.i: u_m, u_s, u_g): u_m < moored_fraction lies still (speed 0, no turn:
+  those target.i draws unused), heading its drawn course. Moored ships in id order fill clusters:
+  one opens a cluster of 2 + floor(u_s (cluster_max - 1)) ships (1 if cluster_max = 1) and is placed
+  as any ship; the next moored ships join it until it is full (the last cluster may stay short), each
+  parallel to the previous one (same heading) on its starboard side: hull centre = the previous
+  one's + ((B_prev + B) / 2 + 1 m + 2 m u_g) to starboard, laid out in the plane (alongside, not
+  overlapping). Cluster id = the id of its first ship; adding targets keeps the earlier ones
+  except the members of the last cluster.
+  Placement with hulls or land: every hull of a ship (a cluster: all of them) at t_p must keep its
+  centre its half diagonal + 10 m short of the shore line, and with hulls its circle (centre, half
+  diagonal) must not meet those of the ships placed before (id order). A draw on land is first
+  mirrored across the line through the own ship parallel to the shore (distance kept); a draw that
+  still fails is replaced by distance and bearing from stream place.i, up to 49 times, the last
+  kept. Only at t_p: moving ships may later pass through hulls and ashore (no collision avoidance).
+  Noise per ship (stream sigma.i, fixed with the geometry): bearing sigma U[bearing_sigma_deg,
+  bearing_sigma_max_deg], range sigma U[range_sigma_m, range_sigma_max_m], each Gauss-Markov over
+  the ship's illuminations (noise_tau_s > 0): x_1 = sigma w_1, x_k = phi x_(k-1) + sqrt(1 - phi^2)
+  sigma w_k, phi = exp(-(t_k - t_(k-1)) / noise_tau_s), w the white.i draws above (noise_tau_s = 0:
+  x_k = sigma w_k, the white noise above); x replaces sigma w in range_m and bearing_deg.
+  Unresolved echoes: detected echoes of one scan k closer than range_resolution_m in true range
+  AND beamwidth_deg in true bearing are linked (single linkage), and each linked group is one
+  detection at the mean of its echoes weighted by hull length (1 for a point target) of t, r,
+  beta (about the first's) and the noises, then the errors above (0: every echo its own detection).
+  Ship echoes only: land and clutter are never merged.
+  Sea clutter (stream sea_clutter): per scan Poisson(sea_clutter_per_scan) returns at true range
+  r0 - s ln(1 - u (1 - exp(-(max_range_m - r0) / s))) (exponential, scale s = sea_clutter_scale_m,
+  from r0 = min_range_m, truncated at max_range_m) and true bearing U[0, 360), lit at k P +
+  ((bearing - beta0) mod 360) / omega: range (1 + range_gain) r + range_bias_m, bearing +
+  bearing_bias_deg, stamp as a target's (no noise: their places are random).
+  Land: a straight shore land_distance_m from the own ship's start, perpendicular to the bearing
+  land_bearing_deg (auto: obs_course_deg - 90 deg sgn(obs_turn_deg), abeam on the side away from
+  the first turn: the own course alternates between obs_course_deg and obs_course_deg +
+  obs_turn_deg, so the own ship never closes the shore); land_points reflectors on it at h = 0,
+  U[-land_half_length_m, land_half_length_m] along it from the foot of that normal (stream
+  land_points). Each scan, a reflector within [min_range_m, max_range_m] is detected with
+  probability land_p_detect (stream land.j: u, w_r, w_b drawn every scan) with the white noise
+  range_sigma_m, bearing_sigma_deg and the radar's errors as a target; it is lit once a scan where theta(t) =
+  beta(t), r and beta quadratic in t through their exact values at the scan's start, middle and
+  end (off by terms in (v P / r)^3: < 3e-5 deg and 0.1 mm at 500 m from an own ship at 6 m/s).
+  Clutter, sea clutter and land have no truth rows.
+  AIS: ais_whole_seconds = 1: t_1 = ceil(u D_1), t_(j+1) = t_j + max(1, round(D_(j+1))) (half up),
+  whole seconds, each the antenna's position at that second (minus ais_time_offset_s). Stream
+  ais_static.i (u_s, u_w, v_L, v_B): u_s < ais_silent_fraction: the ship sends nothing (no truth or
+  targets.csv rows; still on the radar); u_w < ais_wrong_dims_fraction: its static data are wrong:
+  L' = min(1000 m, f_L L), B' = f_B B, f = 0.3 + 2.7 v (U[0.3, 3]), A' = A L'/L, C' = C B'/B (the
+  antenna in the same place of the stated hull; 1000 m: the diagnosis reader's bound); else the
+  true L, B, A, C. targets.csv (hulls only): target,length_m,beam_m,to_bow_m,to_port_m, one row per
+  ship with AIS in id order, whole metres as AIS sends them: round(L'), round(B'), round(A'), round(C').
 Default tokens: U[a,b] uniform, +-U[a,b] with a random sign, U{a,b} one of, auto derived.
 
 Keys (landing):
@@ -203,6 +276,7 @@ Keys (uav):
     outlier_scale     10            [0,1000]         -      outlier noise / sigma_deg
 
 Keys (shipradar):
+    scene             open          {open|harbour}   -      preset of defaults (harbour: "Scene harbour" below)
     duration_s        3600          [60,86400]       s      run length (scans lie within it)
     lat_deg           63.46         [-89,89]         deg    own ship start latitude (default: Trondheimsfjord)
     lon_deg           10.40         [-180,180]       deg    own ship start longitude
@@ -224,8 +298,11 @@ Keys (shipradar):
     max_range_m       12000         [100,100000]     m      no detection beyond (slant range)
     min_range_m       50            [0,5000]         m      no detection nearer (blind zone)
     p_detect          0.9           [0,1]            -      detection probability of an illuminated target in range
-    range_sigma_m     15            [0,1000]         m      white noise
-    bearing_sigma_deg 0.5           [0,20]           deg    white noise
+    range_sigma_m     15            [0,1000]         m      white noise (each ship: its lowest sigma)
+    bearing_sigma_deg 0.5           [0,20]           deg    white noise (each ship: its lowest sigma)
+    bearing_sigma_max_deg auto      [0,20]           deg    each ship's sigma U[bearing_sigma_deg, this] (auto: = it)
+    range_sigma_max_m auto          [0,1000]         m      each ship's sigma U[range_sigma_m, this] (auto: = it)
+    noise_tau_s       0             [0,100000]       s      ship noise Gauss-Markov correlation time (0: white)
     clutter_per_scan  0             [0,100]          1/scan mean number (Poisson) of false detections per scan
     stamp             illumination  {illumination|scan}  -  detection time stamp: illumination or sweep end
     time_offset_s     0             [-20,20]         s      stamp minus the true (illumination or sweep-end) time
@@ -236,6 +313,40 @@ Keys (shipradar):
     ais_max_s         10            [0.05,600]       s      longest AIS report interval
     ais_sigma_m       0             [0,1000]         m      AIS position white noise per axis (east, north)
     ais_time_offset_s 0             [-60,60]         s      an AIS report stamped t gives the position at t - offset
+    ais_whole_seconds 0             int[0,1]         -      1: AIS reports on whole seconds, intervals rounded (>= 1 s)
+    ais_silent_fraction 0           [0,1]            -      probability that a ship sends no AIS (radar only)
+    ais_wrong_dims_fraction 0       [0,1]            -      probability that a ship's AIS static data are wrong
+    hull_min_length_m 10            [8,460]          m      shortest hull (log-uniform between the two)
+    hull_max_length_m 0             [0,460]          m      longest hull (0: point targets, no targets.csv)
+    moored_fraction   0             [0,1]            -      probability that a ship is moored (at rest, in a cluster)
+    cluster_max       1             int[1,10]        -      most ships moored side by side in one cluster (1: each alone)
+    range_resolution_m 0            [0,1000]         m      echoes closer in range and bearing merge (0: never)
+    beamwidth_deg     0             [0,10]           deg    echoes closer in bearing and range merge (0: never)
+    sea_clutter_per_scan 0          [0,100]          1/scan mean number (Poisson) of sea clutter returns per scan
+    sea_clutter_scale_m 1500        [1,100000]       m      sea clutter range scale (exponential from min_range_m)
+    land_points       0             int[0,2000]      -      fixed reflectors on a straight shore (0: no land)
+    land_distance_m   3000          [50,100000]      m      shore distance from the own ship's start
+    land_bearing_deg  auto          [0,360]          deg    shore normal from the own start (auto: abeam, off the turn)
+    land_half_length_m 4000         [0,100000]       m      reflectors spread over +- this along the shore
+    land_p_detect     0.7           [0,1]            -      detection probability of a land reflector in range, per scan
+
+Scene harbour (shipradar scene=harbour: these defaults instead; n_targets 40, min_range_m 50 and
+max_range_m 12000 as in open; a key given with --set wins):
+    target_min_range_m 250
+    target_max_range_m 9000
+    bearing_sigma_max_deg 1.5
+    range_sigma_max_m 80
+    noise_tau_s       20
+    ais_whole_seconds 1
+    ais_silent_fraction 0.1
+    ais_wrong_dims_fraction 0.1
+    hull_max_length_m 300
+    moored_fraction   0.4
+    cluster_max       4
+    range_resolution_m 30
+    beamwidth_deg     1.5
+    sea_clutter_per_scan 20
+    land_points       150
 """
 import bisect
 import json
@@ -340,6 +451,21 @@ def _table(section):
 KEYS = {"landing": _table("landing"), "uav": _table("uav"), "shipradar": _table("shipradar")}
 
 
+def _scene(mode, name):
+    """{key: default} of the docstring's "Scene NAME (MODE ...)" list."""
+    out = {}
+    for line in __doc__.split("Scene %s (%s" % (name, mode), 1)[1].split(":\n", 1)[1].splitlines():
+        if not line.strip():
+            break
+        key, value = re.match(r" {4}(\w+) +(\S+)$", line).groups()
+        out[key] = value
+    return out
+
+
+# A key's default per scene (the table's unless the scene's list names it); modes without a scene key have none.
+SCENES = {"shipradar": {"open": {}, "harbour": _scene("shipradar", "harbour")}}
+
+
 def check_value(keys, name, value):
     k = keys[name]
     if k["range"].startswith("{"):
@@ -361,6 +487,12 @@ def check_value(keys, name, value):
     return x
 
 
+for _mode, _scenes in SCENES.items():     # the docstring's scene lists name keys and values of the table
+    for _tab in _scenes.values():
+        for _name, _value in _tab.items():
+            check_value(KEYS[_mode], _name, _value)
+
+
 def resolve(mode, seed, overrides):
     """Every key's value: overrides (validated), else the default, random ones drawn in table order."""
     keys = KEYS[mode]
@@ -370,9 +502,10 @@ def resolve(mode, seed, overrides):
             hint = cli_args.closest(name, list(keys))
             raise BadInput("unknown %s key '%s'%s" % (mode, name, " (did you mean '%s'?)" % hint if hint else ""))
         given[name] = check_value(keys, name, value)
+    scene = SCENES[mode][given.get("scene", keys["scene"]["default"])] if mode in SCENES else {}
     rng, params, aux = stream(seed, mode, "geometry"), {}, {}
     for name, k in keys.items():
-        d = k["default"]
+        d = scene.get(name, k["default"])
         m = re.fullmatch(r"(\+-)?U\[(\S+),(\S+)\]", d)
         if m:
             v = float(m.group(2)) + (float(m.group(3)) - float(m.group(2))) * rng.random()
@@ -578,6 +711,10 @@ COLUMN_DOCS = {
     "detections.csv": {"t_s": ("s", "time stamp of the detection"), "sensor": ("", "sensor name"),
                        "range_m": ("m", "measured range from the sensor"),
                        "bearing_deg": ("deg", "measured bearing, clockwise from north")},
+    "targets.csv": {"target": ("", "target number"), "length_m": ("m", "hull length as the target's AIS static data give it (A + B)"),
+                    "beam_m": ("m", "hull beam as the AIS static data give it (C + D)"),
+                    "to_bow_m": ("m", "AIS antenna's distance from the bow (A)"),
+                    "to_port_m": ("m", "AIS antenna's distance from the port side (C)")},
 }
 
 
@@ -766,28 +903,155 @@ def poisson(rng, lam):
     return k
 
 
+def _ship_draws(P, seed, i):
+    """Ship i's drawn values from its geometry streams target.i, hull.i, moor.i, sigma.i and
+    ais_static.i (docstring); every stream drawn whatever the keys."""
+    g = stream(seed, "shipradar", "target.%d" % i)
+    s = {"id": i, "u": [g.random() for _ in range(9)], "L": 0.0, "B": 0.0, "A": 0.0, "C": 0.0}
+    if P["hull_max_length_m"] > 0:
+        h = stream(seed, "shipradar", "hull.%d" % i)
+        u = [h.random() for _ in range(4)]
+        lo, hi = P["hull_min_length_m"], P["hull_max_length_m"]
+        L = lo * (hi / lo) ** u[0]
+        B = max(3.0, L * (0.12 + 0.08 * u[1]))
+        s.update(L=L, B=B, A=(0.15 + 0.7 * u[2]) * L, C=(0.2 + 0.6 * u[3]) * B)
+    m = stream(seed, "shipradar", "moor.%d" % i)
+    um, us, ug = m.random(), m.random(), m.random()
+    cmax = int(P["cluster_max"])
+    s.update(moored=um < P["moored_fraction"], size=1 if cmax < 2 else 2 + int(us * (cmax - 1)), gap=1.0 + 2.0 * ug)
+    q = stream(seed, "shipradar", "sigma.%d" % i)
+    ub, ur = q.random(), q.random()
+    s.update(sig_b=P["bearing_sigma_deg"] + (P["bearing_sigma_max_deg"] - P["bearing_sigma_deg"]) * ub,
+             sig_r=P["range_sigma_m"] + (P["range_sigma_max_m"] - P["range_sigma_m"]) * ur)
+    a = stream(seed, "shipradar", "ais_static.%d" % i)
+    u = [a.random() for _ in range(4)]
+    s.update(silent=u[0] < P["ais_silent_fraction"], wrong=u[1] < P["ais_wrong_dims_fraction"],
+             f=(0.3 + 2.7 * u[2], 0.3 + 2.7 * u[3]))
+    return s
+
+
+def _groups(ships):
+    """Placement groups in id order: a moving ship alone, moored ships filling clusters (docstring)."""
+    groups, cur = [], None
+    for s in ships:
+        if not s["moored"]:
+            s["cluster"] = None
+            groups.append([s])
+            continue
+        if cur is None or len(cur) >= cur[0]["size"]:
+            cur = [s]
+            groups.append(cur)
+        else:
+            cur.append(s)
+        s["cluster"] = cur[0]["id"]
+    return groups
+
+
+def _layout(group, p, course):
+    """[(antenna (e, n), hull centre (e, n), half diagonal)] of a group's ships at t_p, the first
+    one's antenna at p, all on the plane course `course`, each next alongside to starboard."""
+    c = math.radians(course)
+    f, sb = (math.sin(c), math.cos(c)), (math.cos(c), -math.sin(c))
+    out, centre = [], None
+    for j, s in enumerate(group):
+        ahead, right = s["A"] - s["L"] / 2, s["B"] / 2 - s["C"]     # hull centre from the antenna
+        if j == 0:
+            ant = p
+            centre = (p[0] + ahead * f[0] + right * sb[0], p[1] + ahead * f[1] + right * sb[1])
+        else:
+            d = (group[j - 1]["B"] + s["B"]) / 2 + s["gap"]
+            centre = (centre[0] + d * sb[0], centre[1] + d * sb[1])
+            ant = (centre[0] - ahead * f[0] - right * sb[0], centre[1] - ahead * f[1] - right * sb[1])
+        out.append((ant, centre, math.hypot(s["L"], s["B"]) / 2))
+    return out
+
+
+def _misplaced(lay, placed, shore, hulls):
+    """'land', 'overlap' or None for a group's layout against the shore and the hulls placed before."""
+    for _, c, R in lay:
+        if shore and c[0] * shore[0] + c[1] * shore[1] + R + 10.0 > shore[2]:
+            return "land"
+    for _, c, R in lay:
+        if hulls and any(math.hypot(c[0] - c2[0], c[1] - c2[1]) < R + R2 for c2, R2 in placed):
+            return "overlap"
+    return None
+
+
+def _shore(P):
+    """(unit normal e, n from the own start towards the shore, its distance) or None without land."""
+    if int(P["land_points"]) == 0:
+        return None
+    lb = math.radians(P["land_bearing_deg"])
+    return math.sin(lb), math.cos(lb), P["land_distance_m"]
+
+
+def _ais_static(P, s):
+    """The whole-metre (length, beam, to bow, to port) the ship's AIS sends (docstring), or None."""
+    if P["hull_max_length_m"] <= 0 or s["silent"]:
+        return None
+    L, B, A, C = s["L"], s["B"], s["A"], s["C"]
+    if s["wrong"]:
+        L2, B2 = min(1000.0, s["f"][0] * L), s["f"][1] * B
+        L, B, A, C = L2, B2, A * L2 / L, C * B2 / B
+    return tuple(int(math.floor(x + 0.5)) for x in (L, B, A, C))
+
+
 def ship_targets(P, seed, obs):
-    """[(Track, (de, dn) offset, drawn values)] for targets 1..n_targets (streams target.i)."""
+    """[(Track, (de, dn) offset, info)] for targets 1..n_targets in id order (docstring: targets,
+    hulls, moored clusters, placement)."""
     T, tp = P["duration_s"], P["place_time_frac"] * P["duration_s"]
     oe, on, _ = obs.at(tp)
-    out = []
-    for i in range(1, int(P["n_targets"]) + 1):
-        g = stream(seed, "shipradar", "target.%d" % i)
-        u = [g.random() for _ in range(9)]
+    ships = [_ship_draws(P, seed, i) for i in range(1, int(P["n_targets"]) + 1)]
+    shore, hulls = _shore(P), P["hull_max_length_m"] > 0
+    span = P["target_max_range_m"] - P["target_min_range_m"]
+    placed, out = [], {}
+    for grp in _groups(ships):
+        s0, redraw = grp[0], None
+        u, moored = s0["u"], s0["moored"]
         dist = P["target_min_range_m"] + (P["target_max_range_m"] - P["target_min_range_m"]) * u[0]
         brg, course = 360.0 * u[1], 360.0 * u[3]
-        speed = P["target_min_speed_mps"] + (P["target_max_speed_mps"] - P["target_min_speed_mps"]) * u[2]
+        speed = 0.0 if moored else P["target_min_speed_mps"] + (P["target_max_speed_mps"] - P["target_min_speed_mps"]) * u[2]
         turn = None
-        if u[4] < P["turn_fraction"]:
+        if not moored and u[4] < P["turn_fraction"]:
             turn = ((0.1 + 0.7 * u[5]) * T, math.copysign(20.0 + 70.0 * u[6], u[7] - 0.5), 0.1 + 0.4 * u[8])
         tr = Track(0.0, 0.0, course, speed, [turn] if turn else [])
-        e, n, _ = tr.at(tp)
-        off = (oe + dist * math.sin(math.radians(brg)) - e, on + dist * math.cos(math.radians(brg)) - n)
-        info = {"id": i, "speed_mps": speed, "course_deg": course, "place_range_m": dist, "place_bearing_deg": brg,
-                "turn_start_s": turn[0] if turn else None, "turn_deg": turn[1] if turn else None,
-                "turn_rate_dps": turn[2] if turn else None}
-        out.append((tr, off, info))
-    return out
+        e, n, c_tp = tr.at(tp)
+        mirrored = False
+        for attempt in range(50 if shore or hulls else 1):
+            if attempt:
+                redraw = redraw or stream(seed, "shipradar", "place.%d" % s0["id"])
+                dist, brg = P["target_min_range_m"] + span * redraw.random(), 360.0 * redraw.random()
+            p = (oe + dist * math.sin(math.radians(brg)), on + dist * math.cos(math.radians(brg)))
+            if not (shore or hulls):
+                break
+            why = _misplaced(_layout(grp, p, c_tp), placed, shore, hulls)
+            mirrored = why == "land"
+            if mirrored:            # mirrored across the line through the own ship along the shore
+                brg = (2.0 * P["land_bearing_deg"] + 180.0 - brg) % 360.0
+                p = (oe + dist * math.sin(math.radians(brg)), on + dist * math.cos(math.radians(brg)))
+                why = _misplaced(_layout(grp, p, c_tp), placed, shore, hulls)
+            if why is None:
+                break
+        for j, (s, (ant, centre, R)) in enumerate(zip(grp, _layout(grp, p, c_tp))):
+            placed.append((centre, R))
+            if j == 0:
+                tr_s, off = tr, (p[0] - e, p[1] - n)
+                rng_b = (dist, brg)
+            else:
+                tr_s, off = Track(0.0, 0.0, course, 0.0), ant
+                rng_b = (math.hypot(ant[0] - oe, ant[1] - on), math.degrees(math.atan2(ant[0] - oe, ant[1] - on)) % 360.0)
+            first = j == 0 and turn is not None
+            info = {"id": s["id"], "speed_mps": speed if j == 0 else 0.0, "course_deg": course,
+                    "place_range_m": rng_b[0], "place_bearing_deg": rng_b[1],
+                    "turn_start_s": turn[0] if first else None, "turn_deg": turn[1] if first else None,
+                    "turn_rate_dps": turn[2] if first else None,
+                    "length_m": s["L"], "beam_m": s["B"], "to_bow_m": s["A"], "to_port_m": s["C"],
+                    "moored": s["moored"], "cluster": s["cluster"], "silent": s["silent"],
+                    "wrong_dims": s["wrong"] and _ais_static(P, s) is not None, "ais_static": _ais_static(P, s),
+                    "bearing_sigma_deg": s["sig_b"], "range_sigma_m": s["sig_r"], "place_attempts": attempt + 1,
+                    "place_mirrored": mirrored}
+            out[s["id"]] = (tr_s, off, info)
+    return [out[i] for i in sorted(out)]
 
 
 def illuminations(look, P, t_end):
@@ -823,12 +1087,259 @@ def illuminations(look, P, t_end):
     return out, bad
 
 
-def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
-    P, _ = resolve("shipradar", seed, dict(overrides or {}))
-    for lo, hi in (("target_min_range_m", "target_max_range_m"), ("target_min_speed_mps", "target_max_speed_mps"),
-                   ("ais_min_s", "ais_max_s"), ("min_range_m", "max_range_m")):
+class Hull:
+    """A ship's hull rectangle about its AIS antenna and its echo's range and bearing (docstring)."""
+
+    def __init__(self, info, site):
+        L, B, A, C = info["length_m"], info["beam_m"], info["to_bow_m"], info["to_port_m"]
+        self.x, self.y, self.site = (A, A - L), (-C, B - C), site
+        self.centre = (A - L / 2, B / 2 - C)
+
+    def axes(self, lat, lon, course):
+        """(forward, starboard) ECEF unit vectors and the true heading [deg] at (lat, lon) of the
+        plane course `course` (its direction projected on the tangent plane there)."""
+        la, lo = math.radians(lat), math.radians(lon)
+        east = (-math.sin(lo), math.cos(lo), 0.0)
+        north = (-math.sin(la) * math.cos(lo), -math.sin(la) * math.sin(lo), math.cos(la))
+        c, m = math.radians(course), self.site.m
+        v = [math.sin(c) * m[0][k] + math.cos(c) * m[1][k] for k in range(3)]
+        fe, fn = sum(v[k] * east[k] for k in range(3)), sum(v[k] * north[k] for k in range(3))
+        h = math.hypot(fe, fn)
+        fe, fn = fe / h, fn / h
+        return ([fe * east[k] + fn * north[k] for k in range(3)], [fn * east[k] - fe * north[k] for k in range(3)],
+                math.degrees(math.atan2(fe, fn)) % 360.0)
+
+    def echo(self, radar, p, fwd, stb):
+        """(r, beta) of the hull's echo from radar (Frame), the antenna at ECEF p, axes fwd and stb."""
+        m = radar.m
+        q = radar.enu(p)
+        f = [m[i][0] * fwd[0] + m[i][1] * fwd[1] + m[i][2] * fwd[2] for i in range(3)]
+        s = [m[i][0] * stb[0] + m[i][1] * stb[1] + m[i][2] * stb[2] for i in range(3)]
+
+        def pt(x, y):
+            return [q[i] + x * f[i] + y * s[i] for i in range(3)]
+        q0 = pt(self.x[0], self.y[0])
+        a = [(self.y[1] - self.y[0]) * s[i] for i in range(3)]
+        b = [(self.x[1] - self.x[0]) * f[i] for i in range(3)]
+        s0 = -sum(q0[i] * a[i] for i in range(3)) / sum(x * x for x in a)
+        t0 = -sum(q0[i] * b[i] for i in range(3)) / sum(x * x for x in b)
+        sc, tc = min(1.0, max(0.0, s0)), min(1.0, max(0.0, t0))
+        r = math.sqrt(sum((q0[i] + sc * a[i] + tc * b[i]) ** 2 for i in range(3)))
+        cen = pt(*self.centre)
+        bc = math.degrees(math.atan2(cen[0], cen[1]))
+        if 0.0 <= s0 <= 1.0 and 0.0 <= t0 <= 1.0:      # the radar over the hull
+            return r, bc
+        d = [wrap180(math.degrees(math.atan2(c[0], c[1])) - bc) for c in (pt(x, y) for x in self.x for y in self.y)]
+        return r, bc + (min(d) + max(d)) / 2
+
+
+def ship_look(P, site, antenna, tr, off, info):
+    """look(t) = (r, beta) of one target's echo from the radar antenna at t (docstring)."""
+    if info["length_m"] <= 0:
+        def look(t):
+            fr, _ = antenna(t)
+            e, n, _ = tr.at(t)
+            r, b, _ = polar(fr, site.place(e + off[0], n + off[1], 0.0)[3])
+            return r, b
+        return look
+    hull = Hull(info, site)
+    e, n, c = tr.at(P["place_time_frac"] * P["duration_s"])
+    lat, lon, _, p = site.place(e + off[0], n + off[1], 0.0)
+    fixed = (p,) + tuple(hull.axes(lat, lon, c)[:2]) if info["speed_mps"] == 0 and info["turn_deg"] is None else None
+
+    def look_hull(t):
+        fr, _ = antenna(t)
+        if fixed:
+            return hull.echo(fr, *fixed)
+        e, n, c = tr.at(t)
+        lat, lon, _, p = site.place(e + off[0], n + off[1], 0.0)
+        fwd, stb, _ = hull.axes(lat, lon, c)
+        return hull.echo(fr, p, fwd, stb)
+    return look_hull
+
+
+def unresolved(echoes, res, bw):
+    """Echoes (k, t, id, r, beta, ...) in groups: linked within one scan k when closer than res in r
+    and bw in beta (single linkage); the groups in the order of their first echo, each in order."""
+    if not (res > 0 and bw > 0):
+        return [[x] for x in echoes]
+    parent = list(range(len(echoes)))
+
+    def root(j):
+        while parent[j] != j:
+            parent[j] = parent[parent[j]]
+            j = parent[j]
+        return j
+    scans = {}
+    for j, x in enumerate(echoes):
+        scans.setdefault(x[0], []).append(j)
+    for idx in scans.values():
+        idx.sort(key=lambda j: echoes[j][3])
+        for a, ja in enumerate(idx):
+            for jb in idx[a + 1:]:
+                if echoes[jb][3] - echoes[ja][3] >= res:
+                    break
+                if abs(wrap180(echoes[jb][4] - echoes[ja][4])) < bw:
+                    parent[root(jb)] = root(ja)
+    groups = {}
+    for j, x in enumerate(echoes):
+        groups.setdefault(root(j), []).append(x)
+    return list(groups.values())
+
+
+def merged(group):
+    """(k, t, r, beta, x_r, x_b) of a group of echoes (k, t, id, r, beta, x_r, x_b, weight, ...):
+    the echo itself, or the weighted means (bearings about the first's)."""
+    if len(group) == 1:
+        return group[0][:2] + group[0][3:7]
+    W = sum(x[7] for x in group)
+    mean = lambda j: sum(x[7] * x[j] for x in group) / W
+    b1 = group[0][4]
+    return (group[0][0], mean(1), mean(3), b1 + sum(x[7] * wrap180(x[4] - b1) for x in group) / W, mean(5), mean(6))
+
+
+def sea_clutter(P, ns, n_scans):
+    """[(k, true range, true bearing)] of the sea clutter (docstring; stream sea_clutter)."""
+    g, out = stream(ns, "shipradar", "sea_clutter"), []
+    r0, s = P["min_range_m"], P["sea_clutter_scale_m"]
+    cdf = 1.0 - math.exp(-(P["max_range_m"] - r0) / s)
+    for k in range(n_scans):
+        for _ in range(poisson(g, P["sea_clutter_per_scan"])):
+            r = r0 - s * math.log(1.0 - g.random() * cdf)
+            out.append((k, r, 360.0 * g.random()))
+    return out
+
+
+def land_reflectors(P, seed, site):
+    """[(lat, lon, ECEF)] of the shore's reflectors (docstring; stream land_points), [] without land."""
+    shore = _shore(P)
+    if shore is None:
+        return []
+    g, (ne, nn, D), H = stream(seed, "shipradar", "land_points"), shore, P["land_half_length_m"]
+    out = []
+    for _ in range(int(P["land_points"])):
+        a = H * (2.0 * g.random() - 1.0)
+        lat, lon, _, p = site.place(D * ne + a * nn, D * nn - a * ne, 0.0)
+        out.append((lat, lon, p))
+    return out
+
+
+def _fast_polar(fr, p):
+    """(slant range, bearing deg) of ECEF p from Frame fr."""
+    o, m = fr.o, fr.m
+    dx, dy, dz = p[0] - o[0], p[1] - o[1], p[2] - o[2]
+    e = m[0][0] * dx + m[0][1] * dy
+    n = m[1][0] * dx + m[1][1] * dy + m[1][2] * dz
+    u = m[2][0] * dx + m[2][1] * dy + m[2][2] * dz
+    return math.sqrt(e * e + n * n + u * u), math.degrees(math.atan2(e, n))
+
+
+def land_echoes(P, ns, refl, antenna, n_scans):
+    """[(k, t, j, r, beta, w_r, w_b)] of every land reflector j lit in scan k and detected
+    (docstring: quadratic in t through the scan's start, middle and end; stream land.j)."""
+    if not refl:
+        return []
+    per, b0 = P["scan_period_s"], P["scan_start_bearing_deg"]
+    om = 360.0 / per
+    frames = [antenna(h * per / 2)[0] for h in range(2 * n_scans + 1)]
+    out = []
+    for j, (_, _, p) in enumerate(refl):
+        g = stream(ns, "shipradar", "land.%d" % (j + 1))
+        prev = _fast_polar(frames[0], p)
+        for k in range(n_scans):
+            ud, wr, wb = g.random(), g.gauss(0.0, 1.0), g.gauss(0.0, 1.0)
+            (r0, bb0), (rm, bm), (r1, bb1) = prev, _fast_polar(frames[2 * k + 1], p), _fast_polar(frames[2 * k + 2], p)
+            prev = (r1, bb1)
+            if ud >= P["land_p_detect"] or min(r0, r1) > P["max_range_m"] + 100.0:
+                continue
+            bm, bb1 = bb0 + wrap180(bm - bb0), bb0 + wrap180(bb1 - bb0)
+            c2 = 2.0 * (bb1 - bb0 - 2.0 * (bm - bb0)) / per ** 2
+            c1 = (bb1 - bb0) / per - c2 * per
+            d2 = 2.0 * (r1 - r0 - 2.0 * (rm - r0)) / per ** 2
+            d1 = (r1 - r0) / per - d2 * per
+            tau = ((bb0 - b0) % 360.0) / om
+            for _ in range(20):
+                step = wrap180(bb0 + c1 * tau + c2 * tau * tau - b0 - om * tau) / (om - c1 - 2.0 * c2 * tau)
+                tau += step
+                if abs(step) < 1e-9:
+                    break
+            r = r0 + d1 * tau + d2 * tau * tau
+            if 0.0 <= tau < per and P["min_range_m"] <= r <= P["max_range_m"]:
+                out.append((k, k * per + tau, j + 1, r, bb0 + c1 * tau + c2 * tau * tau, wr, wb))
+    return out
+
+
+def _ship_keys(P):
+    """The auto keys derived and the pairs of keys checked (BadInput naming both)."""
+    for key, base in (("bearing_sigma_max_deg", "bearing_sigma_deg"), ("range_sigma_max_m", "range_sigma_m")):
+        if P[key] is None:
+            P[key] = P[base]
+    if P["land_bearing_deg"] is None:
+        P["land_bearing_deg"] = (P["obs_course_deg"] - math.copysign(90.0, P["obs_turn_deg"])) % 360.0
+    pairs = [("target_min_range_m", "target_max_range_m"), ("target_min_speed_mps", "target_max_speed_mps"),
+             ("ais_min_s", "ais_max_s"), ("min_range_m", "max_range_m"),
+             ("bearing_sigma_deg", "bearing_sigma_max_deg"), ("range_sigma_m", "range_sigma_max_m")]
+    if P["hull_max_length_m"] > 0:
+        pairs.append(("hull_min_length_m", "hull_max_length_m"))
+    for lo, hi in pairs:
         if P[lo] > P[hi]:
             raise BadInput("key %s (%g) must not exceed %s (%g)" % (lo, P[lo], hi, P[hi]))
+
+
+def ais_reports(P, seed, ns, site, targets):
+    """truth.csv rows (t, id, lat, lon) of the ships with AIS (docstring)."""
+    T, whole, truth = P["duration_s"], P["ais_whole_seconds"] == 1, []
+    span = P["ais_max_s"] - P["ais_min_s"]
+    for tr, off, info in targets:
+        i = info["id"]
+        if info["silent"]:
+            continue
+        ts_rng, nz = stream(seed, "shipradar", "ais_times.%d" % i), stream(ns, "shipradar", "ais_noise.%d" % i)
+        t = ts_rng.random() * (P["ais_min_s"] + span * ts_rng.random())
+        if whole:
+            t = float(math.ceil(t))
+        while t <= T + 1e-9:
+            e, n, _ = tr.at(t - P["ais_time_offset_s"])
+            we, wn = nz.gauss(0.0, 1.0), nz.gauss(0.0, 1.0)
+            lat, lon, _, _ = site.place(e + off[0] + P["ais_sigma_m"] * we, n + off[1] + P["ais_sigma_m"] * wn, 0.0)
+            truth.append((t, i, lat, lon))
+            d = P["ais_min_s"] + span * ts_rng.random()
+            t += max(1.0, math.floor(d + 0.5)) if whole else d
+    truth.sort(key=lambda r: (r[0], r[1]))
+    return truth
+
+
+def ship_echoes(P, ns, site, antenna, targets, n_scans, t_end):
+    """(detected echoes (k, t, id, r, beta, x_r, x_b, weight, lit index), illuminations [t, id, k, r,
+    beta, detected], failed illumination solves): each ship's illuminations and noise (docstring)."""
+    per, tau = P["scan_period_s"], P["noise_tau_s"]
+    echoes, lit, n_bad = [], [], 0
+    for tr, off, info in targets:
+        i = info["id"]
+        rows, bad = illuminations(ship_look(P, site, antenna, tr, off, info), P, t_end)
+        n_bad += bad
+        det, white = stream(ns, "shipradar", "detect.%d" % i), stream(ns, "shipradar", "white.%d" % i)
+        sr, sb, w = info["range_sigma_m"], info["bearing_sigma_deg"], info["length_m"] or 1.0
+        t_prev = xr = xb = None
+        for t, r, b in rows:
+            ud, wr, wb = det.random(), white.gauss(0.0, 1.0), white.gauss(0.0, 1.0)
+            if tau > 0 and t_prev is not None:
+                phi = math.exp(-(t - t_prev) / tau)
+                q = math.sqrt(1.0 - phi * phi)
+                xr, xb = phi * xr + q * sr * wr, phi * xb + q * sb * wb
+            else:
+                xr, xb = sr * wr, sb * wb
+            t_prev = t
+            k = min(n_scans - 1, int(math.floor(t / per)))
+            lit.append([t, i, k, r, b % 360.0, False])
+            if P["min_range_m"] <= r <= P["max_range_m"] and ud < P["p_detect"]:
+                echoes.append((k, t, i, r, b, xr, xb, w, len(lit) - 1))
+    return echoes, lit, n_bad
+
+
+def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
+    P, _ = resolve("shipradar", seed, dict(overrides or {}))
+    _ship_keys(P)
     save(outdir, ())
     ns = seed if noise_seed is None else noise_seed
     T, per, hant = P["duration_s"], P["scan_period_s"], P["antenna_h_m"]
@@ -838,6 +1349,11 @@ def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
     obs = Track(0.0, 0.0, P["obs_course_deg"], P["obs_speed_mps"],
                 [((k + 1) * T / (nt + 1), P["obs_turn_deg"] * (-1) ** k, P["obs_turn_rate_dps"]) for k in range(nt)])
     targets = ship_targets(P, seed, obs)
+    tp = P["place_time_frac"] * T
+    for tr, off, info in targets:     # the true heading at t_p (the hull's; a moored ship's for good)
+        e, n, c = tr.at(tp)
+        lat, lon, _, _ = site.place(e + off[0], n + off[1], 0.0)
+        info["heading_deg"] = Hull(info, site).axes(lat, lon, c)[2]
     observer = []
     for k in range(int(math.floor(T + 1e-9)) + 1):
         e, n, c = obs.at(float(k))
@@ -851,28 +1367,19 @@ def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
 
     n_scans = int(math.floor(T / per + 1e-9))
     t_end = n_scans * per
-    dets, lit, n_bad = [], [], 0
-    for tr, off, info in targets:
-        i = info["id"]
-
-        def look(t, tr=tr, off=off):
-            fr, _ = antenna(t)
-            e, n, _ = tr.at(t)
-            r, b, _ = polar(fr, site.place(e + off[0], n + off[1], 0.0)[3])
-            return r, b
-        rows, bad = illuminations(look, P, t_end)
-        n_bad += bad
-        det, white = stream(ns, "shipradar", "detect.%d" % i), stream(ns, "shipradar", "white.%d" % i)
-        for t, r, b in rows:
-            ud, wr, wb = det.random(), white.gauss(0.0, 1.0), white.gauss(0.0, 1.0)
-            k = min(n_scans - 1, int(math.floor(t / per)))
-            seen = P["min_range_m"] <= r <= P["max_range_m"] and ud < P["p_detect"]
-            rm = (1 + P["range_gain"]) * r + P["range_bias_m"] + P["range_sigma_m"] * wr
-            bm = wrap360(b + P["bearing_bias_deg"] + P["bearing_sigma_deg"] * wb, 8)
-            ts = (t if P["stamp"] == "illumination" else (k + 1) * per) + P["time_offset_s"]
-            lit.append((t, i, k, r, b % 360.0, seen and rm > 0))
-            if seen and rm > 0:
-                dets.append((ts, "radar", rm, bm))
+    stamp = lambda t, k: (t if P["stamp"] == "illumination" else (k + 1) * per) + P["time_offset_s"]
+    echoes, lit, n_bad = ship_echoes(P, ns, site, antenna, targets, n_scans, t_end)
+    dets, src, n_merges, n_merged = [], [], 0, 0
+    for grp in unresolved(echoes, P["range_resolution_m"], P["beamwidth_deg"]):
+        k, t, r, b, xr, xb = merged(grp)
+        rm = (1 + P["range_gain"]) * r + P["range_bias_m"] + xr
+        bm = wrap360(b + P["bearing_bias_deg"] + xb, 8)
+        n_merges, n_merged = n_merges + (len(grp) > 1), n_merged + (len(grp) if len(grp) > 1 else 0)
+        if rm > 0:
+            dets.append((stamp(t, k), "radar", rm, bm))
+            src.append(("ship", tuple(sorted(x[2] for x in grp))))
+            for x in grp:
+                lit[x[8]][5] = True
     n_target_dets = len(dets)
     clut = stream(ns, "shipradar", "clutter")
     rmin = max(P["min_range_m"], 1.0)
@@ -882,29 +1389,42 @@ def shipradar(outdir, seed=1, overrides=None, noise_seed=None):
             bm = wrap360(360.0 * clut.random(), 8)
             t = k * per + ((bm - b0) % 360.0) / om
             dets.append(((t if P["stamp"] == "illumination" else (k + 1) * per) + P["time_offset_s"], "radar", rm, bm))
-    dets.sort(key=lambda d: (d[0], d[3], d[2]))
-    lit.sort()
-    truth = []
-    for tr, off, info in targets:
-        i = info["id"]
-        ts_rng, nz = stream(seed, "shipradar", "ais_times.%d" % i), stream(ns, "shipradar", "ais_noise.%d" % i)
-        span = P["ais_max_s"] - P["ais_min_s"]
-        t = ts_rng.random() * (P["ais_min_s"] + span * ts_rng.random())
-        while t <= T + 1e-9:
-            e, n, _ = tr.at(t - P["ais_time_offset_s"])
-            we, wn = nz.gauss(0.0, 1.0), nz.gauss(0.0, 1.0)
-            lat, lon, _, _ = site.place(e + off[0] + P["ais_sigma_m"] * we, n + off[1] + P["ais_sigma_m"] * wn, 0.0)
-            truth.append((t, i, lat, lon))
-            t += P["ais_min_s"] + span * ts_rng.random()
-    truth.sort(key=lambda r: (r[0], r[1]))
+            src.append(("clutter",))
+    n_clutter = len(dets) - n_target_dets
+    for k, r, b in sea_clutter(P, ns, n_scans):
+        rm = (1 + P["range_gain"]) * r + P["range_bias_m"]
+        if rm > 0:
+            dets.append((stamp(k * per + ((b - b0) % 360.0) / om, k), "radar", rm, wrap360(b + P["bearing_bias_deg"], 8)))
+            src.append(("sea",))
+    n_sea = len(dets) - n_target_dets - n_clutter
+    refl = land_reflectors(P, seed, site)
+    for k, t, j, r, b, wr, wb in land_echoes(P, ns, refl, antenna, n_scans):
+        rm = (1 + P["range_gain"]) * r + P["range_bias_m"] + P["range_sigma_m"] * wr
+        if rm > 0:
+            dets.append((stamp(t, k), "radar", rm, wrap360(b + P["bearing_bias_deg"] + P["bearing_sigma_deg"] * wb, 8)))
+            src.append(("land", j))
+    order = sorted(range(len(dets)), key=lambda j: (dets[j][0], dets[j][3], dets[j][2]))
+    dets, src = [dets[j] for j in order], [src[j] for j in order]
+    lit = sorted(tuple(x) for x in lit)
+    truth = ais_reports(P, seed, ns, site, targets)
+    infos = [t[2] for t in targets]
     P.update(omega_dps=om, n_scans=n_scans, n_illuminations=len(lit), n_detections=len(dets),
-             n_target_detections=n_target_dets, n_clutter=len(dets) - n_target_dets, n_truth_rows=len(truth),
-             n_unresolved=n_bad)
-    files = save(outdir, (("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg", observer, "%.6f,%.9f,%.9f,%.4f,%.4f"),
-                          ("detections.csv", "t_s,sensor,range_m,bearing_deg", dets, "%.6f,%s,%.4f,%.8f"),
-                          ("truth.csv", "t_s,target,lat_deg,lon_deg", truth, "%.6f,%d,%.9f,%.9f")))
+             n_target_detections=n_target_dets, n_clutter=n_clutter, n_truth_rows=len(truth),
+             n_unresolved=n_bad, n_sea_clutter=n_sea, n_land=len(dets) - n_target_dets - n_clutter - n_sea,
+             n_land_reflectors=len(refl), n_unresolved_merges=n_merges, n_merged_echoes=n_merged,
+             n_moored=sum(x["moored"] for x in infos), n_clusters=len({x["cluster"] for x in infos if x["moored"]}),
+             n_silent=sum(x["silent"] for x in infos), n_wrong_dims=sum(x["wrong_dims"] for x in infos),
+             n_replaced=sum(x["place_attempts"] > 1 for x in infos), n_mirrored=sum(x["place_mirrored"] for x in infos))
+    tables = [("observer.csv", "t_s,lat_deg,lon_deg,h_m,heading_deg", observer, "%.6f,%.9f,%.9f,%.4f,%.4f"),
+              ("detections.csv", "t_s,sensor,range_m,bearing_deg", dets, "%.6f,%s,%.4f,%.8f"),
+              ("truth.csv", "t_s,target,lat_deg,lon_deg", truth, "%.6f,%d,%.9f,%.9f")]
+    if P["hull_max_length_m"] > 0:
+        tables.append(("targets.csv", "target,length_m,beam_m,to_bow_m,to_port_m",
+                       [(x["id"],) + x["ais_static"] for x in infos if x["ais_static"]], "%d,%d,%d,%d,%d"))
+    files = save(outdir, tables)
     return {"mode": "shipradar", "seed": seed, "params": P, "files": files, "truth": truth, "observer": observer,
-            "detections": dets, "illuminations": lit, "targets": [t[2] for t in targets]}
+            "detections": dets, "sources": src, "illuminations": lit, "targets": infos,
+            "land": [(lat, lon) for lat, lon, _ in refl]}
 
 
 # ---------------------------------------------------------------- command line
@@ -925,7 +1445,9 @@ def main(argv):
         hint = cli_args.closest(args.mode, list(KEYS))
         ap.error("unknown mode '%s'%s: give landing, uav or shipradar" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))
     if args.list_keys:
-        print("\n".join(k["line"] for k in KEYS[args.mode].values()))
+        scenes = SCENES.get(args.mode, {})
+        print("\n".join(k["line"] + "".join("  (%s: %s)" % (sc, tab[name]) for sc, tab in scenes.items() if name in tab)
+                        for name, k in KEYS[args.mode].items()))
         return 0
     if not args.outdir:
         ap.error("OUTDIR is required (see %s --help)" % PROG)
