@@ -345,8 +345,11 @@ max_range_m 12000 as in open; a key given with --set wins):
     cluster_max       4
     range_resolution_m 30
     beamwidth_deg     1.5
-    sea_clutter_per_scan 20
-    land_points       150
+    sea_clutter_per_scan 8
+    land_points       30
+
+(An hour of it holds about 70 000 detections: about 40 000 of ships, 20 000 of land, 10 000 of sea
+clutter: a plot extractor's output with land mostly masked, not every land cell.)
 """
 import bisect
 import json
