@@ -14,7 +14,10 @@ namespace rnav {
 
 namespace {
 
-constexpr double kHullBoundSe = 2;  // an offset breaks the hull's bound only beyond 2 standard errors
+// An offset breaks its physical bound when its estimate does (0 standard errors of margin): on
+// 15-minute harbour recordings a margin of 2 SE let a 55 +- 10 m starboard offset stand on a
+// 35 m beam, and a 12 s reference clock (the echo's place along a long hull) stand.
+constexpr double kHullBoundSe = 0;
 
 // Per observation: the geometry the columns need.
 struct ObsGeom {
@@ -350,8 +353,8 @@ struct CatalogueBuilder {
   }
 
   // An antenna or hull offset's physical bound: the sensed point and the reference's antenna
-  // both lie on the hull, so |along| <= its length and |starboard| <= its beam, each beyond 2
-  // standard errors (MultiProblemOptions::hull, or the largest ship afloat for a target of
+  // both lie on the hull, so |along| <= its length and |starboard| <= its beam (kHullBoundSe;
+  // MultiProblemOptions::hull, or the largest ship afloat for a target of
   // unknown size). Beyond it the offset is not the hull's: detections of something else were
   // associated to the target (or its size on record is wrong).
   std::function<std::string(const std::vector<double>&, const std::vector<double>&)> hull_bound(const std::string& t) const {
@@ -374,7 +377,7 @@ struct CatalogueBuilder {
     };
   }
 
-  // An echo's range offset from the target's antenna: at most its hull's length, beyond 2 SE.
+  // An echo's range offset from the target's antenna: at most its hull's length (kHullBoundSe).
   std::function<std::string(const std::vector<double>&, const std::vector<double>&)> hull_length_bound(const std::string& t) const {
     const auto it = o.hull.find(t);
     const bool known = it != o.hull.end() && std::isfinite(it->second.length_m);
@@ -391,7 +394,7 @@ struct CatalogueBuilder {
     };
   }
 
-  // A reference's clock offset: at most max_reference_clock_s (beyond 2 SE).
+  // A reference's clock offset: at most max_reference_clock_s (kHullBoundSe).
   std::function<std::string(const std::vector<double>&, const std::vector<double>&)> reference_clock_bound(const std::string& t) const {
     const double lim = o.max_reference_clock_s;
     return [t, lim](const std::vector<double>& x, const std::vector<double>& se) -> std::string {

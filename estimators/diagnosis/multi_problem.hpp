@@ -39,9 +39,10 @@ struct MultiProblemOptions {
   double max_hull_length_m = 400;  ///< [m] a target of unknown length is at most this long (the largest ships afloat), > 0
   double max_hull_beam_m = 62;     ///< [m] and at most this wide, > 0
   /// [s] a target reference's clock offset (truth_time_offset) is at most this: a GNSS or AIS
-  /// position is stamped with its fix's time, and a report later than its interval would show
-  /// as a jump; a larger fitted value stands in for something else and is refused, > 0
-  double max_reference_clock_s = 10;
+  /// position is stamped with its fix's time (AIS: its UTC second, so up to 1 s, and a
+  /// receiver's stamping delay of a second or two); a larger fitted value stands in for
+  /// something else (on a harbour radar, the echo's place along a long hull) and is refused, > 0
+  double max_reference_clock_s = 3;
 };
 
 struct MultiProblem {
