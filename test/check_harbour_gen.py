@@ -627,8 +627,8 @@ def check_open(tmp):
                                                            "target_max_range_m": 4000})["params"]
     want = {"target_min_range_m": 250, "target_max_range_m": 9000, "n_targets": 40, "min_range_m": 50,
             "max_range_m": 12000, "hull_max_length_m": 300, "moored_fraction": 0.4, "cluster_max": 4,
-            "range_resolution_m": 30, "beamwidth_deg": 1.5, "sea_clutter_per_scan": 20, "sea_clutter_scale_m": 1500,
-            "land_points": 150, "land_distance_m": 3000, "land_half_length_m": 4000, "land_p_detect": 0.7,
+            "range_resolution_m": 30, "beamwidth_deg": 1.5, "sea_clutter_per_scan": 8, "sea_clutter_scale_m": 1500,
+            "land_points": 30, "land_distance_m": 3000, "land_half_length_m": 4000, "land_p_detect": 0.7,
             "bearing_sigma_max_deg": 1.5, "range_sigma_max_m": 80, "noise_tau_s": 20, "ais_whole_seconds": 1,
             "ais_silent_fraction": 0.1, "ais_wrong_dims_fraction": 0.1}
     diff = {k: h[k] for k in want if h[k] != want[k]}
