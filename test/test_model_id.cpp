@@ -4,6 +4,7 @@
 // Gauss-Markov process, preference of a physical cause over a scanned one, and outliers.
 #include "effect_search.hpp"
 #include "noise_id.hpp"
+#include "noise_memo.hpp"
 #include "coloured_noise.hpp"
 #include "shown_unit.hpp"
 #include "stats.hpp"
@@ -864,4 +865,51 @@ TEST_CASE("effect search: candidates tested several at once give the same report
   SearchOptions bad;
   bad.threads = 0;
   CHECK_THROWS_WITH(search_effects(make(1, 0, 0, 0, 0, 0.5).pb, bad), Catch::Contains("threads >= 1"));
+}
+
+TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and only for the same inputs", "[model_id][memo]") {
+  // a 300-frame Gauss-Markov series (tau 20 s, sampled at 1 s) and one fixed-effect column
+  std::mt19937_64 rng(71);
+  std::normal_distribution<double> g;
+  std::vector<double> t;
+  Eigen::VectorXd e(300);
+  Eigen::MatrixXd X(300, 1), X2(300, 1);
+  double x = 0;
+  for (int i = 0; i < 300; ++i) {
+    t.push_back(i);
+    x = std::exp(-1.0 / 20) * x + std::sqrt(1 - std::exp(-2.0 / 20)) * g(rng);
+    e(i) = x + 0.3 * g(rng);
+    X(i, 0) = i < 150 ? 0.0 : 1.0;
+    X2(i, 0) = i < 100 ? 0.0 : 1.0;
+  }
+  NoiseIdOptions o;
+  search_detail::NoiseMemo memo;
+  const NoiseFit direct = identify_noise(t, {}, e, X, o);
+  const NoiseFit first = memo.fit(0, t, {}, e, X, o, nullptr);
+  const NoiseFit again = memo.fit(0, t, {}, e, X, o, nullptr);
+  CHECK(memo.misses() == 1);
+  CHECK(memo.hits() == 1);
+  for (const NoiseFit* f : {&first, &again}) {
+    CHECK(f->params.lambda == direct.params.lambda);
+    CHECK(f->params.tau_s == direct.params.tau_s);
+    CHECK(f->params.s2 == direct.params.s2);
+    CHECK(f->loglik_ml == direct.loglik_ml);
+    CHECK(f->outlier == direct.outlier);
+  }
+  // another column, another channel index, other options, given flags: each computed afresh
+  const NoiseFit other = memo.fit(0, t, {}, e, X2, o, nullptr);
+  CHECK(other.loglik_ml == identify_noise(t, {}, e, X2, o).loglik_ml);
+  memo.fit(1, t, {}, e, X, o, nullptr);
+  NoiseIdOptions pm = o;
+  pm.profile_ml = true;
+  CHECK(memo.fit(0, t, {}, e, X, pm, nullptr).loglik_ml == identify_noise(t, {}, e, X, pm).loglik_ml);
+  const std::vector<char> skip(300, 0);
+  memo.fit(0, t, {}, e, X, o, &skip);
+  CHECK(memo.misses() == 5);
+  CHECK(memo.hits() == 1);
+  // a series its columns span throws DegenerateSeries, from the memo as from identify_noise
+  Eigen::MatrixXd span = Eigen::MatrixXd::Identity(300, 300).leftCols(298);
+  CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
+  CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
+  CHECK(memo.hits() == 2);
 }

@@ -129,7 +129,7 @@ double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
   NoiseIdOptions pm = no_;
   pm.profile_ml = true;
   try {
-    return identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
+    return d_.memo->fit(c, d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
         .loglik_ml;
   } catch (const DegenerateSeries&) {
     return std::nan("");  // the columns span the channel
@@ -178,8 +178,8 @@ double EntryTests::fixed(std::size_t e) const {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
     try {
-      NoiseParams q = identify_noise(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
-                                     &fits_[c].outlier)
+      NoiseParams q = d_.memo->fit(c, d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
+                                   &fits_[c].outlier)
                           .params;
       q.p_out = 0, q.s_out2 = 0;
       np[c] = q;

@@ -3,6 +3,9 @@
 #pragma once
 
 #include "effect_search.hpp"
+#include "noise_memo.hpp"
+
+#include <memory>
 
 namespace rnav::search_detail {
 
@@ -31,6 +34,8 @@ struct Design {
   std::vector<std::vector<Eigen::MatrixXd>> Cw; ///< [entry][grid point] whitened columns
   std::vector<char> used;                       ///< per observation: not skipped
   double n_used = 0;
+  /// the noise fits of this search's tests, remembered (shared by copies and threads)
+  std::shared_ptr<NoiseMemo> memo = std::make_shared<NoiseMemo>();
 
   /// Index the channels (checks sizes, finiteness and time order).
   explicit Design(const Problem& p);

@@ -1,0 +1,93 @@
+#include "noise_memo.hpp"
+
+#include <cstring>
+
+namespace rnav::search_detail {
+
+namespace {
+
+// Two independent 64-bit hashes of a byte string: FNV-1a, and a multiply-rotate mix of 8-byte
+// words (different constants and structure, so one's collisions are not the other's).
+struct Hasher {
+  std::uint64_t a = 14695981039346656037ull, b = 0x9e3779b97f4a7c15ull;
+  void bytes(const void* p, std::size_t n) {
+    const auto* s = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) a = (a ^ s[i]) * 1099511628211ull;
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+      std::uint64_t w;
+      std::memcpy(&w, s + i, 8);
+      word(w);
+    }
+    std::uint64_t tail = 0;
+    std::memcpy(&tail, s + i, n - i);
+    word(tail ^ (static_cast<std::uint64_t>(n) << 56));
+  }
+  void word(std::uint64_t w) {
+    b ^= w * 0xc2b2ae3d27d4eb4full;
+    b = ((b << 31) | (b >> 33)) * 0x165667b19e3779f9ull;
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+};
+
+}  // namespace
+
+NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
+  Hasher k;
+  k.value(c);
+  k.value(t.size()), k.value(h.size()), k.value(e.size());
+  k.bytes(t.data(), t.size() * sizeof(double));
+  k.bytes(h.data(), h.size() * sizeof(double));
+  k.bytes(e.data(), static_cast<std::size_t>(e.size()) * sizeof(double));
+  // every option that identify_noise reads
+  k.value(o.tau_min_s), k.value(o.tau_max_s), k.value(o.tau_span_divisor), k.value(o.alpha_correlated);
+  k.value(o.flag_outliers), k.value(o.expected_false_flags), k.value(o.nominal_share), k.value(o.nominal_tau_s);
+  k.value(o.use_correlated_lr), k.value(o.profile_ml);
+  k.value(X.rows()), k.value(X.cols());
+  k.bytes(X.data(), static_cast<std::size_t>(X.size()) * sizeof(double));
+  k.value(skip != nullptr);
+  if (skip) {
+    k.value(skip->size());
+    k.bytes(skip->data(), skip->size());
+  }
+  const Key key{k.a, k.b};
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    const auto it = stored_.find(key);
+    if (it != stored_.end()) {
+      ++hits_;
+      if (it->second.degenerate) throw DegenerateSeries(it->second.what);
+      return it->second.fit;
+    }
+  }
+  Stored s;
+  try {
+    s.fit = identify_noise(t, h, e, X, o, skip);
+  } catch (const DegenerateSeries& d) {
+    s.degenerate = true;
+    s.what = d.what();
+  }
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    ++misses_;
+    stored_.emplace(key, s);
+  }
+  if (s.degenerate) throw DegenerateSeries(s.what);
+  return s.fit;
+}
+
+std::size_t NoiseMemo::hits() const {
+  std::lock_guard<std::mutex> lock(m_);
+  return hits_;
+}
+
+std::size_t NoiseMemo::misses() const {
+  std::lock_guard<std::mutex> lock(m_);
+  return misses_;
+}
+
+}  // namespace rnav::search_detail

@@ -1,0 +1,48 @@
+// Internal to the effect search: the noise identified on one channel with given fixed-effect
+// columns and outlier flags, remembered for the rest of one search.
+#pragma once
+
+#include "noise_id.hpp"
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rnav::search_detail {
+
+/// identify_noise is a pure function of (times, gains, residuals, columns, options, flags). In
+/// one search the times, gains and residuals of a channel never change, and a candidate's test
+/// re-identifies its touched channels with the same columns at every selection step until an
+/// entry touching that channel is chosen (a per-target entry changes one or two of 50 channels),
+/// and again when the selection is repeated (after a refusal, in the next noise round). The memo
+/// returns the stored fit for the same (channel, times, gains, residuals, columns, options, flags);
+/// it is keyed by two
+/// independent 64-bit hashes of their bytes (a false match has probability about 2^-128 per
+/// pair of keys), and is safe to share between the search's threads. The fit is the same
+/// whichever thread computed it, so results do not depend on scheduling.
+class NoiseMemo {
+ public:
+  /// The fit of identify_noise(t, h, e, X, o, skip) for channel c, computed on first use.
+  /// Rethrows DegenerateSeries as identify_noise threw it.
+  NoiseFit fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+               const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip);
+  std::size_t hits() const;    ///< calls answered from the memo
+  std::size_t misses() const;  ///< calls computed
+
+ private:
+  struct Stored {
+    bool degenerate = false;
+    std::string what;  ///< DegenerateSeries's message
+    NoiseFit fit;
+  };
+  using Key = std::pair<std::uint64_t, std::uint64_t>;
+  mutable std::mutex m_;
+  std::map<Key, Stored> stored_;
+  std::size_t hits_ = 0, misses_ = 0;
+};
+
+}  // namespace rnav::search_detail
