@@ -912,4 +912,17 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
   CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
   CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
   CHECK(memo.hits() == 2);
+  // a confidence set is keyed apart from a fit of the same series, and by its level
+  const auto set4 = memo.confidence_set(0, t, {}, e, X, o, skip, 4.0);
+  const auto direct4 = noise_confidence_set(t, {}, e, X, o, skip, 4.0);
+  REQUIRE(set4.size() == direct4.size());
+  for (std::size_t i = 0; i < set4.size(); ++i) {
+    CHECK(set4[i].lambda == direct4[i].lambda);
+    CHECK(set4[i].tau_s == direct4[i].tau_s);
+    CHECK(set4[i].s2 == direct4[i].s2);
+  }
+  CHECK(memo.confidence_set(0, t, {}, e, X, o, skip, 4.0).size() == set4.size());
+  CHECK(memo.confidence_set(0, t, {}, e, X, o, skip, 9.0).size() == noise_confidence_set(t, {}, e, X, o, skip, 9.0).size());
+  CHECK(memo.misses() == 8);
+  CHECK(memo.hits() == 3);
 }

@@ -1,6 +1,7 @@
 #include "effect_report.hpp"
 #include "replication.hpp"
 
+#include "parallel_for.hpp"
 #include "stats.hpp"
 
 #include <algorithm>
@@ -36,15 +37,14 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
                  std::size_t s) {
   const Problem& p = *d.pb;
   const Chosen rest = without(chosen, s);
-  const Eigen::MatrixXd M = model_matrix(d, rest);
-  const Projector P(M, d.yw, d.n_used);
+  const Projector P(model_matrix(d, rest), d.yw, d.n_used);
   const auto [e, v] = chosen[s];
   const double lr_self = P.lr(d.Cw[e][v]);
   for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
     if (f == e || p.catalogue[f].scope_only ||
         std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; }))
       continue;
-    const Rival r = rival(d, M, P, e, v, f, o.alpha, o.confound_corr, m);
+    const Rival r = rival(d, P, e, v, f, o.alpha, o.confound_corr, m);
     if (r.same) {
       FoundEffect::Confound cf;
       cf.name = p.catalogue[f].name;
@@ -123,25 +123,69 @@ void detection_limits(const Design& d, const SearchOptions& o, double m, SearchR
   const Eigen::Index q = p.nuisance.cols();
   const double z_power = normal_upper_quantile(1 - o.power);
   const double z = z_two_sided(o.alpha / m) + z_power;
-  auto se_of = [&](const Chosen& model, std::size_t j) {  // SE of the first entry's parameter j
-    const Ols f = ols(model_matrix(d, model), d.yw, d.used);
-    if (!f.ok) return std::numeric_limits<double>::quiet_NaN();
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  // SE of parameter j of model[0] from its least-squares fit f
+  auto se_in = [&](const Ols& f, std::size_t j) {
+    if (!f.ok) return nan;
     const auto ix = q + static_cast<Eigen::Index>(j);
     return std::sqrt(f.cov_unscaled(ix, ix) * f.rss / std::max(1.0, f.n - static_cast<double>(f.beta.size())));
   };
-  for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+  std::vector<std::size_t> entries;
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e)
+    if (!p.catalogue[e].scanned() && !p.catalogue[e].scope_only) entries.push_back(e);
+  // Each entry alone, and the channels its whitened columns touch. Without nuisance columns, two
+  // entries touching no common channel have orthogonal columns: the joint fit is block diagonal,
+  // so e's (X'X)^-1 is its own, the residual sum of squares drops by what f alone explains
+  // (||y||^2 - RSS_f), and the joint rank is the sum of the two. Only pairs sharing a channel
+  // (a sensor-wide entry and a target's, two of one target's) need the joint fit.
+  std::vector<Ols> alone(p.catalogue.size());
+  std::vector<std::vector<char>> touches(p.catalogue.size());
+  parallel_for(entries.size(), o.threads, [&](std::size_t i) {
+    const std::size_t e = entries[i];
+    alone[e] = ols(model_matrix(d, {{e, 0}}), d.yw, d.used);
+    const Eigen::MatrixXd& C = d.Cw[e][0];
+    touches[e].assign(d.rows.size(), 0);
+    for (std::size_t c = 0; c < d.rows.size(); ++c)
+      for (std::size_t r : d.rows[c])
+        if (!C.row(static_cast<Eigen::Index>(r)).isZero(0)) {
+          touches[e][c] = 1;
+          break;
+        }
+  });
+  double yy = 0;  // ||y||^2 over the frames used (ols's mask)
+  for (Eigen::Index i = 0; i < d.yw.size(); ++i)
+    if (d.used[static_cast<std::size_t>(i)]) yy += d.yw(i) * d.yw(i);
+  auto share_channel = [&](std::size_t e, std::size_t f) {
+    for (std::size_t c = 0; c < touches[e].size(); ++c)
+      if (touches[e][c] && touches[f][c]) return true;
+    return false;
+  };
+  // SE of e's parameter j given f (NaN: e inside the span of the nuisance and f)
+  auto se_given = [&](std::size_t e, std::size_t f, std::size_t j) {
+    if (q > 0 || share_channel(e, f)) return se_in(ols(model_matrix(d, {{e, 0}, {f, 0}}), d.yw, d.used), j);
+    const Ols& a = alone[e];
+    const Ols& b = alone[f];
+    if (!a.ok || !b.ok) return nan;
+    const double rss = std::max(0.0, a.rss - (yy - b.rss));
+    const double dof = a.n - static_cast<double>(a.beta.size() + b.beta.size());
+    return std::sqrt(a.cov_unscaled(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)) * rss / std::max(1.0, dof));
+  };
+  struct Limits {
+    std::map<std::string, double> detection;
+    std::map<std::string, SeparationLimit> separation;
+  };
+  std::vector<Limits> out(entries.size());
+  parallel_for(entries.size(), o.threads, [&](std::size_t i) {
+    const std::size_t e = entries[i];
     const Candidate& c = p.catalogue[e];
-    if (c.scanned() || c.scope_only) continue;
-    const std::string key = c.name + "@" + c.scope.label();
     for (std::size_t j = 0; j < c.params.size(); ++j) {
-      const double se = se_of({{e, 0}}, j);
+      const double se = se_in(alone[e], j);
       if (!std::isfinite(se)) continue;
-      res.detection_limits[key][c.params[j]] = z * se;
-      const double inf = std::numeric_limits<double>::infinity();
+      out[i].detection[c.params[j]] = z * se;
       SeparationLimit worst{z * se, "", 0.0, 2 * z_power * se};
-      for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
-        if (f == e || p.catalogue[f].scanned() || p.catalogue[f].scope_only) continue;
-        const double se_f = se_of({{e, 0}, {f, 0}}, j);
+      for (std::size_t f : entries) {
+        if (f == e) continue;
+        const double se_f = se_given(e, f, j);
         const Candidate& other = p.catalogue[f];
         std::string label = other.name + " (" + other.scope.label();
         for (const auto& pn : other.params) label += "; " + pn;
@@ -152,8 +196,14 @@ void detection_limits(const Design& d, const SearchOptions& o, double m, SearchR
         }
         if (z * se_f > worst.size) worst = {z * se_f, label, std::sqrt(std::max(0.0, 1 - (se / se_f) * (se / se_f))), 2 * z_power * se_f};
       }
-      res.separation_limits[key][c.params[j]] = worst;
+      out[i].separation[c.params[j]] = worst;
     }
+  });
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const Candidate& c = p.catalogue[entries[i]];
+    const std::string key = c.name + "@" + c.scope.label();
+    for (const auto& [k, v] : out[i].detection) res.detection_limits[key][k] = v;
+    for (const auto& [k, v] : out[i].separation) res.separation_limits[key][k] = v;
   }
 }
 

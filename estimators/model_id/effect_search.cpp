@@ -105,8 +105,7 @@ bool swap_for_better(const Design& d, const SearchOptions& o, double m_family, c
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     Chosen rest = chosen;
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    const Eigen::MatrixXd M = search_detail::model_matrix(d, rest);
-    const search_detail::Projector P(M, d.yw, d.n_used);
+    const search_detail::Projector P(search_detail::model_matrix(d, rest), d.yw, d.n_used);
     EntryTests tests(d, rest, fits, o.noise, o.null_set_q);
     const auto [e, v] = chosen[i];
     const double own = tests.profile_lr(e, v) - aic(e);
@@ -114,7 +113,7 @@ bool swap_for_better(const Design& d, const SearchOptions& o, double m_family, c
     std::pair<std::size_t, std::size_t> to{e, v};
     for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
       if (f == e || taken[f] || p.catalogue[f].scope_only) continue;
-      const search_detail::Rival r = search_detail::rival(d, M, P, e, v, f, o.alpha, o.confound_corr, m_family);
+      const search_detail::Rival r = search_detail::rival(d, P, e, v, f, o.alpha, o.confound_corr, m_family);
       if (!r.same) continue;
       // a shape for a physical cause: "explains as well" is what rival() calls the same
       const bool shape_for_cause = p.catalogue[f].is_shape() && !p.catalogue[e].is_shape();
@@ -371,7 +370,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
     if (o.progress)
       o.progress("noise identification of " + std::to_string(pb.channels.size()) + " channel(s), " +
                  std::to_string(pb.size()) + " observations");
-    fits = identify_all(d, chosen, o.noise);
+    fits = identify_all(d, chosen, o.noise, o.threads);
     std::vector<NoiseParams> np;
     std::vector<std::vector<char>> sk;
     for (const auto& f : fits) {

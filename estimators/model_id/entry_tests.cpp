@@ -1,6 +1,8 @@
 // The tests of one catalogue entry (entry_tests.hpp) and the noise identified under the null.
 #include "entry_tests.hpp"
 
+#include "parallel_for.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -88,15 +90,20 @@ double gram_lr(const Eigen::MatrixXd& G, Eigen::Index k, Eigen::Index kc, double
 // catalogue entry as a fixed effect, as before, let a dozen slow columns soak up the slow noise
 // in REML, the correlated part fell below its AIC threshold, and each column was then tested
 // against white noise: 11 of 40 nominal flights named a mean effect under tau = 30 s noise.)
-std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no) {
+std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no, int threads) {
   const Eigen::MatrixXd X = raw_model_matrix(d, chosen);
-  std::vector<NoiseFit> out;
-  for (std::size_t c = 0; c < d.rows.size(); ++c) try {
-      out.push_back(identify_noise(d.times[c], d.gains[c], channel_y(d, c), channel_columns(d, X, c), channel_options(*d.pb, c, no)));
+  std::vector<NoiseFit> out(d.rows.size());
+  // channels alone, `threads` at once (each fit is a function of its channel alone: the same
+  // result whatever the scheduling); a channel no new entry touches is the memo's
+  parallel_for(d.rows.size(), threads, [&](std::size_t c) {
+    const Eigen::MatrixXd Xc = channel_columns(d, X, c);
+    try {
+      out[c] = d.memo->fit(c, d.times[c], d.gains[c], channel_y(d, c), Xc, channel_options(*d.pb, c, no), nullptr);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("channel " + d.pb->channels[c].name + " (" + std::to_string(d.rows[c].size()) + " frames, " +
-                                  std::to_string(channel_columns(d, X, c).cols()) + " fixed-effect columns): " + e.what());
+                                  std::to_string(Xc.cols()) + " fixed-effect columns): " + e.what());
     }
+  });
   return out;
 }
 
@@ -163,8 +170,8 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
     // the null's noise among the models the data allow with the entry in: a slow correlation
     // that exists only to absorb the step is not among them
     double l0 = -INFINITY;
-    for (const NoiseParams& p : noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
-                                                     channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
+    for (const NoiseParams& p : d_.memo->confidence_set(c, d_.times[c], d_.gains[c], channel_y(d_, c), X1,
+                                                        channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
       l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
     lr += 2 * (l1 - l0);
   }
@@ -219,8 +226,8 @@ double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) cons
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
     try {
-      sets[c] = noise_confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
-                                     fits_[c].outlier, q);
+      sets[c] = d_.memo->confidence_set(c, d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc),
+                                        channel_options(*d_.pb, c, no_), fits_[c].outlier, q);
     } catch (const DegenerateSeries&) {
       // spanned by the columns: its null noise stays (empty set)
     }

@@ -12,8 +12,8 @@ namespace rnav::search_detail {
 using Chosen = std::vector<std::pair<std::size_t, std::size_t>>;  ///< (catalogue entry, grid point)
 
 /// Each channel's noise, identified (REML, noise_id.hpp) with the nuisance and the chosen
-/// effects, restricted to the channel, as fixed effects.
-std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no);
+/// effects, restricted to the channel, as fixed effects; `threads` channels at once.
+std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no, int threads = 1);
 
 /// The tests of one entry against the model `chosen` (fits: the channels' noise under it).
 class EntryTests {

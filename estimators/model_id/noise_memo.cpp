@@ -35,15 +35,21 @@ struct Hasher {
 
 }  // namespace
 
-NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
-                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
+namespace {
+
+// The key of one channel's series: what identify_noise and noise_confidence_set read besides
+// the set's level (tag: which of the two; q: the set's level, 0 for a fit).
+std::pair<std::uint64_t, std::uint64_t> series_key(char tag, double q, std::size_t c, const std::vector<double>& t,
+                                                   const std::vector<double>& h, const Eigen::VectorXd& e,
+                                                   const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                                   const std::vector<char>* skip) {
   Hasher k;
-  k.value(c);
+  k.value(tag), k.value(q), k.value(c);
   k.value(t.size()), k.value(h.size()), k.value(e.size());
   k.bytes(t.data(), t.size() * sizeof(double));
   k.bytes(h.data(), h.size() * sizeof(double));
   k.bytes(e.data(), static_cast<std::size_t>(e.size()) * sizeof(double));
-  // every option that identify_noise reads
+  // every option that identify_noise and noise_confidence_set read
   k.value(o.tau_min_s), k.value(o.tau_max_s), k.value(o.tau_span_divisor), k.value(o.alpha_correlated);
   k.value(o.flag_outliers), k.value(o.expected_false_flags), k.value(o.nominal_share), k.value(o.nominal_tau_s);
   k.value(o.use_correlated_lr), k.value(o.profile_ml);
@@ -54,19 +60,25 @@ NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::
     k.value(skip->size());
     k.bytes(skip->data(), skip->size());
   }
-  const Key key{k.a, k.b};
+  return {k.a, k.b};
+}
+
+}  // namespace
+
+template <class Compute>
+NoiseMemo::Stored NoiseMemo::lookup(const Key& key, Compute compute) {
   {
     std::lock_guard<std::mutex> lock(m_);
     const auto it = stored_.find(key);
     if (it != stored_.end()) {
       ++hits_;
       if (it->second.degenerate) throw DegenerateSeries(it->second.what);
-      return it->second.fit;
+      return it->second;
     }
   }
   Stored s;
   try {
-    s.fit = identify_noise(t, h, e, X, o, skip);
+    compute(s);
   } catch (const DegenerateSeries& d) {
     s.degenerate = true;
     s.what = d.what();
@@ -77,7 +89,21 @@ NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::
     stored_.emplace(key, s);
   }
   if (s.degenerate) throw DegenerateSeries(s.what);
-  return s.fit;
+  return s;
+}
+
+NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
+  return lookup(series_key('f', 0.0, c, t, h, e, X, o, skip), [&](Stored& s) { s.fit = identify_noise(t, h, e, X, o, skip); })
+      .fit;
+}
+
+std::vector<NoiseParams> NoiseMemo::confidence_set(std::size_t c, const std::vector<double>& t, const std::vector<double>& h,
+                                                   const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                                                   const NoiseIdOptions& o, const std::vector<char>& skip, double q) {
+  return lookup(series_key('s', q, c, t, h, e, X, o, &skip),
+                [&](Stored& s) { s.set = noise_confidence_set(t, h, e, X, o, skip, q); })
+      .set;
 }
 
 std::size_t NoiseMemo::hits() const {

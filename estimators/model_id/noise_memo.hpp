@@ -30,6 +30,11 @@ class NoiseMemo {
   /// Rethrows DegenerateSeries as identify_noise threw it.
   NoiseFit fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip);
+  /// noise_confidence_set(t, h, e, X, o, skip, q) for channel c, computed on first use (the same
+  /// memo: a set is keyed apart from a fit). Rethrows DegenerateSeries.
+  std::vector<NoiseParams> confidence_set(std::size_t c, const std::vector<double>& t, const std::vector<double>& h,
+                                          const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                          const std::vector<char>& skip, double q);
   std::size_t hits() const;    ///< calls answered from the memo
   std::size_t misses() const;  ///< calls computed
 
@@ -38,7 +43,10 @@ class NoiseMemo {
     bool degenerate = false;
     std::string what;  ///< DegenerateSeries's message
     NoiseFit fit;
+    std::vector<NoiseParams> set;
   };
+  template <class Compute>
+  Stored lookup(const std::pair<std::uint64_t, std::uint64_t>& key, Compute compute);
   using Key = std::pair<std::uint64_t, std::uint64_t>;
   mutable std::mutex m_;
   std::map<Key, Stored> stored_;

@@ -207,7 +207,10 @@ double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen:
 }
 
 double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
-  const Eigen::MatrixXd Q = orthonormal(M);
+  return canonical_corr_given(orthonormal(M), A, B);
+}
+
+double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
   const Eigen::MatrixXd Qa = residual_basis(Q, A), Qb = residual_basis(Q, B);
   if (Qa.cols() == 0 || Qb.cols() == 0) return 1.0;  // inside the rest of the model: not separable
   Eigen::JacobiSVD<Eigen::MatrixXd> s(Qa.transpose() * Qb);
@@ -226,11 +229,11 @@ std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P,
 
 double as_well_margin(std::size_t grid) { return std::max(6.0, 2 * std::log(static_cast<double>(grid))); }
 
-Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
+Rival rival(const Design& d, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
             double alpha, double confound_corr, double m_family) {
   Rival r;
   std::tie(r.lr, r.v) = best_variant(d, P, f);
-  r.corr = canonical_corr(M, d.Cw[e][v], d.Cw[f][r.v]);
+  r.corr = canonical_corr_given(P.Q, d.Cw[e][v], d.Cw[f][r.v]);
   const double k = static_cast<double>(d.pb->catalogue[f].params.size());
   const bool passes =
       r.lr > 0 && bonferroni_log_p(r.lr, k, static_cast<double>(d.Cw[f].size()), m_family) < std::log(alpha);

@@ -70,6 +70,8 @@ double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen:
 
 /// Largest canonical correlation of the column spaces of A and B after projecting out M.
 double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+/// The same with Q an orthonormal basis of span(M) (Projector::Q) given instead of M.
+double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
 
 /// The best grid point of entry e given the model P projects off: its 2 log LR (-1: none
 /// adds anything) and index.
@@ -91,7 +93,7 @@ struct Rival {
   double corr = 0;     ///< canonical correlation with e's columns given M
   bool same = false;   ///< explains the same residual
 };
-Rival rival(const Design& d, const Eigen::MatrixXd& M, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
+Rival rival(const Design& d, const Projector& P, std::size_t e, std::size_t v, std::size_t f,
             double alpha, double confound_corr, double m_family);
 
 }  // namespace rnav::search_detail
