@@ -276,6 +276,9 @@ struct ChannelNoise {
   bool scale_named = false, correlated_named = false, outliers_named = false;
   double outlier_gain = 0;      ///< out-of-sample log-likelihood gain of the outlier mixture
   int outliers_in_runs = 0;     ///< flagged frames with a flagged neighbour (runs: coloured noise, not gross errors)
+  /// flagged frames beyond the threshold under every noise model within noise_set_q / 2 of the
+  /// best (what the outlier count test counts; the flagged count when no set was needed)
+  int outliers_beyond_set = 0;
 };
 
 struct SeriesGain {

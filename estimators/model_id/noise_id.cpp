@@ -335,6 +335,32 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
   return out;
 }
 
+std::vector<char> outliers_beyond_noise_set(const std::vector<double>& t, const std::vector<double>& h,
+                                            const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                            const std::vector<char>& flags, double q) {
+  check_series("outliers_beyond_noise_set", t, h, e, X, o, &flags);
+  std::vector<char> kept = flags;
+  if (std::none_of(flags.begin(), flags.end(), [](char f) { return f != 0; })) return kept;
+  NoiseIdOptions fo = o;
+  fo.profile_ml = false;  // flags as identify_noise decides them: X and the trend
+  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, fo);
+  const double mu = o.nominal_share;
+  const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
+  for (const NoiseParams& p : noise_confidence_set(t, h, e, X, o, flags, q)) {
+    NoiseFit fit;
+    fit.params = p;
+    fit.params.s2 = reml(sr, mu, p.lambda, p.tau_s, flags).s2;
+    const std::vector<char> under = outlier_flags(sr, o, flags, fit);
+    bool any = false;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      kept[i] = kept[i] && under[i];
+      any = any || kept[i];
+    }
+    if (!any) break;
+  }
+  return kept;
+}
+
 double loglik_ml_at(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                     const Eigen::MatrixXd& X, const NoiseParams& p, const std::vector<char>& skip) {
   NoiseIdOptions ro;

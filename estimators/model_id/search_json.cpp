@@ -89,6 +89,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        {"outlier_fraction", n.fit.params.p_out},
                                        {"outlier_frames", static_cast<int>(n.fit.outlier.size()) - n.fit.n},
                                        {"outlier_frames_in_runs", n.outliers_in_runs},
+                                       {"outlier_frames_beyond_noise_set", n.outliers_beyond_set},
                                        {"noise_scale", n.noise_scale},
                                        {"frames", n.fit.n}};
     // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a
