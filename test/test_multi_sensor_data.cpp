@@ -171,6 +171,27 @@ TEST_CASE("multi-sensor data: write and read back", "[multisensor][io]") {
     CHECK(rnav_test::csv_folder_units_problems(dir) == "");
     CHECK(MultiSensorData::read_folder(dir.string()).truth.empty());
   }
+  SECTION("hull sizes: targets.csv written and read back, unknown kept unknown, a stale one removed") {
+    d.hull["Gunnerus_2"] = {31.25, 9.6};
+    d.hull["boat_b"] = {kNaN, 4.5};
+    d.write_folder(dir.string());
+    int n_csv = 0;
+    CHECK(rnav_test::csv_folder_units_problems(dir, &n_csv) == "");
+    CHECK(n_csv == 4);
+    const auto r = MultiSensorData::read_folder(dir.string());
+    REQUIRE(r.hull.size() == 2);
+    CHECK(r.hull.at("Gunnerus_2").length_m == 31.25);
+    CHECK(r.hull.at("Gunnerus_2").beam_m == 9.6);
+    CHECK(std::isnan(r.hull.at("boat_b").length_m));
+    CHECK(r.hull.at("boat_b").beam_m == 4.5);
+    d.hull["Gunnerus_2"].beam_m = -1;  // not a size
+    CHECK_THROWS_WITH(d.write_folder(dir.string()), Catch::Contains("Gunnerus_2") && Catch::Contains("-1"));
+    d.hull.clear();
+    d.write_folder(dir.string());
+    CHECK(!fs::exists(dir / "targets.csv"));
+    CHECK(!fs::exists(dir / "targets.units.json"));
+    CHECK(MultiSensorData::read_folder(dir.string()).hull.empty());
+  }
   SECTION("a link in place of a file is replaced, never written through; a failed write names the file") {
     // (A full disk: test_integration's 64 kB tmpfs; here the partial file cannot be created.)
     std::ofstream(dir / "victim.txt") << "precious";

@@ -305,6 +305,12 @@ std::vector<CsvColumnDoc> MultiSensorData::detections_columns(bool elevation) {
   return c;
 }
 
+std::vector<CsvColumnDoc> MultiSensorData::targets_columns() {
+  return {{"target", "", "target name (as in truth.csv)"},
+          {"length_m", "m", "the hull's length overall (AIS: A + B), (0, 1000]; 0 or empty where unknown"},
+          {"beam_m", "m", "the hull's beam (AIS: C + D), (0, 1000]; 0 or empty where unknown"}};
+}
+
 std::vector<CsvColumnDoc> MultiSensorData::truth_columns(bool height) {
   auto c = geo_track_columns("time of validity, the recording's time scale", "the target's reference (true)", height);
   c.insert(c.begin() + 1, {"target", "", "target name"});
@@ -344,6 +350,22 @@ void MultiSensorData::write_folder(const std::string& dir) const {
       if (elev) f.out() << ',' << cell(x.elevation_rad / kDegToRad, 6);
       f.out() << '\n';
     }
+    f.close();
+  }
+  const std::string targets_file = dir + "/targets.csv";
+  if (hull.empty()) {
+    std::filesystem::remove(targets_file);  // no stale hull sizes from an earlier write
+    std::filesystem::remove(csv_units_name(targets_file));
+  } else {
+    for (const auto& [name, h] : hull) {
+      if (!valid_target_name(name)) throw ConfigError("MultiSensorData: '" + name + "' is not a target name (hull)");
+      for (double x : {h.length_m, h.beam_m})
+        if (!std::isnan(x) && !(x > 0 && x <= kMaxHullM))
+          throw ConfigError("MultiSensorData: hull of target " + name + " must be in (0, 1000] m or unknown (NaN), got " +
+                            num(x));
+    }
+    CheckedFile f(targets_file, targets_columns());
+    for (const auto& [name, h] : hull) f.out() << name << ',' << cell(h.length_m, 2) << ',' << cell(h.beam_m, 2) << '\n';
     f.close();
   }
   const std::string truth_file = dir + "/truth.csv";

@@ -73,13 +73,14 @@ struct MultiSensorData {
   void validate(const std::string& source) const;
   /// Write the folder (created if needed): t %.6f s, lat/lon %.10f deg, h %.4f m, range %.3f m,
   /// angles %.6f deg; optional columns only when some value is known; truth.csv only with truth
-  /// (a stale one is removed); each CSV with its NAME.units.json (csv_columns.hpp). Throws naming
+  /// and targets.csv (hull %.2f m) only with hull sizes (a stale one is removed); each CSV with its NAME.units.json (csv_columns.hpp). Throws naming
   /// the file when a write fails (e.g. disk full) and ConfigError for names the format cannot hold.
   void write_folder(const std::string& dir) const;
   /// The files' columns (unit and meaning of each), with or without their optional column.
   static std::vector<CsvColumnDoc> observer_columns(bool heading);
   static std::vector<CsvColumnDoc> detections_columns(bool elevation);
   static std::vector<CsvColumnDoc> truth_columns(bool height);
+  static std::vector<CsvColumnDoc> targets_columns();
 };
 
 /// True if `s` is a valid sensor name ([a-z0-9_]+).
