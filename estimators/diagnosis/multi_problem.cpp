@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -48,6 +49,20 @@ bool any(const Geoms& g, In in) {
 }
 
 Eigen::RowVectorXd one(double x) { return Eigen::RowVectorXd::Constant(1, x); }
+
+// printf into a string of whatever length it needs (the bounds' explanations below).
+__attribute__((format(printf, 1, 2))) std::string printf_string(const char* fmt, ...) {
+  va_list a, b;
+  va_start(a, fmt);
+  va_copy(b, a);
+  const int n = std::vsnprintf(nullptr, 0, fmt, a);
+  va_end(a);
+  std::string out(static_cast<std::size_t>(std::max(n, 0)) + 1, '\0');
+  std::vsnprintf(out.data(), out.size(), fmt, b);
+  va_end(b);
+  out.resize(static_cast<std::size_t>(std::max(n, 0)));
+  return out;
+}
 
 std::string period_text(double T) {
   char b[32];
@@ -365,15 +380,13 @@ struct CatalogueBuilder {
     return [t, L, B, known_l, known_b](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
       const bool along = std::abs(x[0]) - kHullBoundSe * se[0] > L, starboard = std::abs(x[1]) - kHullBoundSe * se[1] > B;
       if (!along && !starboard) return "";
-      char b[400];
-      std::snprintf(b, sizeof b,
-                    "an offset of %.3g m along, %.3g m starboard (+- %.2g, %.2g) is beyond the hull of target %s (%s %.3g m long, %.3g m "
-                    "wide%s): not where its antenna or hull is, but a sign that detections of something else were associated "
-                    "to it%s",
-                    x[0], x[1], se[0], se[1], t.c_str(), known_l || known_b ? "on record" : "at most", L, B,
-                    known_l || known_b ? ", targets.csv" : ", the largest ships afloat; its size is not on record",
-                    known_l || known_b ? ", or that its size on record is wrong" : "");
-      return b;
+      return printf_string(
+          "an offset of %.3g m along, %.3g m starboard (+- %.2g, %.2g) is beyond the hull of target %s (%s %.3g m long, %.3g m "
+          "wide%s): not where its antenna or hull is, but a sign that detections of something else were associated "
+          "to it%s",
+          x[0], x[1], se[0], se[1], t.c_str(), known_l || known_b ? "on record" : "at most", L, B,
+          known_l || known_b ? ", targets.csv" : ", the largest ships afloat; its size is not on record",
+          known_l || known_b ? ", or that its size on record is wrong" : "");
     };
   }
 
@@ -384,13 +397,11 @@ struct CatalogueBuilder {
     const double L = known ? it->second.length_m : o.max_hull_length_m;
     return [t, L, known](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
       if (!(std::abs(x[0]) - kHullBoundSe * se[0] > L)) return "";
-      char b[300];
-      std::snprintf(b, sizeof b,
-                    "a range offset of %.3g m (+- %.2g) is beyond the hull of target %s (%s %.3g m long%s): a sign that detections "
-                    "of something else were associated to it%s",
-                    x[0], se[0], t.c_str(), known ? "on record" : "at most", L, known ? ", targets.csv" : ", its size not on record",
-                    known ? ", or that its size on record is wrong" : "");
-      return b;
+      return printf_string(
+          "a range offset of %.3g m (+- %.2g) is beyond the hull of target %s (%s %.3g m long%s): a sign that detections "
+          "of something else were associated to it%s",
+          x[0], se[0], t.c_str(), known ? "on record" : "at most", L, known ? ", targets.csv" : ", its size not on record",
+          known ? ", or that its size on record is wrong" : "");
     };
   }
 
@@ -399,12 +410,10 @@ struct CatalogueBuilder {
     const double lim = o.max_reference_clock_s;
     return [t, lim](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
       if (!(std::abs(x[0]) - kHullBoundSe * se[0] > lim)) return "";
-      char b[300];
-      std::snprintf(b, sizeof b,
-                    "a reference clock offset of %.3g s (+- %.2g) for target %s is beyond %.3g s (a GNSS or AIS position is "
-                    "stamped with its fix's time): it stands in for something else, e.g. an echo along the hull away from its antenna",
-                    x[0], se[0], t.c_str(), lim);
-      return b;
+      return printf_string(
+          "a reference clock offset of %.3g s (+- %.2g) for target %s is beyond %.3g s (a GNSS or AIS position is "
+          "stamped with its fix's time): it stands in for something else, e.g. an echo along the hull away from its antenna",
+          x[0], se[0], t.c_str(), lim);
     };
   }
 
