@@ -1,4 +1,5 @@
 #include "effect_report.hpp"
+#include "entry_tests.hpp"
 #include "replication.hpp"
 
 #include "parallel_for.hpp"
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace rnav::search_detail {
@@ -249,7 +251,7 @@ void name_outliers(const Design& d, const SearchOptions& o, const Chosen& chosen
   // (P = 0.0012 at the expectation 0.05, below alpha / m for m <= 8 tests) came from a
   // Gauss-Markov bearing noise whose tau the fit got wrong. The cost: a gross error within the
   // noise model's uncertainty of the 3.9-sigma threshold is not counted (a 10-sigma one is).
-  const Eigen::MatrixXd X = raw_model_matrix(d, chosen);
+  std::optional<Eigen::MatrixXd> X;  // the raw model, built when a channel's count first needs it
   for (std::size_t ch = 0; ch < res.noise.size(); ++ch) {
     ChannelNoise& cn = res.noise[ch];
     const int flagged = static_cast<int>(d.rows[ch].size()) - cn.fit.n;
@@ -263,25 +265,10 @@ void name_outliers(const Design& d, const SearchOptions& o, const Chosen& chosen
     const bool count_passes = flagged > 0 && poisson_upper_tail(flagged, lambda) * m < o.alpha;
     if (count_passes && o.noise_set_q > 0 && cn.outlier_gain > 0 && 4 * in_runs <= flagged) {
       // the channel's residuals and fixed-effect columns (those touching it), as identified
-      const std::vector<std::size_t>& rows = d.rows[ch];
-      const auto n = static_cast<Eigen::Index>(rows.size());
-      std::vector<Eigen::Index> cols;
-      for (Eigen::Index j = 0; j < X.cols(); ++j)
-        for (std::size_t r : rows)
-          if (X(static_cast<Eigen::Index>(r), j) != 0) {
-            cols.push_back(j);
-            break;
-          }
-      Eigen::MatrixXd Xc(n, static_cast<Eigen::Index>(cols.size()));
-      Eigen::VectorXd y(n);
-      for (Eigen::Index r = 0; r < n; ++r) {
-        const auto row = static_cast<Eigen::Index>(rows[static_cast<std::size_t>(r)]);
-        y(r) = d.pb->y[rows[static_cast<std::size_t>(r)]];
-        for (std::size_t j = 0; j < cols.size(); ++j) Xc(r, static_cast<Eigen::Index>(j)) = X(row, cols[j]);
-      }
-      NoiseIdOptions nc = o.noise;
-      const Channel& chan = d.pb->channels[ch];
-      if (chan.nominal_corr_sigma > 0) nc.nominal_share = chan.nominal_share(), nc.nominal_tau_s = chan.nominal_corr_tau_s;
+      const NoiseIdOptions nc = channel_options(*d.pb, ch, o.noise);
+      if (!X) X = raw_model_matrix(d, chosen);
+      const Eigen::MatrixXd Xc = channel_columns(d, *X, ch);
+      const Eigen::VectorXd y = channel_y(d, ch);
       try {
         const std::vector<char> beyond = outliers_beyond_noise_set(d.times[ch], d.gains[ch], y, Xc, nc, f, o.noise_set_q);
         cn.outliers_beyond_set = static_cast<int>(std::count(beyond.begin(), beyond.end(), 1));

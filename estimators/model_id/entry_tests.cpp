@@ -33,27 +33,6 @@ std::vector<Eigen::Index> touching(const Design& d, const Eigen::MatrixXd& X, st
   return keep;
 }
 
-// Channel c's rows of the raw columns X, only the columns that touch the channel.
-Eigen::MatrixXd channel_columns(const Design& d, const Eigen::MatrixXd& X, std::size_t c) {
-  return channel_rows(d, X, c, touching(d, X, c));
-}
-
-Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
-  Eigen::VectorXd e(static_cast<Eigen::Index>(d.rows[c].size()));
-  for (std::size_t r = 0; r < d.rows[c].size(); ++r) e(static_cast<Eigen::Index>(r)) = d.pb->y[d.rows[c][r]];
-  return e;
-}
-
-NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no) {
-  NoiseIdOptions nc = no;
-  const Channel& ch = p.channels[c];
-  if (ch.nominal_corr_sigma > 0) {
-    nc.nominal_share = ch.nominal_share();
-    nc.nominal_tau_s = ch.nominal_corr_tau_s;
-  }
-  return nc;
-}
-
 // 2 log LR of adding columns C to X given the Gram matrix G of [X | C | y] (whitened):
 // n log(RSS_X / RSS_(X,C)), both from the Schur complement of X in G (columns equilibrated
 // first; X's directions with eigenvalue below 1e-12 of a unit column dropped, as Projector's
@@ -84,6 +63,27 @@ double gram_lr(const Eigen::MatrixXd& G, Eigen::Index k, Eigen::Index kc, double
 }
 
 }  // namespace
+
+// Channel c's rows of the raw columns X, only the columns that touch the channel.
+Eigen::MatrixXd channel_columns(const Design& d, const Eigen::MatrixXd& X, std::size_t c) {
+  return channel_rows(d, X, c, touching(d, X, c));
+}
+
+Eigen::VectorXd channel_y(const Design& d, std::size_t c) {
+  Eigen::VectorXd e(static_cast<Eigen::Index>(d.rows[c].size()));
+  for (std::size_t r = 0; r < d.rows[c].size(); ++r) e(static_cast<Eigen::Index>(r)) = d.pb->y[d.rows[c][r]];
+  return e;
+}
+
+NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no) {
+  NoiseIdOptions nc = no;
+  const Channel& ch = p.channels[c];
+  if (ch.nominal_corr_sigma > 0) {
+    nc.nominal_share = ch.nominal_share();
+    nc.nominal_tau_s = ch.nominal_corr_tau_s;
+  }
+  return nc;
+}
 
 // Each channel's noise, identified with the nuisance and the chosen effects (restricted to the
 // channel) as fixed effects, i.e. under the null of the next test. (Identifying it with every

@@ -11,6 +11,14 @@ namespace rnav::search_detail {
 
 using Chosen = std::vector<std::pair<std::size_t, std::size_t>>;  ///< (catalogue entry, grid point)
 
+/// Channel c's rows of the raw columns X, only the columns that touch the channel (not zero on
+/// all its rows).
+Eigen::MatrixXd channel_columns(const Design& d, const Eigen::MatrixXd& X, std::size_t c);
+/// Channel c's residuals (the problem's y on its rows).
+Eigen::VectorXd channel_y(const Design& d, std::size_t c);
+/// The noise options for channel c: no with the channel's nominal correlated component.
+NoiseIdOptions channel_options(const Problem& p, std::size_t c, const NoiseIdOptions& no);
+
 /// Each channel's noise, identified (REML, noise_id.hpp) with the nuisance and the chosen
 /// effects, restricted to the channel, as fixed effects; `threads` channels at once.
 std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const NoiseIdOptions& no, int threads = 1);
