@@ -338,6 +338,7 @@ struct CatalogueBuilder {
       if (!ts_r.empty()) {
         across_targets(rb, ts_r, is_sr, unit_column, 1, true);
         for (const auto& t : ts_r) {
+          if (add_near_side_echo(s, t)) continue;  // a moving ship seen over many aspects
           Candidate e{"echo_range_offset", {s, t}, {"m"}, "a constant on " + s + "'s ranges of this target (where its echo lies on the hull)",
                       "", {}, cols(G, 1, [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t && g.is_range; }, unit_column)};
           e.bound = hull_length_bound(t);
@@ -365,6 +366,73 @@ struct CatalogueBuilder {
                  });
       }
     }
+  }
+
+  // A moving ship's near-side echo by its aspect. A hull of half-length a and half-beam b about
+  // its centre, seen along the unit line of sight e (range Jacobian), shows its echo short of the
+  // centre by the rectangle's support function (the nearest side; e.g. end-on a, broadside b):
+  //   dr = -(a |e . u| + b |e . u_perp|),   u the ship's course, u_perp to starboard
+  // (the centre's place off the antenna is antenna_offset's; far field: the nearest corner's
+  // sideways distance p adds p^2 / 2r, 2.5 m for p = 100 m at 2 km). Only for a ship whose course
+  // is known (moving faster than the association's min_speed_mps) at kMinCourseFraction of its
+  // ranges (the others take the mean aspect), and seen over aspects spread by kMinAspectSpreadDeg
+  // between their 10th and 90th percentiles (folded into [0, 90] deg): over a narrower spread
+  // the two columns are one constant, and the ship's echo is that constant (echo_range_offset)
+  // instead. A moored ship has no course in its reference (AIS gives none at rest), so its echo
+  // is that constant too. True if the entry was added (then in place of the constant).
+  static constexpr double kMinCourseFraction = 0.8;
+  static constexpr double kMinAspectSpreadDeg = 20;
+  static Eigen::RowVectorXd aspect_columns(const ObsGeom& g) {
+    Eigen::RowVectorXd c(2);
+    c << -std::abs(g.dh * g.u), -std::abs(g.dh * g.u_perp);
+    return c;
+  }
+  bool add_near_side_echo(const std::string& s, const std::string& t) {
+    auto in = [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t && g.is_range; };
+    std::vector<double> chi;
+    Eigen::RowVectorXd mean = Eigen::RowVectorXd::Zero(2);
+    std::size_t n = 0;
+    for (const ObsGeom& g : *G) {
+      if (!in(g)) continue;
+      ++n;
+      if (g.u.squaredNorm() == 0) continue;
+      const Eigen::RowVectorXd c = aspect_columns(g);
+      mean += c;
+      chi.push_back(std::atan2(-c[1], -c[0]) * 180 / M_PI);  // folded aspect [deg], 0 end-on
+    }
+    if (chi.empty() || static_cast<double>(chi.size()) < kMinCourseFraction * static_cast<double>(n)) return false;
+    std::sort(chi.begin(), chi.end());
+    const auto pct = [&chi](double q) { return chi[static_cast<std::size_t>(q * static_cast<double>(chi.size() - 1))]; };
+    if (pct(0.9) - pct(0.1) < kMinAspectSpreadDeg) return false;
+    mean /= static_cast<double>(chi.size());
+    Candidate e{"near_side_echo", {s, t}, {"half_length_m", "half_beam_m"},
+                "the ship's aspect on " + s + "'s ranges of this target (its hull's nearest side)", "", {},
+                cols(G, 2, in, [mean](const ObsGeom& g, std::size_t) -> Eigen::RowVectorXd {
+                  return g.u.squaredNorm() > 0 ? aspect_columns(g) : mean;
+                })};
+    e.bound = near_side_bound(t);
+    add(e);
+    return true;
+  }
+
+  // A near-side echo's physical bound: its half-extents lie on the hull, 0 <= a <= L and
+  // 0 <= b <= B (kHullBoundSe above; below 0 by more than 2 SE: an echo from beyond the centre,
+  // away from the radar, is no near side).
+  std::function<std::string(const std::vector<double>&, const std::vector<double>&)> near_side_bound(const std::string& t) const {
+    const auto it = o.hull.find(t);
+    const bool known = it != o.hull.end() && std::isfinite(it->second.length_m) && std::isfinite(it->second.beam_m);
+    const double L = known ? it->second.length_m : o.max_hull_length_m, B = known ? it->second.beam_m : o.max_hull_beam_m;
+    return [t, L, B, known](const std::vector<double>& x, const std::vector<double>& se) -> std::string {
+      const bool beyond = x[0] - kHullBoundSe * se[0] > L || x[1] - kHullBoundSe * se[1] > B;
+      const bool behind = x[0] + 2 * se[0] < 0 || x[1] + 2 * se[1] < 0;
+      if (!beyond && !behind) return "";
+      return printf_string(
+          "a near-side echo of half-length %.3g m, half-beam %.3g m (+- %.2g, %.2g) %s target %s (%s %.3g m long, %.3g m "
+          "wide%s): a sign that detections of something else were associated to it%s",
+          x[0], x[1], se[0], se[1], beyond ? "is beyond the hull of" : "lies behind the centre of", t.c_str(),
+          known ? "on record" : "at most", L, B, known ? ", targets.csv" : ", its size not on record",
+          known ? ", or that its size on record is wrong" : "");
+    };
   }
 
   // An antenna or hull offset's physical bound: the sensed point and the reference's antenna
