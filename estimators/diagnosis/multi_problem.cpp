@@ -1,6 +1,7 @@
 #include "multi_problem.hpp"
 
 #include "config.hpp"
+#include "multi_effect_columns.hpp"
 #include "scan_stamp.hpp"
 
 #include <algorithm>
@@ -20,14 +21,11 @@ namespace {
 // 35 m beam, and a 12 s reference clock (the echo's place along a long hull) stand.
 constexpr double kHullBoundSe = 0;
 
-// Per observation: the geometry the columns need.
-struct ObsGeom {
-  bool is_range = false;
+// Per observation: the geometry the columns need (common/multi_effect_columns.hpp) and its
+// channel's recording, sensor and target.
+struct ObsGeom : multi_effect::Geometry {
   int rec = 0;                    ///< recording index
   std::string sensor, target;
-  Eigen::RowVector2d dh;          ///< d h / d d
-  Eigen::Vector2d v_rel, v_target, u, u_perp;
-  double range_pred = 0, bearing_pred = 0, t = 0;
 };
 using Geoms = std::shared_ptr<const std::vector<ObsGeom>>;
 
@@ -47,8 +45,6 @@ template <class In>
 bool any(const Geoms& g, In in) {
   return std::any_of(g->begin(), g->end(), in);
 }
-
-Eigen::RowVectorXd one(double x) { return Eigen::RowVectorXd::Constant(1, x); }
 
 // printf into a string of whatever length it needs (the bounds' explanations below).
 __attribute__((format(printf, 1, 2))) std::string printf_string(const char* fmt, ...) {
@@ -211,10 +207,10 @@ void add_recording(const std::vector<RecordingDetections>& recs, int r, const Mu
 }
 
 // The column of a clock offset: the rate of the sensor's measurement.
-Eigen::RowVectorXd rate_column(const ObsGeom& g, std::size_t) { return one(-g.dh * g.v_rel); }
+Eigen::RowVectorXd rate_column(const ObsGeom& g, std::size_t) { return multi_effect::sensor_clock(g); }
 
 // The column of a constant.
-Eigen::RowVectorXd unit_column(const ObsGeom&, std::size_t) { return one(1.0); }
+Eigen::RowVectorXd unit_column(const ObsGeom& g, std::size_t) { return multi_effect::constant(g); }
 
 using In = std::function<bool(const ObsGeom&)>;
 using Val = std::function<Eigen::RowVectorXd(const ObsGeom&, std::size_t)>;
@@ -318,7 +314,7 @@ struct CatalogueBuilder {
         for (int k = 0; k < o.step_grid; ++k) grid.push_back(t0[r] + (t1[r] - t0[r]) * (0.1 + 0.8 * k / (o.step_grid - 1)));
         add({"bias_step", {s, "", pooled ? rec_name(r) : ""}, {"rad"}, "a jump in this sensor's bearings at one time", "t_s", grid,
              cols(G, 1, [s, r](const ObsGeom& g) { return g.rec == r && g.sensor == s && !g.is_range; },
-                  [grid](const ObsGeom& g, std::size_t v) { return one(g.t >= grid[v] ? 1.0 : 0.0); })});
+                  [grid](const ObsGeom& g, std::size_t v) { return multi_effect::step(g, grid[v]); })});
       }
     }
   }
@@ -345,7 +341,7 @@ struct CatalogueBuilder {
           add(e);
         }
       }
-      const Val range_col = [](const ObsGeom& g, std::size_t) { return one(g.range_pred); };
+      const Val range_col = [](const ObsGeom& g, std::size_t) { return multi_effect::range_gain(g); };
       const std::size_t rg = hardware("range gains (range_gain)", {"range_gain", {s, ""}, {"1"}, "the range", "", {}, {}}, 1, is_sr, range_col);
       if (!ts_r.empty()) across_targets(rg, ts_r, is_sr, range_col, 1, true);  // the near sides, as the range bias
       const auto T = mp.scan_period_s.count(s) ? mp.scan_period_s.at(s) : NAN;
@@ -358,12 +354,7 @@ struct CatalogueBuilder {
                  {"scan_time_offset", {s, ""}, {"c_s", "sweep_frac"},
                   "the rate of the sensor's measurement, and its bearing within the sweep (period " + period_text(T) + " s)",
                   "sweep_end_deg", grid, {}},
-                 2, is_s, [grid, T](const ObsGeom& g, std::size_t v) {
-                   const double r = -g.dh * g.v_rel;
-                   Eigen::RowVectorXd row(2);
-                   row << r, r * sweep_delay_s(g.bearing_pred, grid[v] * M_PI / 180, T);
-                   return row;
-                 });
+                 2, is_s, [grid, T](const ObsGeom& g, std::size_t v) { return multi_effect::scan_stamp(g, grid[v] * M_PI / 180, T); });
       }
     }
   }
@@ -382,11 +373,7 @@ struct CatalogueBuilder {
   // is that constant too. True if the entry was added (then in place of the constant).
   static constexpr double kMinCourseFraction = 0.8;
   static constexpr double kMinAspectSpreadDeg = 20;
-  static Eigen::RowVectorXd aspect_columns(const ObsGeom& g) {
-    Eigen::RowVectorXd c(2);
-    c << -std::abs(g.dh * g.u), -std::abs(g.dh * g.u_perp);
-    return c;
-  }
+  static Eigen::RowVectorXd aspect_columns(const ObsGeom& g) { return multi_effect::near_side(g); }
   bool add_near_side_echo(const std::string& s, const std::string& t) {
     auto in = [s, t](const ObsGeom& g) { return g.sensor == s && g.target == t && g.is_range; };
     std::vector<double> chi;
@@ -488,12 +475,8 @@ struct CatalogueBuilder {
   // Per target: its reference clock in each recording (and, pooled, per boat), its antenna
   // offset, and its hull offset as each range sensor sees it.
   void add_target_entries() {
-    auto offset_cols = [](const ObsGeom& g, std::size_t) {
-      Eigen::RowVectorXd r(2);
-      r << g.dh * g.u, g.dh * g.u_perp;
-      return r;
-    };
-    auto truth_rate = [](const ObsGeom& g, std::size_t) { return one(g.dh * g.v_target); };
+    auto offset_cols = [](const ObsGeom& g, std::size_t) { return multi_effect::hull_offset(g); };
+    auto truth_rate = [](const ObsGeom& g, std::size_t) { return multi_effect::reference_clock(g); };
     const std::string off_sig = "the line-of-sight component of the target's heading (aspect)";
     const std::string truth_sig = "the rate due to the target's own motion (the same for every sensor)";
     for (const auto& t : targets) {

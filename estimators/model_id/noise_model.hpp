@@ -24,6 +24,8 @@
 // log-likelihood is -1/2 sum (nu^2 / S + log(2 pi S)).
 #pragma once
 
+#include "noise_process.hpp"
+
 #include <Eigen/Dense>
 
 #include <random>
@@ -32,17 +34,7 @@
 
 namespace rnav {
 
-struct NoiseParams {
-  double s2 = 1;         ///< marginal variance s^2 [unit^2], > 0
-  double lambda = 0;     ///< correlated (Gauss-Markov) share of the non-nominal part, [0, 0.999]
-  double tau_s = 1;      ///< its correlation time [s], > 0 (unused when lambda = 0)
-  double nom_share = 0;  ///< mu: the nominal correlated component's share of s^2, [0, 0.999]
-  double nom_tau_s = 1;  ///< tau0: its correlation time [s], > 0 (unused when mu = 0)
-  double p_out = 0;      ///< outlier probability, [0, 0.5)
-  double s_out2 = 0;     ///< outlier extra variance [unit^2], >= 0
-  /// Of the further part: "white", "gauss_markov" (lambda > 0.95) or "gauss_markov_plus_white".
-  std::string kind() const;
-};
+
 
 /// The innovations filter of one channel (see the model above) for one series (whiten() runs
 /// the same recursion on many columns at once). gain: h_i per frame (empty: 1); it must outlive
@@ -81,12 +73,6 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
 double predictive_loglik(const std::vector<double>& t, const std::vector<double>& h, const std::vector<double>& e,
                          const NoiseParams& p, const std::vector<char>& score = {});
 
-/// One draw of the noise model at the frame times t (gains h, empty: 1): the parametric
-/// bootstrap's noise (injected_limits.hpp). Each part sampled exactly over irregular steps:
-///   a_i = phi0 a_(i-1) + sqrt(q0 (1 - phi0^2)) w,  g_i = phi g_(i-1) + sqrt(q (1 - phi^2)) w',
-///   e_i = h_i a_i + g_i + sqrt(r) w'',  a_0 ~ N(0, q0), g_0 ~ N(0, q) (stationary start),
-/// and, with probability p_out, a further N(0, s_out^2) added (the contaminated normal).
-Eigen::VectorXd sample_noise(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
-                             std::mt19937_64& rng);
+
 
 }  // namespace rnav

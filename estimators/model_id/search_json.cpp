@@ -91,7 +91,10 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        {"outlier_frames_in_runs", n.outliers_in_runs},
                                        {"outlier_frames_beyond_noise_set", n.outliers_beyond_set},
                                        {"noise_scale", n.noise_scale},
-                                       {"frames", n.fit.n}};
+                                       {"frames", n.fit.n},
+                                       // what a simulation needs to draw the same noise (common/noise_process.hpp)
+                                       {"outlier_sd", std::sqrt(n.fit.params.s_out2)},
+                                       {"nominal_share", n.fit.params.nom_share}};
     // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a
     // reference's interpolation), where the channel has one
     if (pb.channels[c].nominal_corr_sigma > 0) {

@@ -1,0 +1,122 @@
+#include "scene_from_recording.hpp"
+
+#include "frames.hpp"
+#include "scene_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace rnav {
+
+namespace {
+
+// The smallest arc holding every bearing: from the end of the largest gap between neighbours
+// (sorted, circularly) to its start; widened by margin each side.
+scene::Coverage arc_of(std::vector<double> b, double margin_rad) {
+  scene::Coverage c;
+  if (b.size() < 2) return c;
+  for (double& x : b) x = std::fmod(std::fmod(x, 2 * M_PI) + 2 * M_PI, 2 * M_PI);
+  std::sort(b.begin(), b.end());
+  double gap = b.front() + 2 * M_PI - b.back();  // the wrap-around gap
+  std::size_t after = 0;                        // the arc starts at b[after]
+  for (std::size_t i = 1; i < b.size(); ++i)
+    if (b[i] - b[i - 1] > gap) gap = b[i] - b[i - 1], after = i;
+  const double span = 2 * M_PI - gap + 2 * margin_rad;
+  if (span >= 2 * M_PI) return c;  // every bearing
+  c.bearing_lo_rad = wrap_pi(b[after] - margin_rad);
+  c.bearing_span_rad = span;
+  return c;
+}
+
+using Key = std::tuple<std::string, double, double>;  // sensor, t_s, bearing_rad: a detection row
+
+}  // namespace
+
+scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std::string& name, const AssociationOptions& o) {
+  std::map<std::string, SensorAssociation> stats;
+  const std::vector<AssociatedDetection> a = associate(data, o, stats);
+  (void)stats;
+  scene::RecordedScene sc;
+  sc.name = name;
+  sc.observer = data.observer;
+  sc.targets = data.truth;
+  sc.reference_max_gap_s = o.reference_max_gap_s;
+  sc.min_speed_mps = o.min_speed_mps;
+  std::set<Key> associated;
+  std::map<std::string, std::vector<double>> assoc_range;  // per sensor: ranges of its associated detections (or predicted)
+  for (const auto& x : a) {
+    associated.insert({x.sensor, x.t_s, x.bearing_rad});
+    assoc_range[x.sensor].push_back(x.has_range ? x.range_m : x.range_pred());
+  }
+  for (const std::string& s : data.sensors()) {
+    scene::SceneSensor ss;
+    ss.name = s;
+    std::vector<double> bearings;
+    for (const auto& d : data.detections) {
+      if (d.sensor != s) continue;
+      if (ss.scan_times_s.empty() || d.t_s > ss.scan_times_s.back()) ss.scan_times_s.push_back(d.t_s);
+      if (d.empty_scan()) continue;
+      bearings.push_back(d.bearing_rad);
+      if (std::isfinite(d.range_m)) ss.ranged = true;
+      if (!associated.count({s, d.t_s, d.bearing_rad})) ss.clutter.push_back({d.range_m, d.bearing_rad});
+    }
+    std::vector<double> dt;
+    for (std::size_t i = 1; i < ss.scan_times_s.size(); ++i) dt.push_back(ss.scan_times_s[i] - ss.scan_times_s[i - 1]);
+    if (!dt.empty()) {
+      std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
+      ss.scan_period_s = dt[dt.size() / 2];
+    }
+    if (!(ss.scan_period_s > 0)) ss.scan_period_s = 1;
+    ss.coverage = arc_of(bearings, kCoverageMarginDeg * M_PI / 180);
+    auto& rr = assoc_range[s];
+    if (!rr.empty()) {
+      const auto [lo, hi] = std::minmax_element(rr.begin(), rr.end());
+      const double w = kCoverageMarginFrac * (*hi - *lo);
+      ss.coverage.range_lo_m = std::max(0.0, *lo - w);
+      ss.coverage.range_hi_m = std::max(*hi + w, ss.coverage.range_lo_m + 1);
+    }
+    ss.clutter_per_scan = static_cast<double>(ss.clutter.size()) / static_cast<double>(ss.scan_times_s.size());
+    for (const auto& [t, track] : data.truth) ss.p_detect[t] = 1.0;  // calibrate_detection sets them
+    sc.sensors.push_back(std::move(ss));
+  }
+  return sc;
+}
+
+void calibrate_detection(scene::RecordedScene& sc, const MultiSensorData& real, const scene::SceneErrors& errors,
+                         const AssociationOptions& o, std::uint64_t seed) {
+  // a realization beyond any ensemble's (2^63): its streams are no simulation's
+  constexpr std::uint64_t kCalibration = std::uint64_t{1} << 63;
+  for (auto& s : sc.sensors)
+    for (auto& [t, p] : s.p_detect) p = 1.0;
+  std::map<std::string, SensorAssociation> st_real, st_all;
+  associate(real, o, st_real);
+  associate(recording_of(real, scene::simulate(sc, errors, seed, kCalibration)), o, st_all);
+  for (auto& s : sc.sensors)
+    for (auto& [t, p] : s.p_detect) {
+      const auto count = [&](const std::map<std::string, SensorAssociation>& st) {
+        const auto i = st.find(s.name);
+        if (i == st.end()) return 0;
+        const auto j = i->second.associated.find(t);
+        return j == i->second.associated.end() ? 0 : j->second;
+      };
+      const int all = count(st_all);
+      p = all > 0 ? std::min(1.0, static_cast<double>(count(st_real)) / all) : 0.0;
+    }
+}
+
+MultiSensorData recording_of(const MultiSensorData& real, const std::vector<scene::SceneDetection>& det) {
+  MultiSensorData d;
+  d.observer = real.observer;
+  d.observer_heading_deg = real.observer_heading_deg;
+  d.truth = real.truth;
+  d.hull = real.hull;
+  d.detections.reserve(det.size());
+  for (const auto& x : det) d.detections.push_back({x.t_s, x.sensor, x.range_m, x.bearing_rad, NAN});
+  // file order: per sensor non-decreasing t_s (simulate() gives sensor by sensor, each in time order)
+  return d;
+}
+
+}  // namespace rnav

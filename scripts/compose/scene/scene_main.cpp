@@ -1,0 +1,216 @@
+// rnav_scene simulate|validate RECORDING [options]: a recorded scene (a multi-sensor CSV folder)
+// replayed as a simulation, its sensors' errors from a diagnosis report (--effects) or nominal.
+//   simulate  one realization written as a recording folder (scripts/diagnose multi reads it);
+//   validate  N simulations per model (nominal, and extended with --effects) and the recording
+//             placed among them per sensor:target pair (scene_validation.hpp).
+#include "atomic_file.hpp"
+#include "cli.hpp"
+#include "config.hpp"
+#include "scene_effects_json.hpp"
+#include "scene_from_recording.hpp"
+#include "scene_sim.hpp"
+#include "scene_validation.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace {
+
+struct Args {
+  std::vector<std::string> pos;
+  std::string effects, out, json, name;
+  std::uint64_t seed = 1, realization = 0;
+  int runs = 100, threads = 2, min_n = 20;
+  double sigma_deg = 0.5, sigma_range_m = 1.0;
+  bool force = false;
+  rnav::AssociationOptions assoc;
+};
+
+std::string recording_name(const std::string& dir) {
+  std::filesystem::path p(dir);
+  if (p.filename().empty()) p = p.parent_path();
+  return p.filename().string();
+}
+
+nlohmann::json read_report(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw rnav::ConfigError("--effects " + path + ": cannot be read");
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const nlohmann::json::exception& e) {
+    throw rnav::ConfigError("--effects " + path + ": not JSON (" + e.what() + ")");
+  }
+}
+
+std::string fmt(double x, const char* f = "%.4g") {
+  if (!std::isfinite(x)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, f, x);
+  return b;
+}
+
+// A row's values in the unit shown: bearings in degrees.
+double shown(const rnav::ValidationRow& r, double x) {
+  return r.quantity == "bearing" && (r.statistic == "mean" || r.statistic == "sd") ? x * 180 / M_PI : x;
+}
+
+std::string unit_of(const rnav::ValidationRow& r) {
+  if (r.statistic == "lag1" || r.statistic == "detection_rate") return "1";
+  return r.quantity == "bearing" ? "deg" : "m";
+}
+
+// Per pair: inside on every statistic (of both quantities)?
+std::map<std::string, bool> pairs_inside(const std::vector<rnav::ValidationRow>& rows, int min_n, std::map<std::string, std::string>* outside) {
+  std::map<std::string, bool> in;
+  for (const auto& r : rows) {
+    if (r.n < min_n) continue;
+    auto [it, fresh] = in.emplace(r.pair, true);
+    if (!r.inside) {
+      it->second = false;
+      if (outside) (*outside)[r.pair] += std::string((*outside)[r.pair].empty() ? "" : ", ") + r.quantity + " " + r.statistic;
+    }
+  }
+  return in;
+}
+
+int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
+  const rnav::scene::RecordedScene base = rnav::scene_from_recording(d, name, a.assoc);
+  const rnav::SceneStats real = rnav::scene_stats(d, a.assoc);
+  const double sb = a.sigma_deg * M_PI / 180;
+  std::vector<std::pair<std::string, rnav::scene::SceneErrors>> models;
+  if (!a.effects.empty()) {
+    const auto ext = rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
+    models.push_back({"nominal", rnav::nominal_errors(ext.nominal_bearing_sigma_rad, ext.nominal_range_sigma_m)});
+    models.push_back({"extended", ext});
+  } else {
+    models.push_back({"nominal", rnav::nominal_errors(sb, a.sigma_range_m)});
+  }
+  std::vector<rnav::ValidationRow> rows;
+  std::map<std::string, std::vector<rnav::ValidationRow>> by_model;
+  for (const auto& [label, err] : models) {
+    rnav::scene::RecordedScene sc = base;
+    rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
+    const auto sims = rnav::simulated_stats(d, sc, err, a.assoc, a.runs, a.seed, a.threads);
+    by_model[label] = rnav::validation_rows(name, label, real, sims);
+    rows.insert(rows.end(), by_model[label].begin(), by_model[label].end());
+  }
+  std::cout << "validate " << name << ": " << a.runs << " simulations per model (seed " << a.seed << "), the 5-95 % band of each statistic\n";
+  std::cout << "  pair                      quantity  statistic        n       real";
+  for (const auto& [label, _] : models) std::cout << "  " << label << " band          ";
+  std::cout << "\n";
+  const auto& first = by_model[models.front().first];
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    const auto& r = first[i];
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-25s %-9s %-14s %5d %10s %-4s", r.pair.c_str(), r.quantity.c_str(), r.statistic.c_str(), r.n,
+                  fmt(shown(r, r.real)).c_str(), unit_of(r).c_str());
+    std::cout << line;
+    for (const auto& [label, _] : models) {
+      const auto& x = by_model[label][i];
+      std::snprintf(line, sizeof line, "  [%9s, %9s] %-3s", fmt(shown(x, x.band_lo)).c_str(), fmt(shown(x, x.band_hi)).c_str(), x.inside ? "in" : "OUT");
+      std::cout << line;
+    }
+    std::cout << "\n";
+  }
+  for (const auto& [label, _] : models) {
+    std::map<std::string, std::string> outside;
+    const auto in = pairs_inside(by_model[label], a.min_n, &outside);
+    int k = 0;
+    for (const auto& [p, ok] : in) k += ok;
+    std::cout << "  " << label << ": " << k << " of " << in.size() << " pairs with >= " << a.min_n
+              << " detections inside the band on every statistic";
+    if (!outside.empty()) {
+      std::cout << "; outside:";
+      for (const auto& [p, what] : outside) std::cout << " " << p << " (" << what << ")";
+    }
+    std::cout << "\n";
+  }
+  if (!a.json.empty()) {
+    nlohmann::ordered_json j;
+    j["kind"] = "scene_validation";
+    j["recording"] = name;
+    j["runs"] = a.runs;
+    j["seed"] = a.seed;
+    j["min_n"] = a.min_n;
+    j["units"] = "bearing mean and sd in rad, range in m, lag1 and detection_rate in 1";
+    j["rows"] = rnav::rows_json(rows);
+    rnav::write_file_atomic(a.json, j.dump(1) + "\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return rnav::cli::guarded_main("rnav_scene", [&]() -> int {
+    Args a;
+    rnav::cli::Parser p("rnav_scene", "simulate RECORDING --out DIR [--effects REPORT.json] [--seed S] [--realization K]\n"
+                                      "validate RECORDING [--effects REPORT.json] [--runs N] [--json FILE]",
+                        "A recorded scene (a multi-sensor CSV folder: observer.csv, detections.csv, truth.csv) replayed as a "
+                        "simulation: the observer's and the targets' reference tracks are the truth; each sensor scans at its "
+                        "recorded times, covers the bearings and ranges the recording shows, detects each target with the "
+                        "probability measured there and adds the recording's clutter. Its errors: a diagnosis report's named "
+                        "effects and each channel's identified noise (--effects, rnav_diagnose multi --json), or the nominal "
+                        "model (white noise at the nominal sigmas). simulate writes one realization as a recording folder; "
+                        "validate runs --runs simulations per model and places the recording among them per sensor:target "
+                        "pair (residual mean, sd, lag-1 autocorrelation, detection rate; the 5-95 % band).");
+    auto num = [](const char* opt, double& x, double lo, double hi) {
+      return [opt, &x, lo, hi](const std::string& v) { x = rnav::cli::number(opt, v, lo, hi); };
+    };
+    auto integer = [](const char* opt, auto& x, long long lo, long long hi) {
+      return [opt, &x, lo, hi](const std::string& v) { x = static_cast<std::remove_reference_t<decltype(x)>>(rnav::parse_integer(opt, v, lo, hi)); };
+    };
+    constexpr long long kMaxSeed = std::numeric_limits<long long>::max();
+    p.value("--effects", "REPORT.json", "the extended model: a multi-sensor diagnosis report of this recording (pooled or alone)", "none (nominal)", a.effects)
+        .value("--out", "DIR", "simulate: the recording folder written; new, empty or an earlier output unless --force", "required for simulate", a.out)
+        .flag("--force", "simulate: write into --out DIR whatever it holds", a.force)
+        .value("--seed", "S", "seed of the simulations' random streams, >= 0", "1", integer("--seed", a.seed, 0, kMaxSeed))
+        .value("--realization", "K", "simulate: which realization of the seed, >= 0", "0", integer("--realization", a.realization, 0, kMaxSeed))
+        .value("--runs", "N", "validate: simulations per model, >= 20", "100", integer("--runs", a.runs, 20, 100000))
+        .value("--threads", "N", "validate: simulations at once, >= 1 (the result does not depend on it)", "2", integer("--threads", a.threads, 1, 256))
+        .value("--min-n", "N", "validate: a pair counts in the summary with at least N associated detections", "20", integer("--min-n", a.min_n, 1, 1000000))
+        .value("--json", "FILE", "validate: write the rows as JSON", "none", a.json)
+        .value("--name", "NAME", "the recording's name (a pooled report's recording scope)", "the folder's name", a.name)
+        .value("--sigma-deg", "D", "nominal bearing noise, 1 sigma [deg] (with --effects: the report's)", "0.5 deg", num("--sigma-deg", a.sigma_deg, 1e-6, 90))
+        .value("--sigma-range-m", "M", "nominal range noise, 1 sigma [m] (with --effects: the report's)", "1 m", num("--sigma-range-m", a.sigma_range_m, 1e-6, 1e5))
+        .value("--gate-deg", "D", "association gate of bearings [deg], as rnav_diagnose multi", "3 deg", num("--gate-deg", a.assoc.gate_bearing_deg, 1e-3, 45))
+        .value("--gate-m", "M", "association gate of range sensors [m], as rnav_diagnose multi", "20 m", num("--gate-m", a.assoc.gate_position_m, 1e-3, 1e5))
+        .value("--reference-max-gap", "S", "a reference is interpolated only across gaps this short [s], as rnav_diagnose multi", "2 s",
+               num("--reference-max-gap", a.assoc.reference_max_gap_s, 1e-3, 1e5))
+        .positionals("simulate|validate RECORDING", "the command and the recording folder", [&a](const std::string& v) { a.pos.push_back(v); });
+    if (!p.parse(argc, argv, std::cout)) return 0;
+    std::vector<std::string> missing;
+    if (a.pos.empty()) missing.push_back("the command (simulate or validate)");
+    if (a.pos.size() < 2) missing.push_back("RECORDING (a multi-sensor CSV folder)");
+    if (!missing.empty()) {
+      std::string m;
+      for (const auto& x : missing) m += (m.empty() ? "" : " and ") + x;
+      throw rnav::ConfigError(m + (missing.size() > 1 ? " are" : " is") + " required (see rnav_scene --help)");
+    }
+    if (a.pos.size() > 2) throw rnav::ConfigError("one RECORDING only, not '" + a.pos[2] + "'");
+    const std::string& cmd = a.pos[0];
+    if (cmd != "simulate" && cmd != "validate") throw rnav::ConfigError("unknown command '" + cmd + "' (simulate or validate)");
+    const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
+    const std::string name = a.name.empty() ? recording_name(a.pos[1]) : a.name;
+    if (cmd == "validate") return validate(a, d, name);
+    if (a.out.empty()) throw rnav::ConfigError("simulate: --out DIR is required");
+    const double sb = a.sigma_deg * M_PI / 180;
+    const auto err = a.effects.empty() ? rnav::nominal_errors(sb, a.sigma_range_m)
+                                       : rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
+    auto sc = rnav::scene_from_recording(d, name, a.assoc);
+    rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
+    const auto det = rnav::scene::simulate(sc, err, a.seed, a.realization);
+    rnav::prepare_output_dir(a.out, a.force);
+    rnav::recording_of(d, det).write_folder(a.out);
+    std::cerr << "rnav_scene: " << det.size() << " detection rows of " << sc.sensors.size() << " sensors ("
+              << (a.effects.empty() ? "nominal" : "extended by " + a.effects) << ", seed " << a.seed << ", realization " << a.realization
+              << ") into " << a.out << "\n";
+    return 0;
+  });
+}

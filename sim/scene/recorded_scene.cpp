@@ -1,0 +1,48 @@
+#include "recorded_scene.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rnav::scene {
+
+bool Coverage::covers(double bearing_rad, double range_m) const {
+  double a = std::fmod(bearing_rad - bearing_lo_rad, 2 * M_PI);
+  if (a < 0) a += 2 * M_PI;
+  const bool in_arc = a <= bearing_span_rad;
+  return in_arc && (std::isnan(range_m) || (range_m >= range_lo_m && range_m <= range_hi_m));
+}
+
+namespace {
+void check_track(const std::vector<GeoSample>& tr, const std::string& what) {
+  if (tr.empty()) throw std::invalid_argument("recorded scene: " + what + " has no samples");
+  for (std::size_t i = 0; i < tr.size(); ++i) {
+    if (!std::isfinite(tr[i].t_s) || !std::isfinite(tr[i].g.lat_deg) || !std::isfinite(tr[i].g.lon_deg))
+      throw std::invalid_argument("recorded scene: " + what + " sample " + std::to_string(i) + " is not finite");
+    if (i > 0 && !(tr[i].t_s > tr[i - 1].t_s))
+      throw std::invalid_argument("recorded scene: " + what + " times do not increase at sample " + std::to_string(i));
+  }
+}
+}  // namespace
+
+void RecordedScene::check() const {
+  check_track(observer, "the observer's track");
+  for (const auto& [t, tr] : targets) check_track(tr, "target " + t + "'s track");
+  if (!(reference_max_gap_s > 0)) throw std::invalid_argument("recorded scene: reference_max_gap_s must be > 0");
+  if (!(min_speed_mps >= 0)) throw std::invalid_argument("recorded scene: min_speed_mps must be >= 0");
+  for (const auto& s : sensors) {
+    const std::string w = "recorded scene: sensor " + s.name + ": ";
+    if (s.scan_times_s.empty()) throw std::invalid_argument(w + "no scans");
+    for (std::size_t i = 1; i < s.scan_times_s.size(); ++i)
+      if (!(s.scan_times_s[i] > s.scan_times_s[i - 1])) throw std::invalid_argument(w + "scan times do not increase at scan " + std::to_string(i));
+    if (!(s.scan_period_s > 0)) throw std::invalid_argument(w + "scan_period_s must be > 0");
+    const Coverage& c = s.coverage;
+    if (!(c.bearing_span_rad > 0 && c.bearing_span_rad <= 2 * M_PI) || !(c.range_lo_m >= 0 && c.range_hi_m > c.range_lo_m))
+      throw std::invalid_argument(w + "coverage out of range (span in (0, 2 pi], 0 <= range_lo < range_hi)");
+    for (const auto& [t, p] : s.p_detect)
+      if (!(p >= 0 && p <= 1)) throw std::invalid_argument(w + "detection probability of target " + t + " not in [0, 1]");
+    if (!(s.clutter_per_scan >= 0) || !std::isfinite(s.clutter_per_scan)) throw std::invalid_argument(w + "clutter_per_scan must be finite and >= 0");
+    if (s.clutter_per_scan > 0 && s.clutter.empty()) throw std::invalid_argument(w + "clutter rate > 0 but no clutter to draw from");
+  }
+}
+
+}  // namespace rnav::scene

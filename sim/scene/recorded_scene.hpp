@@ -1,0 +1,58 @@
+// A recorded scene as a simulation: the observer's track and each target's reference track
+// replayed as the truth, and each sensor as the recording shows it (its scan times, its
+// coverage, its detection probability per target, its clutter). Plain data: the composition
+// root that reads a recording (scripts/compose/scene) measures these from it; scene_sim.hpp
+// simulates them with the errors of scene_errors.hpp.
+#pragma once
+
+#include "frames.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rnav::scene {
+
+/// The bearings and ranges a sensor covers: a target is in coverage when its true bearing lies
+/// in the arc [bearing_lo_rad, bearing_lo_rad + bearing_span_rad] (clockwise from north,
+/// absolute: the recordings hold no observer heading) and its range in [range_lo_m, range_hi_m].
+struct Coverage {
+  double bearing_lo_rad = 0;          ///< [rad] the arc's counter-clockwise end, (-pi, pi]
+  double bearing_span_rad = 2 * M_PI; ///< [rad] the arc's width, (0, 2 pi]
+  double range_lo_m = 0;              ///< [m] nearest range, >= 0
+  double range_hi_m = 1e6;            ///< [m] farthest range, > range_lo_m
+  bool covers(double bearing_rad, double range_m) const;
+};
+
+/// One clutter return as the recording shows it (a detection associated to no target).
+struct ClutterSample {
+  double range_m = 0;      ///< [m] NaN for a bearing-only sensor
+  double bearing_rad = 0;  ///< [rad] clockwise from north
+};
+
+/// A sensor of the scene.
+struct SceneSensor {
+  std::string name;                  ///< [a-z0-9_]+
+  bool ranged = false;               ///< measures range as well as bearing
+  std::vector<double> scan_times_s;  ///< [s] its scans' time stamps, increasing (each scan is simulated at its stamp)
+  double scan_period_s = 0;          ///< [s] median scan interval (scan_time_offset's sweep), > 0
+  Coverage coverage;
+  std::map<std::string, double> p_detect;  ///< per target: probability of a detection in a scan that covers it, [0, 1]
+  double clutter_per_scan = 0;             ///< mean clutter returns per scan (Poisson), >= 0
+  std::vector<ClutterSample> clutter;      ///< the recording's clutter, drawn with replacement
+};
+
+/// The scene: tracks and sensors.
+struct RecordedScene {
+  std::string name;                    ///< the recording's name (a pooled report's recording scope)
+  std::vector<GeoSample> observer;     ///< the observer's track, t_s increasing
+  std::map<std::string, std::vector<GeoSample>> targets;  ///< each target's reference track, t_s increasing
+  std::vector<SceneSensor> sensors;
+  double reference_max_gap_s = 2;      ///< [s] a reference is interpolated only across gaps this short (as the diagnosis), > 0
+  double min_speed_mps = 0.5;          ///< [m/s] a target has a course (hull effects) above this speed, >= 0
+  /// Throws std::invalid_argument naming the first fault (empty or unordered track, a sensor
+  /// without scans, a probability or rate out of range).
+  void check() const;
+};
+
+}  // namespace rnav::scene

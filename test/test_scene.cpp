@@ -1,0 +1,211 @@
+// The recorded-scene simulation (sim/scene) and its validation (scripts/compose/scene): the
+// effect columns' geometry against finite differences of the scene's own line of sight; the
+// same seed the same detections, whatever the thread count; a report read as errors, bad ones
+// named; and the loop the tool exists for: an effect hidden in a recording (a generator of
+// this file's own), diagnosed, its extended scene simulated, and the recording inside the
+// simulated band with the effect and outside it without.
+#include "config.hpp"
+#include "multi_diagnose.hpp"
+#include "scene_effects_json.hpp"
+#include "scene_from_recording.hpp"
+#include "scene_geometry.hpp"
+#include "scene_sim.hpp"
+#include "scene_validation.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+using namespace rnav;
+
+namespace {
+
+const LocalLevelFrame kFrame({63.43, 10.39, 0.0}, 0.0);
+
+// (east, north) [m] -> geodetic, through the frame (x north, y up, z east).
+Geodetic geo(const Eigen::Vector2d& en) { return kFrame.to_geodetic(Eigen::Vector3d(en.y(), 0, en.x())); }
+
+Eigen::Vector2d own(double t) { return {0.5 * t, 0.8 * t}; }
+Eigen::Vector2d boat(int k, double t) {
+  if (k == 1) return {300 + 3 * t, 200 - 1.5 * t};  // 3.4 m/s, passing east of the observer
+  const double w = 2 * M_PI / 240;                   // boat 2: a circle of 150 m about (-250, 300)
+  return {-250 + 150 * std::cos(w * t), 300 + 150 * std::sin(w * t)};
+}
+
+constexpr double kRadarBiasRad = 1.5 * M_PI / 180;  // the hidden effect: the radar's bearings 1.5 deg off
+constexpr double kDuration = 240;
+
+// An independent recording: a radar (2 s scans, 0.3 deg and 2 m white noise, p_d 0.9) and a camera
+// (0.25 s, 0.2 deg, p_d 0.8), a clutter return per radar scan, exact references at 1 Hz.
+MultiSensorData recording(std::uint64_t seed, double radar_bias_rad) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> N(0, 1);
+  std::uniform_real_distribution<double> U(0, 1);
+  MultiSensorData d;
+  for (double t = 0; t <= kDuration; t += 0.5) d.observer.push_back({t, geo(own(t))});
+  d.observer_heading_deg.assign(d.observer.size(), NAN);
+  for (int k = 1; k <= 2; ++k)
+    for (double t = 0; t <= kDuration; t += 1) d.truth[std::to_string(k)].push_back({t, geo(boat(k, t))});
+  for (double t = 2; t < kDuration - 2; t += 2) {
+    for (int k = 1; k <= 2; ++k) {
+      if (U(rng) > 0.9) continue;
+      const Eigen::Vector2d r = boat(k, t) - own(t);
+      d.detections.push_back({t, "radar", r.norm() + 2 * N(rng), wrap_pi(std::atan2(r.x(), r.y()) + radar_bias_rad + 0.3 * kDegToRad * N(rng)), NAN});
+    }
+    d.detections.push_back({t, "radar", 100 + 900 * U(rng), wrap_pi(2 * M_PI * U(rng)), NAN});
+  }
+  for (double t = 2; t < kDuration - 2; t += 0.25)
+    for (int k = 1; k <= 2; ++k) {
+      if (U(rng) > 0.8) continue;
+      const Eigen::Vector2d r = boat(k, t) - own(t);
+      d.detections.push_back({t, "eo", NAN, wrap_pi(std::atan2(r.x(), r.y()) + 0.2 * kDegToRad * N(rng)), NAN});
+    }
+  return d;
+}
+
+AssociationOptions assoc() {
+  AssociationOptions o;
+  o.gate_position_m = 30;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("scene geometry: the effect columns are the line of sight's own derivatives") {
+  const MultiSensorData d = recording(1, 0);
+  const auto& tr = d.truth.at("1");
+  const double t = 100, h = 1e-3;
+  scene::LineOfSight a, b, c;
+  REQUIRE(scene::line_of_sight(d.observer, tr, t, 2, a));
+  REQUIRE(scene::line_of_sight(d.observer, tr, t - h, 2, b));
+  REQUIRE(scene::line_of_sight(d.observer, tr, t + h, 2, c));
+  // the sensor clock: y(t - tau) - y(t) = -(dy/dt) tau, the column -dh v_rel
+  for (const bool is_range : {false, true}) {
+    const auto g = scene::effect_geometry(a, is_range, t, 0.5);
+    const double dydt = is_range ? (c.range_m - b.range_m) / (2 * h) : wrap_pi(c.bearing_rad - b.bearing_rad) / (2 * h);
+    const double col = multi_effect::sensor_clock(g)(0);
+    INFO((is_range ? "range" : "bearing") << " rate " << dydt << " column " << col);
+    // each line of sight in the tangent plane at the observer then: the generator's straight
+    // tracks (in the tangent plane at its origin, 100 m away) bend by about 1e-5 in it; a wrong
+    // column is wrong by O(1): 1e-4 relative
+    CHECK(std::abs(col + dydt) < 1e-4 * std::abs(dydt));
+  }
+  // the hull offset: moving the target 1 m along its course changes y by dh u
+  const auto gb = scene::effect_geometry(a, false, t, 0.5);
+  const Eigen::Vector2d d1 = a.d + gb.u;
+  const double db = wrap_pi(std::atan2(d1.x(), d1.y()) - a.bearing_rad);
+  CHECK(std::abs(multi_effect::hull_offset(gb)(0) - db) < 5e-3 * std::abs(db));  // second order: 1 m against about 400 m
+  // the course: boat 1 runs (3, -1.5) m/s, so u is that direction and u_perp its starboard
+  INFO("u " << gb.u.transpose() << " u_perp " << gb.u_perp.transpose() << " v " << a.v_target.transpose());
+  CHECK(gb.u.isApprox(Eigen::Vector2d(3, -1.5).normalized(), 1e-4));
+  CHECK(gb.u_perp.isApprox(Eigen::Vector2d(-1.5, -3).normalized(), 1e-4));
+}
+
+TEST_CASE("scene simulation: the same seed the same detections, any thread count the same statistics") {
+  const MultiSensorData d = recording(2, kRadarBiasRad);
+  scene::RecordedScene sc = scene_from_recording(d, "rec", assoc());
+  const auto err = nominal_errors(0.3 * kDegToRad, 2);
+  calibrate_detection(sc, d, err, assoc(), 1);
+  const auto a = scene::simulate(sc, err, 7, 3), b = scene::simulate(sc, err, 7, 3), c = scene::simulate(sc, err, 7, 4);
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK((a[i].t_s == b[i].t_s && a[i].sensor == b[i].sensor && a[i].target == b[i].target));
+    CHECK((std::isnan(a[i].bearing_rad) ? std::isnan(b[i].bearing_rad) : a[i].bearing_rad == b[i].bearing_rad));
+  }
+  bool differs = a.size() != c.size();
+  for (std::size_t i = 0; !differs && i < a.size(); ++i) differs = a[i].bearing_rad != c[i].bearing_rad;
+  CHECK(differs);
+  // every scan of the recording is a scan of the simulation (empty ones kept)
+  std::map<std::string, std::set<double>> scans_real, scans_sim;
+  for (const auto& x : d.detections) scans_real[x.sensor].insert(x.t_s);
+  for (const auto& x : a) scans_sim[x.sensor].insert(x.t_s);
+  CHECK(scans_real == scans_sim);
+  const auto s1 = simulated_stats(d, sc, err, assoc(), 6, 1, 1), s2 = simulated_stats(d, sc, err, assoc(), 6, 1, 2);
+  for (std::size_t k = 0; k < s1.size(); ++k)
+    for (const auto& [ch, x] : s1[k].residuals) CHECK(x.mean == s2[k].residuals.at(ch).mean);
+}
+
+TEST_CASE("scene errors: a report's effects and noise are read, and a bad report is named") {
+  nlohmann::json j = {{"kind", "multi"},
+                      {"effects",
+                       {{{"name", "bearing_bias"}, {"scope", {{"sensor", "radar"}, {"target", nullptr}}}, {"estimate", 0.02}},
+                        {{"name", "antenna_offset"}, {"scope", {{"sensor", nullptr}, {"target", "1"}}}, {"estimate", {-3.0, 0.5}}},
+                        {{"name", "target_maneuver"}, {"scope", {{"target", "1"}}}, {"estimate", {10.0, 0.1, 0.2}}}}},
+                      {"noise",
+                       {{"radar:1:bearing",
+                         {{"sigma", 0.01}, {"correlated_share", 0.999}, {"tau_s", 20.0}, {"outlier_fraction", 0.02}, {"outlier_sd", 0.05},
+                          {"noise_scale", 2.0}}}}}};
+  const auto e = errors_from_report(j, "r.json", "rec", 0.1, 1);
+  REQUIRE(e.effects.size() == 2);  // the manoeuvre is the reference's own
+  CHECK(e.effects[1].theta == std::vector<double>{-3.0, 0.5});
+  CHECK(e.noise.at("radar:1:bearing").tau_s == 20.0);
+  CHECK(e.nominal_bearing_sigma_rad == Approx(0.005));  // 0.01 over its noise scale 2
+  auto bad = j;
+  bad["effects"][0]["name"] = "bearing_bais";
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("effects[0]") && Catch::Contains("bearing_bais"));
+  bad = j;
+  bad["noise"]["radar:1:bearing"].erase("outlier_sd");
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("outlier_sd"));
+  bad = j;
+  bad["effects"][1]["estimate"] = {1.0};
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("antenna_offset") && Catch::Contains("2 parameter"));
+  bad = j;
+  bad["kind"] = "prl";
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("not a multi-sensor diagnosis report"));
+}
+
+TEST_CASE("scene validation: a hidden radar bias diagnosed, simulated, and the recording inside the band only with it") {
+  const MultiSensorData d = recording(3, kRadarBiasRad);
+  MultiDiagnoseOptions mo;
+  mo.association = assoc();
+  mo.sigma_bearing_deg = 0.3;
+  mo.sigma_range_m = 2;
+  const MultiReport rep = diagnose_multi(d, mo);
+  INFO(rep.text());
+  const auto ext = errors_from_report(nlohmann::json::parse(rep.to_json().dump()), "report", "rec", 0.3 * kDegToRad, 2);
+  bool has_bias = false;
+  for (const auto& e : ext.effects) has_bias = has_bias || (e.name == "bearing_bias" && e.sensor == "radar");
+  REQUIRE(has_bias);
+  const auto nom = nominal_errors(0.3 * kDegToRad, 2);
+  const SceneStats real = scene_stats(d, assoc());
+  const int runs = 60;
+  auto rows_of = [&](const scene::SceneErrors& err, const std::string& model) {
+    scene::RecordedScene sc = scene_from_recording(d, "rec", assoc());
+    calibrate_detection(sc, d, err, assoc(), 1);
+    return validation_rows("rec", model, real, simulated_stats(d, sc, err, assoc(), runs, 1, 2));
+  };
+  const auto ext_rows = rows_of(ext, "extended"), nom_rows = rows_of(nom, "nominal");
+  auto find = [](const std::vector<ValidationRow>& rows, const std::string& pair, const std::string& q, const std::string& st) {
+    for (const auto& r : rows)
+      if (r.pair == pair && r.quantity == q && r.statistic == st) return r;
+    FAIL("no row " << pair << " " << q << " " << st);
+    return ValidationRow{};
+  };
+  for (const char* t : {"radar:1", "radar:2"}) {
+    CHECK(find(ext_rows, t, "bearing", "mean").inside);
+    CHECK_FALSE(find(nom_rows, t, "bearing", "mean").inside);  // 1.5 deg against a band of a few hundredths
+  }
+  // Under a right model each row falls outside its 5-95 % band with probability about 0.1
+  // (estimated quantiles of 60 runs). Rows of one pair are not independent, but the count of
+  // rows outside is at most that of 7 pairs' independent rows: its 99.9 % binomial bound
+  // (n rows, p 0.1) is the pass mark. The hidden bias alone moves the nominal's radar means.
+  int out = 0;
+  for (const auto& r : ext_rows) out += !r.inside;
+  const int n = static_cast<int>(ext_rows.size());
+  // 99.9 % quantile of Binomial(n, 0.1): smallest k with P(X <= k) >= 0.999
+  double cdf = 0, pk = std::pow(0.9, n);
+  int bound = 0;
+  for (int k = 0; k <= n; ++k) {
+    cdf += pk;
+    if (cdf >= 0.999) {
+      bound = k;
+      break;
+    }
+    pk *= (n - k) / static_cast<double>(k + 1) * (0.1 / 0.9);
+  }
+  INFO(out << " of " << n << " rows outside, bound " << bound);
+  CHECK(out <= bound);
+}
