@@ -45,7 +45,7 @@ def main(argv):
             sel = [r for r in rows if r["pair"] == p and r["quantity"] == q and r["statistic"] == s]
             ax.set_yticks([])
             if i == 0:
-                ax.set_title(q + " " + s + unit(q, s), fontsize=8)
+                ax.set_title(("detection rate" if s == "detection_rate" else q + " " + s) + unit(q, s), fontsize=8)
             if j == 0:
                 ax.set_ylabel(p, fontsize=7, rotation=0, ha="right", va="center")
             ax.tick_params(labelsize=6)

@@ -41,7 +41,9 @@ void RecordedScene::check() const {
     for (const auto& [t, p] : s.p_detect)
       if (!(p >= 0 && p <= 1)) throw std::invalid_argument(w + "detection probability of target " + t + " not in [0, 1]");
     if (!(s.clutter_per_scan >= 0) || !std::isfinite(s.clutter_per_scan)) throw std::invalid_argument(w + "clutter_per_scan must be finite and >= 0");
-    if (s.clutter_per_scan > 0 && s.clutter.empty()) throw std::invalid_argument(w + "clutter rate > 0 but no clutter to draw from");
+    if (!s.replay_clutter && s.clutter_per_scan > 0 && s.clutter.empty()) throw std::invalid_argument(w + "clutter rate > 0 but no clutter to draw from");
+    for (std::size_t i = 1; i < s.clutter.size(); ++i)
+      if (s.clutter[i].t_s < s.clutter[i - 1].t_s) throw std::invalid_argument(w + "clutter times decrease at return " + std::to_string(i));
   }
 }
 

@@ -1,6 +1,7 @@
 // A recorded scene as a simulation: the observer's track and each target's reference track
 // replayed as the truth, and each sensor as the recording shows it (its scan times, its
-// coverage, its detection probability per target, its clutter). Plain data: the composition
+// coverage, its detection probability per target, its clutter: replayed where the recording has
+// it, or drawn). Plain data: the composition
 // root that reads a recording (scripts/compose/scene) measures these from it; scene_sim.hpp
 // simulates them with the errors of scene_errors.hpp.
 #pragma once
@@ -28,6 +29,7 @@ struct Coverage {
 struct ClutterSample {
   double range_m = 0;      ///< [m] NaN for a bearing-only sensor
   double bearing_rad = 0;  ///< [rad] clockwise from north
+  double t_s = 0;          ///< [s] its scan's time stamp in the recording
 };
 
 /// A sensor of the scene.
@@ -38,8 +40,12 @@ struct SceneSensor {
   double scan_period_s = 0;          ///< [s] median scan interval (scan_time_offset's sweep), > 0
   Coverage coverage;
   std::map<std::string, double> p_detect;  ///< per target: probability of a detection in a scan that covers it, [0, 1]
-  double clutter_per_scan = 0;             ///< mean clutter returns per scan (Poisson), >= 0
-  std::vector<ClutterSample> clutter;      ///< the recording's clutter, drawn with replacement
+  /// The recording's clutter, t_s non-decreasing. Replayed (true): each return in its own
+  /// scan, where the recording has it (land, piers and buoys stay where they are); else drawn:
+  /// a Poisson count per scan at clutter_per_scan, each a return drawn with replacement.
+  std::vector<ClutterSample> clutter;
+  bool replay_clutter = true;
+  double clutter_per_scan = 0;             ///< mean clutter returns per scan (drawn clutter), >= 0
 };
 
 /// The scene: tracks and sensors.

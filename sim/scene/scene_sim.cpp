@@ -64,6 +64,7 @@ std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErro
     std::uniform_real_distribution<double> U(0.0, 1.0);
     std::poisson_distribution<int> clutter_count(s.clutter_per_scan > 0 ? s.clutter_per_scan : 1.0);
     std::map<std::string, std::vector<Pending>> by_target;  // detections awaiting their channel's noise
+    std::size_t next_clutter = 0;                            // replayed clutter: the first not yet passed
     for (double t : s.scan_times_s) {
       bool any = false;
       for (const auto& [name, track] : scene.targets) {
@@ -78,11 +79,19 @@ std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErro
         out.push_back({t, s.name, s.ranged ? los.range_m : NAN, los.bearing_rad, name});
         any = true;
       }
-      const int n_clutter = s.clutter_per_scan > 0 ? clutter_count(rng) : 0;
-      for (int k = 0; k < n_clutter; ++k) {
-        const auto i = std::min(static_cast<std::size_t>(U(rng) * static_cast<double>(s.clutter.size())), s.clutter.size() - 1);
-        out.push_back({t, s.name, s.ranged ? s.clutter[i].range_m : NAN, s.clutter[i].bearing_rad, ""});
-        any = true;
+      if (s.replay_clutter) {  // the recording's own returns of this scan
+        for (; next_clutter < s.clutter.size() && s.clutter[next_clutter].t_s <= t; ++next_clutter) {
+          if (s.clutter[next_clutter].t_s < t) continue;  // a return between scans: none here
+          out.push_back({t, s.name, s.ranged ? s.clutter[next_clutter].range_m : NAN, s.clutter[next_clutter].bearing_rad, ""});
+          any = true;
+        }
+      } else {
+        const int n_clutter = s.clutter_per_scan > 0 ? clutter_count(rng) : 0;
+        for (int k = 0; k < n_clutter; ++k) {
+          const auto i = std::min(static_cast<std::size_t>(U(rng) * static_cast<double>(s.clutter.size())), s.clutter.size() - 1);
+          out.push_back({t, s.name, s.ranged ? s.clutter[i].range_m : NAN, s.clutter[i].bearing_rad, ""});
+          any = true;
+        }
       }
       if (!any) out.push_back({t, s.name, NAN, NAN, ""});  // an empty scan keeps the scan count
     }

@@ -33,12 +33,33 @@ scene::Coverage arc_of(std::vector<double> b, double margin_rad) {
 
 using Key = std::tuple<std::string, double, double>;  // sensor, t_s, bearing_rad: a detection row
 
+// A return within kNearGates gates of the reference of a target this sensor detects (range
+// sensors: its position within kNearGates gate_position_m; bearing-only: its bearing within
+// kNearGates gate_bearing_deg) that the association left out: the target's own (another point
+// of its hull, a gross error), not clutter. The simulation makes that target's returns itself,
+// so these are not replayed. A target the sensor never detects keeps the returns near it.
+constexpr double kNearGates = 2;
+bool near_a_target(const MultiSensorData& data, const Detection& d, const AssociationOptions& o, const SensorAssociation& st) {
+  for (const auto& [t, track] : data.truth) {
+    const auto n = st.associated.find(t);
+    if (n == st.associated.end() || n->second == 0) continue;
+    scene::LineOfSight los;
+    if (!scene::line_of_sight(data.observer, track, d.t_s, o.reference_max_gap_s, los)) continue;
+    if (std::isfinite(d.range_m)) {
+      const Eigen::Vector2d p = d.range_m * Eigen::Vector2d(std::sin(d.bearing_rad), std::cos(d.bearing_rad));
+      if ((p - los.d).norm() <= kNearGates * o.gate_position_m) return true;
+    } else if (std::abs(wrap_pi(d.bearing_rad - los.bearing_rad)) <= kNearGates * o.gate_bearing_deg * M_PI / 180) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std::string& name, const AssociationOptions& o) {
   std::map<std::string, SensorAssociation> stats;
   const std::vector<AssociatedDetection> a = associate(data, o, stats);
-  (void)stats;
   scene::RecordedScene sc;
   sc.name = name;
   sc.observer = data.observer;
@@ -61,7 +82,7 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
       if (d.empty_scan()) continue;
       bearings.push_back(d.bearing_rad);
       if (std::isfinite(d.range_m)) ss.ranged = true;
-      if (!associated.count({s, d.t_s, d.bearing_rad})) ss.clutter.push_back({d.range_m, d.bearing_rad});
+      if (!associated.count({s, d.t_s, d.bearing_rad}) && !near_a_target(data, d, o, stats[s])) ss.clutter.push_back({d.range_m, d.bearing_rad, d.t_s});
     }
     std::vector<double> dt;
     for (std::size_t i = 1; i < ss.scan_times_s.size(); ++i) dt.push_back(ss.scan_times_s[i] - ss.scan_times_s[i - 1]);

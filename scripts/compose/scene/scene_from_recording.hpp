@@ -11,8 +11,12 @@
 //                  simulation of the scene that detects every covered target in every scan
 //                  (the same errors, the same association: its coverage, ambiguous scans and
 //                  gate losses taken as the recording's), at most 1 (calibrate_detection);
-//   clutter        every detection associated to no target, drawn with replacement, at their
-//                  mean count per scan.
+//   clutter        every detection associated to no target, replayed in its own scan (land,
+//                  piers, buoys and the other returns stay where and when the recording has
+//                  them), except those within two gates of a target the sensor detects (that
+//                  target's own returns the association left out: another point of its hull,
+//                  a gross error; the simulation makes its returns itself); their mean count
+//                  per scan for drawn clutter.
 // Limits, stated: the coverage is absolute (the recordings hold no observer heading, so a
 // camera's sector does not turn with the ferry), and detections of a target outside its gate
 // count as clutter.

@@ -1,11 +1,14 @@
-// rnav_scene simulate|validate RECORDING [options]: a recorded scene (a multi-sensor CSV folder)
+// rnav_scene simulate|validate|closure RECORDING [options]: a recorded scene (a multi-sensor CSV folder)
 // replayed as a simulation, its sensors' errors from a diagnosis report (--effects) or nominal.
 //   simulate  one realization written as a recording folder (scripts/diagnose multi reads it);
 //   validate  N simulations per model (nominal, and extended with --effects) and the recording
-//             placed among them per sensor:target pair (scene_validation.hpp).
+//             placed among them per sensor:target pair (scene_validation.hpp);
+//   closure   N extended simulations diagnosed: each injected effect's naming rate and the
+//             mean of its estimates against the injected value (scene_closure.hpp).
 #include "atomic_file.hpp"
 #include "cli.hpp"
 #include "config.hpp"
+#include "scene_closure.hpp"
 #include "scene_effects_json.hpp"
 #include "scene_from_recording.hpp"
 #include "scene_sim.hpp"
@@ -145,13 +148,54 @@ int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& n
   return 0;
 }
 
+int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
+  if (a.effects.empty()) throw rnav::ConfigError("closure: --effects REPORT.json is required (the effects to inject and re-find)");
+  const auto err = rnav::errors_from_report(read_report(a.effects), a.effects, name, a.sigma_deg * M_PI / 180, a.sigma_range_m);
+  auto sc = rnav::scene_from_recording(d, name, a.assoc);
+  rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
+  rnav::MultiDiagnoseOptions mo;
+  mo.association = a.assoc;
+  mo.sigma_bearing_deg = err.nominal_bearing_sigma_rad * 180 / M_PI;
+  mo.sigma_range_m = err.nominal_range_sigma_m;
+  mo.search.threads = a.threads;
+  const auto rows = rnav::scene_closure(d, sc, err, mo, a.runs, a.seed);
+  std::cout << "closure " << name << ": " << a.runs << " simulations extended by " << a.effects << ", each diagnosed\n";
+  int all_named = 0, all_within = 0;
+  for (const auto& r : rows) {
+    std::cout << "  " << r.injected.name << " [" << (r.injected.sensor.empty() ? "-" : r.injected.sensor) << ":"
+              << (r.injected.target.empty() ? "-" : r.injected.target) << "]: named " << r.named << " of " << r.runs;
+    bool within = r.named > 0;
+    for (std::size_t p = 0; p < r.injected.theta.size(); ++p) {
+      std::cout << (p ? "; " : "; injected ") << fmt(r.injected.theta[p], "%.4g") << ", mean " << fmt(r.mean[p], "%.4g") << " (sd "
+                << fmt(r.sd[p], "%.3g") << ")" << (r.within_2se[p] ? " within 2 SE" : " NOT within 2 SE");
+      within = within && r.within_2se[p];
+    }
+    std::cout << "\n";
+    all_named += 10 * r.named >= 9 * r.runs;
+    all_within += within;
+  }
+  std::cout << "  named in >= 90 %: " << all_named << " of " << rows.size() << " effects; mean within 2 SE: " << all_within << " of "
+            << rows.size() << "\n";
+  if (!a.json.empty()) {
+    nlohmann::ordered_json j;
+    j["kind"] = "scene_closure";
+    j["recording"] = name;
+    j["runs"] = a.runs;
+    j["seed"] = a.seed;
+    j["effects"] = rnav::closure_json(rows);
+    rnav::write_file_atomic(a.json, j.dump(1) + "\n");
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return rnav::cli::guarded_main("rnav_scene", [&]() -> int {
     Args a;
     rnav::cli::Parser p("rnav_scene", "simulate RECORDING --out DIR [--effects REPORT.json] [--seed S] [--realization K]\n"
-                                      "validate RECORDING [--effects REPORT.json] [--runs N] [--json FILE]",
+                                      "validate RECORDING [--effects REPORT.json] [--runs N] [--json FILE]\n"
+                                      "closure RECORDING --effects REPORT.json [--runs N] [--json FILE]",
                         "A recorded scene (a multi-sensor CSV folder: observer.csv, detections.csv, truth.csv) replayed as a "
                         "simulation: the observer's and the targets' reference tracks are the truth; each sensor scans at its "
                         "recorded times, covers the bearings and ranges the recording shows, detects each target with the "
@@ -159,7 +203,9 @@ int main(int argc, char** argv) {
                         "effects and each channel's identified noise (--effects, rnav_diagnose multi --json), or the nominal "
                         "model (white noise at the nominal sigmas). simulate writes one realization as a recording folder; "
                         "validate runs --runs simulations per model and places the recording among them per sensor:target "
-                        "pair (residual mean, sd, lag-1 autocorrelation, detection rate; the 5-95 % band).");
+                        "pair (residual mean, sd, lag-1 autocorrelation, detection rate; the 5-95 % band); closure diagnoses "
+                        "--runs extended simulations and says how often each injected effect is named and how close the "
+                        "mean estimate comes to the injected value.");
     auto num = [](const char* opt, double& x, double lo, double hi) {
       return [opt, &x, lo, hi](const std::string& v) { x = rnav::cli::number(opt, v, lo, hi); };
     };
@@ -172,10 +218,10 @@ int main(int argc, char** argv) {
         .flag("--force", "simulate: write into --out DIR whatever it holds", a.force)
         .value("--seed", "S", "seed of the simulations' random streams, >= 0", "1", integer("--seed", a.seed, 0, kMaxSeed))
         .value("--realization", "K", "simulate: which realization of the seed, >= 0", "0", integer("--realization", a.realization, 0, kMaxSeed))
-        .value("--runs", "N", "validate: simulations per model, >= 20", "100", integer("--runs", a.runs, 20, 100000))
-        .value("--threads", "N", "validate: simulations at once, >= 1 (the result does not depend on it)", "2", integer("--threads", a.threads, 1, 256))
+        .value("--runs", "N", "validate: simulations per model; closure: simulations diagnosed, >= 20", "100", integer("--runs", a.runs, 20, 100000))
+        .value("--threads", "N", "validate: simulations at once; closure: the diagnosis's threads, >= 1 (the result does not depend on it)", "2", integer("--threads", a.threads, 1, 256))
         .value("--min-n", "N", "validate: a pair counts in the summary with at least N associated detections", "20", integer("--min-n", a.min_n, 1, 1000000))
-        .value("--json", "FILE", "validate: write the rows as JSON", "none", a.json)
+        .value("--json", "FILE", "validate, closure: write the rows as JSON", "none", a.json)
         .value("--name", "NAME", "the recording's name (a pooled report's recording scope)", "the folder's name", a.name)
         .value("--sigma-deg", "D", "nominal bearing noise, 1 sigma [deg] (with --effects: the report's)", "0.5 deg", num("--sigma-deg", a.sigma_deg, 1e-6, 90))
         .value("--sigma-range-m", "M", "nominal range noise, 1 sigma [m] (with --effects: the report's)", "1 m", num("--sigma-range-m", a.sigma_range_m, 1e-6, 1e5))
@@ -183,10 +229,10 @@ int main(int argc, char** argv) {
         .value("--gate-m", "M", "association gate of range sensors [m], as rnav_diagnose multi", "20 m", num("--gate-m", a.assoc.gate_position_m, 1e-3, 1e5))
         .value("--reference-max-gap", "S", "a reference is interpolated only across gaps this short [s], as rnav_diagnose multi", "2 s",
                num("--reference-max-gap", a.assoc.reference_max_gap_s, 1e-3, 1e5))
-        .positionals("simulate|validate RECORDING", "the command and the recording folder", [&a](const std::string& v) { a.pos.push_back(v); });
+        .positionals("simulate|validate|closure RECORDING", "the command and the recording folder", [&a](const std::string& v) { a.pos.push_back(v); });
     if (!p.parse(argc, argv, std::cout)) return 0;
     std::vector<std::string> missing;
-    if (a.pos.empty()) missing.push_back("the command (simulate or validate)");
+    if (a.pos.empty()) missing.push_back("the command (simulate, validate or closure)");
     if (a.pos.size() < 2) missing.push_back("RECORDING (a multi-sensor CSV folder)");
     if (!missing.empty()) {
       std::string m;
@@ -195,10 +241,12 @@ int main(int argc, char** argv) {
     }
     if (a.pos.size() > 2) throw rnav::ConfigError("one RECORDING only, not '" + a.pos[2] + "'");
     const std::string& cmd = a.pos[0];
-    if (cmd != "simulate" && cmd != "validate") throw rnav::ConfigError("unknown command '" + cmd + "' (simulate or validate)");
+    if (cmd != "simulate" && cmd != "validate" && cmd != "closure")
+      throw rnav::ConfigError("unknown command '" + cmd + "' (simulate, validate or closure)");
     const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
     const std::string name = a.name.empty() ? recording_name(a.pos[1]) : a.name;
     if (cmd == "validate") return validate(a, d, name);
+    if (cmd == "closure") return closure(a, d, name);
     if (a.out.empty()) throw rnav::ConfigError("simulate: --out DIR is required");
     const double sb = a.sigma_deg * M_PI / 180;
     const auto err = a.effects.empty() ? rnav::nominal_errors(sb, a.sigma_range_m)
