@@ -8,6 +8,7 @@
 #include "atomic_file.hpp"
 #include "cli.hpp"
 #include "config.hpp"
+#include "did_you_mean.hpp"
 #include "scene_closure.hpp"
 #include "scene_effects_json.hpp"
 #include "scene_from_recording.hpp"
@@ -32,8 +33,16 @@ struct Args {
   int runs = 100, threads = 2, min_n = 20;
   double sigma_deg = 0.5, sigma_range_m = 1.0;
   bool force = false;
+  std::string clutter = "replay";
   rnav::AssociationOptions assoc;
 };
+
+// The scene of recording d as the options ask (its clutter replayed or drawn).
+rnav::scene::RecordedScene scene_of(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
+  auto sc = rnav::scene_from_recording(d, name, a.assoc);
+  for (auto& s : sc.sensors) s.replay_clutter = a.clutter == "replay";
+  return sc;
+}
 
 std::string recording_name(const std::string& dir) {
   std::filesystem::path p(dir);
@@ -83,7 +92,7 @@ std::map<std::string, bool> pairs_inside(const std::vector<rnav::ValidationRow>&
 }
 
 int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
-  const rnav::scene::RecordedScene base = rnav::scene_from_recording(d, name, a.assoc);
+  const rnav::scene::RecordedScene base = scene_of(a, d, name);
   const rnav::SceneStats real = rnav::scene_stats(d, a.assoc);
   const double sb = a.sigma_deg * M_PI / 180;
   std::vector<std::pair<std::string, rnav::scene::SceneErrors>> models;
@@ -151,7 +160,7 @@ int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& n
 int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
   if (a.effects.empty()) throw rnav::ConfigError("closure: --effects REPORT.json is required (the effects to inject and re-find)");
   const auto err = rnav::errors_from_report(read_report(a.effects), a.effects, name, a.sigma_deg * M_PI / 180, a.sigma_range_m);
-  auto sc = rnav::scene_from_recording(d, name, a.assoc);
+  auto sc = scene_of(a, d, name);
   rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
   rnav::MultiDiagnoseOptions mo;
   mo.association = a.assoc;
@@ -222,6 +231,14 @@ int main(int argc, char** argv) {
         .value("--threads", "N", "validate: simulations at once; closure: the diagnosis's threads, >= 1 (the result does not depend on it)", "2", integer("--threads", a.threads, 1, 256))
         .value("--min-n", "N", "validate: a pair counts in the summary with at least N associated detections", "20", integer("--min-n", a.min_n, 1, 1000000))
         .value("--json", "FILE", "validate, closure: write the rows as JSON", "none", a.json)
+        .value("--clutter", "replay|draw",
+               "the recording's clutter replayed in its own scans (land, piers and buoys where they are), or drawn: a Poisson "
+               "count per scan at the recording's mean, each return drawn from its returns",
+               "replay", [&a](const std::string& v) {
+                 if (v != "replay" && v != "draw")
+                   throw rnav::ConfigError("--clutter must be replay or draw, not '" + v + "'" + rnav::did_you_mean(v, {"replay", "draw"}));
+                 a.clutter = v;
+               })
         .value("--name", "NAME", "the recording's name (a pooled report's recording scope)", "the folder's name", a.name)
         .value("--sigma-deg", "D", "nominal bearing noise, 1 sigma [deg] (with --effects: the report's)", "0.5 deg", num("--sigma-deg", a.sigma_deg, 1e-6, 90))
         .value("--sigma-range-m", "M", "nominal range noise, 1 sigma [m] (with --effects: the report's)", "1 m", num("--sigma-range-m", a.sigma_range_m, 1e-6, 1e5))
@@ -242,7 +259,8 @@ int main(int argc, char** argv) {
     if (a.pos.size() > 2) throw rnav::ConfigError("one RECORDING only, not '" + a.pos[2] + "'");
     const std::string& cmd = a.pos[0];
     if (cmd != "simulate" && cmd != "validate" && cmd != "closure")
-      throw rnav::ConfigError("unknown command '" + cmd + "' (simulate, validate or closure)");
+      throw rnav::ConfigError("unknown command '" + cmd + "'" + rnav::did_you_mean(cmd, {"simulate", "validate", "closure"}) +
+                              " (simulate, validate or closure)");
     const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
     const std::string name = a.name.empty() ? recording_name(a.pos[1]) : a.name;
     if (cmd == "validate") return validate(a, d, name);
@@ -251,7 +269,7 @@ int main(int argc, char** argv) {
     const double sb = a.sigma_deg * M_PI / 180;
     const auto err = a.effects.empty() ? rnav::nominal_errors(sb, a.sigma_range_m)
                                        : rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
-    auto sc = rnav::scene_from_recording(d, name, a.assoc);
+    auto sc = scene_of(a, d, name);
     rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
     const auto det = rnav::scene::simulate(sc, err, a.seed, a.realization);
     rnav::prepare_output_dir(a.out, a.force);
