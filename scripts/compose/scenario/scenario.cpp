@@ -1,6 +1,9 @@
 #include "scenario.hpp"
 
 #include "options_io.hpp"
+#include "prl_report.hpp"
+
+#include <fstream>
 
 #include <filesystem>
 #include <sstream>
@@ -28,7 +31,7 @@ using namespace options_io;
 
 Scenario Scenario::from_json(const nlohmann::json& doc) {
   Scenario sc;
-  read_scenario(doc, "prl", sc, [](Section&) {});
+  read_scenario(doc, "prl", sc, [&sc](Section& root) { sc.prl_effects_report = root.string("prl_effects_report", ""); });
 
   resolve_azimuth_reference(sc.runway, sc.radar);
   const double step = sc.trajectory.step_s;
@@ -66,6 +69,32 @@ Scenario Scenario::load(const std::string& file, const std::vector<std::string>&
     const std::filesystem::path base =
         from_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path();
     csv = (base / csv).lexically_normal().string();
+  }
+  // prl_effects_report: the same rule for its path; its effects replace prl_effects
+  if (!sc.prl_effects_report.empty()) {
+    bool report_override = false;
+    for (const auto& o : overrides)
+      if (o.rfind("prl_effects_report=", 0) == 0) report_override = true;
+    std::filesystem::path path(sc.prl_effects_report);
+    if (path.is_relative())
+      path = (report_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path()) / path;
+    nlohmann::json given, nominal;
+    PrlEffectsOptions defaults;
+    write_section(given, "s", sc.prl_effects);
+    write_section(nominal, "s", defaults);
+    if (given != nominal)
+      throw ConfigError("scenario key 'prl_effects_report' and keys of section 'prl_effects' given together: the report's "
+                        "effects replace that section, give one of them");
+    std::ifstream f(path);
+    if (!f) throw ConfigError("scenario key 'prl_effects_report': cannot read " + path.string());
+    nlohmann::json report;
+    try {
+      report = nlohmann::json::parse(f);
+    } catch (const nlohmann::json::exception& e) {
+      throw ConfigError("scenario key 'prl_effects_report': " + path.string() + " is not JSON (" + e.what() + ")");
+    }
+    sc.prl_effects = prl_effects_from_report(report, path.string());
+    sc.prl_effects_report.clear();
   }
   return sc;
 }

@@ -38,6 +38,12 @@ struct Scenario {
   PrlBiasOptions prl_bias;
   LoggerOptions logger;
   RunnerOptions runner;
+  /// Top-level key "prl_effects_report": a landing-radar diagnosis report (rnav_diagnose prl
+  /// --json) whose named effects become prl_effects (prl_report.hpp), instead of that section's
+  /// keys (giving both is an error). A relative path in the file is relative to the file's
+  /// directory, one given by an override (--set) to the working directory. load() applies it
+  /// and clears it, so the printed scenario holds the values simulated.
+  std::string prl_effects_report;
 
   /// Load and validate a scenario file with "a.b=value" overrides applied first.
   /// Throws ConfigError naming the key for unknown keys, wrong types, NaN, out-of-range values
