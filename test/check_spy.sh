@@ -15,18 +15,18 @@
 . "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"  # SRC, RNAV_BUILD, T, fail, in_private_net
 
 # (joining a multicast group sends an IGMP report: only inside the private namespace)
-out=$(in_private_net 'DISPLAY= "$0/scripts/spy" --duration 1' "$SRC" 2>&1) ||
+out=$(in_private_net 'DISPLAY= "$0/scripts/spy" --host --duration 1' "$SRC" 2>&1) ||
   fail "the headless view failed: $out"
 grep -q "^spy: 0 channel(s)" <<<"$out" || fail "without DISPLAY the terminal view did not run: $out"
 DISPLAY=:99 "$SRC/scripts/spy" --text --gui >/dev/null 2>&1 && fail "--text --gui accepted"
-DISPLAY= "$SRC/scripts/spy" --duration -1 >/dev/null 2>&1 && fail "--duration -1 accepted"
+DISPLAY= "$SRC/scripts/spy" --host --duration -1 >/dev/null 2>&1 && fail "--duration -1 accepted"
 
 in_private_net '
   lcm-logger --lcm-url="udpm://239.255.76.67:7667?ttl=0" -q "$1/rec.lcmlog" >/dev/null 2>&1 & logger=$!
   "$0/scripts/run" paper --realtime --speed 20 --realizations 1 --net host --no-plots --out "$1/run" \
     --set prl.period_s=1 --set snsins.link_period_s=0.5 --set trajectory.step_s=0.25 >"$1/run.log" 2>&1 &
   run=$!
-  DISPLAY= "$0/scripts/spy" --duration 6 --json "$1/spy.json" >"$1/spy.txt" 2>&1
+  DISPLAY= "$0/scripts/spy" --host --duration 6 --json "$1/spy.json" >"$1/spy.txt" 2>&1
   wait $run; kill -INT $logger; wait $logger' "$SRC" "$T"
 [[ -s $T/spy.json ]] || { cat "$T/spy.txt" "$T/run.log"; fail "no spy.json"; }
 # --net host: the run warns that its traffic is on the host's network
