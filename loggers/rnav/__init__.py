@@ -15,7 +15,9 @@ or log holds and converts a log to CSV; see `python3 -m rnav --help`.
 
 Modules: tables (reading), csvio (the CSV + units.json format every writer follows), lcmlog (LCM
 event logs), effect_labels (the diagnosis's effects as legend text), figures (what the figure
-programs plot_prl.py and plot_uav.py share: matplotlib without a display, their input error); for
+programs plot_prl.py and plot_uav.py share: matplotlib without a display, their input error),
+interpreter (those programs and `python3 -m rnav` handed over to Debian's /usr/bin/python3 when
+the python3 running them lacks numpy); for
 the programs in scripts/ (which import the package through the link scripts/rnav): cli_args (their
 command lines and messages), study_runner (the runner of every study's jobs), clopper_pearson
 (binomial intervals).

@@ -14,7 +14,9 @@ import sys
 
 try:
     from . import CsvError, LogError, read_csv, read_log, read_run, read_sweep
-except ImportError as e:  # numpy missing: a message, not a traceback
+except ImportError as e:  # numpy missing: Debian's python3 takes over, else a message, not a traceback
+    from . import interpreter
+    interpreter.hand_over(["-m", "rnav"] + sys.argv[1:])
     sys.stderr.write("rnav: error: %s\n" % e)
     raise SystemExit(2)
 

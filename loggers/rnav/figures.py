@@ -7,7 +7,10 @@ without a display, and the error of a missing or malformed input.
     InputError = figures.InputError
 """
 
+import os
 import sys
+
+from . import interpreter
 
 
 class InputError(Exception):
@@ -17,8 +20,10 @@ class InputError(Exception):
 
 def pyplot(prog):
     """matplotlib.pyplot on the Agg backend (no display needed), numpy checked to be there too.
-    Without either (the python3 first on PATH may be a build without them) exits with 'PROG:
-    REASON; run with /usr/bin/python3 (Debian python3-numpy, python3-matplotlib)'."""
+    Without either (the python3 first on PATH may be a build without them) the program PROG runs
+    again under Debian's /usr/bin/python3 (rnav.interpreter); where that cannot be (it is Debian's
+    already, or PROG is not the program running) exits with 'PROG: REASON; run with
+    /usr/bin/python3 (Debian python3-numpy, python3-matplotlib)'."""
     try:
         import numpy  # noqa: F401  (every figure program draws numpy arrays)
         import matplotlib
@@ -26,6 +31,9 @@ def pyplot(prog):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError as e:
+        # the python3 first on PATH: the program hands itself over to Debian's (rnav.interpreter)
+        if os.path.basename(sys.argv[0]) == prog:
+            interpreter.hand_over([os.path.abspath(sys.argv[0])] + sys.argv[1:])
         sys.exit("%s: %s; run with /usr/bin/python3 (Debian python3-numpy, "
                  "python3-matplotlib)" % (prog, e))
     return plt
