@@ -127,33 +127,68 @@ bool Parser::parse(int argc, const char* const* argv, std::ostream& out) {
       return false;
     }
   }
+  // Every unknown option and every malformed one is collected and named in one error at the end.
+  std::vector<std::string> unknown, errors;
+  bool unknown_unguessed = false;
+  std::vector<std::string> names{"--help", "--list-options"};
+  for (const auto& x : options_) names.push_back(x.name);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a.size() < 2 || a[0] != '-' || (a[1] != '-' && std::isdigit(static_cast<unsigned char>(a[1])))) {
-      if (!positional_) throw ConfigError("unexpected argument '" + a + "' (see " + program_ + " --help)");
-      positional_(a);
+      if (!positional_) {
+        errors.push_back("unexpected argument '" + a + "' (see " + program_ + " --help)");
+        continue;
+      }
+      if (!unknown.empty()) continue;  // it may be an unknown option's value
+      try {
+        positional_(a);
+      } catch (const ConfigError& e) {
+        errors.push_back(e.what());
+      }
       continue;
     }
     const auto eq = a.find('=');
     const std::string name = eq == std::string::npos ? a : a.substr(0, eq);
     const Option* o = find(name);
     if (!o) {
-      std::vector<std::string> names{"--help", "--list-options"};
-      for (const auto& x : options_) names.push_back(x.name);
       const std::string hint = did_you_mean(name, names);
-      throw ConfigError("unknown option '" + a + "'" +
-                        (hint.empty() ? " (see " + program_ + " --help)" : hint));
+      unknown_unguessed = unknown_unguessed || hint.empty();
+      unknown.push_back("'" + a + "'" + hint);
+      continue;
     }
+    std::string value;
     if (o->metavar.empty()) {
-      if (eq != std::string::npos) throw ConfigError("option " + name + " takes no value, got '" + a + "'");
-      o->set("");
+      if (eq != std::string::npos) {
+        errors.push_back("option " + name + " takes no value, got '" + a + "'");
+        continue;
+      }
     } else if (eq != std::string::npos) {
-      o->set(a.substr(eq + 1));
+      value = a.substr(eq + 1);
     } else {
-      if (i + 1 >= argc) throw ConfigError("option " + name + " needs a value (" + o->metavar + ")");
-      o->set(argv[++i]);
+      if (i + 1 >= argc) {
+        errors.push_back("option " + name + " needs a value (" + o->metavar + ")");
+        continue;
+      }
+      value = argv[++i];
+    }
+    try {
+      o->set(value);
+    } catch (const ConfigError& e) {  // a bad value, named; the other options still checked
+      errors.push_back(e.what());
     }
   }
+  std::string msg;
+  if (!unknown.empty()) {
+    msg = unknown.size() == 1 ? "unknown option " : "unknown options ";
+    for (std::size_t k = 0; k < unknown.size(); ++k) msg += (k ? ", " : "") + unknown[k];
+    if (unknown_unguessed) msg += " (see " + program_ + " --help)";
+  }
+  for (const auto& e : errors) {
+    // a word after an unknown option may be its value: not named as unexpected then
+    if (!unknown.empty() && e.rfind("unexpected argument ", 0) == 0) continue;
+    msg += (msg.empty() ? "" : "; ") + e;
+  }
+  if (!msg.empty()) throw ConfigError(msg);
   return true;
 }
 
@@ -224,6 +259,17 @@ int guarded_main(const std::string& program, const std::function<int()>& body) {
     std::cerr << error_line(program, e.what()) << "\n";
     return 1;
   }
+}
+
+void require(const std::string& program, const std::vector<std::pair<std::string, bool>>& args) {
+  std::vector<std::string> missing;
+  for (const auto& [what, given] : args)
+    if (!given) missing.push_back(what);
+  if (missing.empty()) return;
+  std::string m;
+  for (std::size_t i = 0; i < missing.size(); ++i)
+    m += (i == 0 ? "" : i + 1 == missing.size() ? " and " : ", ") + missing[i];
+  throw ConfigError(m + (missing.size() > 1 ? " are" : " is") + " required (see " + program + " --help)");
 }
 
 }  // namespace rnav::cli

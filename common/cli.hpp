@@ -55,8 +55,9 @@ class Parser {
   Parser& epilog(const std::string& text);
 
   /// Parse argv[1..argc-1]. -h/--help prints help() to `out`, --list-options the names; both
-  /// return false (the caller exits 0). Throws ConfigError for an unknown option (with the
-  /// nearest known one), a missing value, a value given to a flag, or an unexpected argument.
+  /// return false (the caller exits 0). Throws ConfigError for unknown options (each with the
+  /// nearest known one), missing values, values given to flags, bad values and unexpected
+  /// arguments: all of them, named in one error.
   bool parse(int argc, const char* const* argv, std::ostream& out);
   bool parse(int argc, char** argv, std::ostream& out) {
     return parse(argc, const_cast<const char* const*>(argv), out);
@@ -92,5 +93,10 @@ std::string error_line(const std::string& program, const std::string& message);
 /// Run a process's body: its return value is the exit status; a ConfigError (bad input)
 /// prints error_line(program, what) on stderr and gives 2, any other exception gives 1.
 int guarded_main(const std::string& program, const std::function<int()>& body);
+
+/// Throws ConfigError naming every required argument that is missing, in one error: each entry
+/// is (what, given), e.g. {"--scenario FILE", !file.empty()}; "--scenario FILE and --out DIR are
+/// required (see PROGRAM --help)". Nothing when every one is given.
+void require(const std::string& program, const std::vector<std::pair<std::string, bool>>& args);
 
 }  // namespace rnav::cli

@@ -188,17 +188,33 @@ std::vector<std::array<double, 4>> Section::rows4(const std::string& key) {
 
 Section Section::section(const std::string& key) {
   const auto* v = find(key);
-  return Section(v ? *v : nlohmann::json::object(), key_path(key));
+  Section s(v ? *v : nlohmann::json::object(), key_path(key));
+  s.deferred_ = deferred_;
+  s.nested_ = true;
+  return s;
 }
 
 void Section::finish() const {
   std::vector<std::string> known;  // every key this section's reader asked for
   for (const auto& k : used_) known.push_back(key_path(k));
-  std::string unknown;
+  std::vector<std::string> unknown;
   for (auto it = j_.begin(); it != j_.end(); ++it)
-    if (!used_.count(it.key()))
-      unknown += (unknown.empty() ? "" : ", ") + key_path(it.key()) + did_you_mean(key_path(it.key()), known);
-  if (!unknown.empty()) throw ConfigError("unknown scenario key(s): " + unknown);
+    if (!used_.count(it.key())) unknown.push_back(key_path(it.key()) + did_you_mean(key_path(it.key()), known));
+  if (nested_) {  // named by the finish() of the section this one is nested in, with its own
+    deferred_->insert(deferred_->end(), unknown.begin(), unknown.end());
+    return;
+  }
+  unknown.insert(unknown.begin(), deferred_->begin(), deferred_->end());
+  if (unknown.empty()) return;
+  std::string list;
+  for (const auto& u : unknown) list += (list.empty() ? "" : ", ") + u;
+  throw ConfigError("unknown scenario key(s): " + list);
+}
+
+void Section::finish_nested() const {
+  std::string list;
+  for (const auto& u : *deferred_) list += (list.empty() ? "" : ", ") + u;
+  if (!list.empty()) throw ConfigError("unknown scenario key(s): " + list);
 }
 
 namespace {

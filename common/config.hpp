@@ -11,6 +11,7 @@
 #include <set>
 #include <stdexcept>
 #include <istream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,8 +51,14 @@ class Section {
   Section section(const std::string& key);
   bool has(const std::string& key) const;
 
-  /// Throws ConfigError naming every key of this section that was never read.
+  /// Throws ConfigError naming every key of this section that was never read. A nested section
+  /// (from section()) does not throw: its unknown keys wait for the finish() of the section it
+  /// came from, which names them together with its own, so a document's unknown keys in several
+  /// sections are named in one error (the root's finish() must therefore be called last).
   void finish() const;
+  /// Throws ConfigError naming the unknown keys of the nested sections finished so far, not this
+  /// section's own: for a reader of only some sections of a document, which cannot finish() it.
+  void finish_nested() const;
 
   const std::string& path() const { return path_; }
   std::string key_path(const std::string& key) const;
@@ -63,6 +70,9 @@ class Section {
   nlohmann::json j_;
   std::string path_;
   std::set<std::string> used_;
+  /// The unknown keys of finished nested sections, shared by a root and every section nested in it.
+  std::shared_ptr<std::vector<std::string>> deferred_ = std::make_shared<std::vector<std::string>>();
+  bool nested_ = false;
 };
 
 /// The scenario kind of a file: its top-level "kind" ("prl" when absent).

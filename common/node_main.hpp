@@ -56,8 +56,7 @@ int run_node_main(int argc, char** argv, const NodeProgram& p,
     NodeArgs args;
     bool print_options = false;
     if (!node_parser(p, args, print_options).parse(argc, argv, std::cout)) return 0;
-    if (args.scenario_file.empty()) throw ConfigError("--scenario FILE is required (see " + p.program + " --help)");
-    if (p.writes_out && args.out_dir.empty()) throw ConfigError("--out DIR is required");
+    cli::require(p.program, {{"--scenario FILE", !args.scenario_file.empty()}, {"--out DIR", !p.writes_out || !args.out_dir.empty()}});
     const Sc sc = Sc::load(args.scenario_file, args.overrides);
     if (print_options) {
       sc.print(std::cout);

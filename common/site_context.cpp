@@ -28,6 +28,7 @@ SiteContext read_site_context(const nlohmann::json& doc) {
   options_io::read_section(root, "runway", c.runway);
   options_io::read_section(root, "radar", c.radar);
   options_io::read_section(root, "runner", c.runner);
+  root.finish_nested();  // the other sections belong to other readers
   resolve_azimuth_reference(c.runway, c.radar);
   return c;
 }
@@ -36,6 +37,7 @@ RunnerOptions read_runner_options(const nlohmann::json& doc) {
   Section root(doc, "");
   RunnerOptions r;
   options_io::read_section(root, "runner", r);
+  root.finish_nested();
   return r;
 }
 

@@ -119,7 +119,7 @@ cli_list() {
 
 cli_parse() {
   CLI_POS=()
-  local a e name value found names=(--help --list-options)
+  local a e name value found names=(--help --list-options) unknown=() errors=() hint
   for a in "$@"; do
     case $a in
       -h|--help) cli_help; exit 0 ;;
@@ -127,10 +127,11 @@ cli_parse() {
     esac
   done
   for e in "${CLI_OPTS[@]}"; do cli_fields "$e"; names+=("$O_NAME"); done
+  # Every unknown option and every malformed one is collected and named in one error at the end.
   while (($#)); do
     a=$1; shift
     if [[ $a != -?* || $a == -[0-9]* ]]; then
-      [[ -n ${CLI_POS_HELP:-} ]] || cli_die "unexpected argument '$a' (see $CLI_PROG --help)"
+      [[ -n ${CLI_POS_HELP:-} ]] || { errors+=("unexpected argument '$a' (see $CLI_PROG --help)"); continue; }
       CLI_POS+=("$a"); continue
     fi
     name=${a%%=*} found=""
@@ -139,17 +140,16 @@ cli_parse() {
       [[ $O_NAME == "$name" ]] && { found=1; break; }
     done
     if [[ -z $found ]]; then
-      local hint
       hint=$(cli_did_you_mean "$name" "${names[@]}")
-      cli_die "unknown option '$a'${hint:- (see $CLI_PROG --help)}"
+      unknown+=("'$a'$hint"); continue
     fi
     if [[ -z $O_META ]]; then
-      [[ $a == *=* ]] && cli_die "option $name takes no value, got '$a'"
+      [[ $a == *=* ]] && { errors+=("option $name takes no value, got '$a'"); continue; }
       value=1
     elif [[ $a == *=* ]]; then
       value=${a#*=}
     else
-      (($#)) || cli_die "option $name needs a value ($O_META)"
+      (($#)) || { errors+=("option $name needs a value ($O_META)"); continue; }
       value=$1; shift
     fi
     case $O_VAR in
@@ -158,4 +158,21 @@ cli_parse() {
       *) printf -v "$O_VAR" '%s' "$value" ;;
     esac
   done
+  cli_parse_errors
+}
+
+# The errors cli_parse collected (arrays unknown, errors), one line naming them all, or nothing.
+# A word an unknown option is followed by may be its value: "unexpected argument" is left out then.
+cli_parse_errors() {
+  local msg="" u all
+  if ((${#unknown[@]})); then
+    ((${#unknown[@]} == 1)) && msg="unknown option " || msg="unknown options "
+    all=$(printf "%s, " "${unknown[@]}"); msg+=${all%, }
+    for u in "${unknown[@]}"; do [[ $u == *"did you mean"* ]] || { msg+=" (see $CLI_PROG --help)"; break; }; done
+    local kept=()
+    for u in "${errors[@]}"; do [[ $u == "unexpected argument "* ]] || kept+=("$u"); done
+    errors=("${kept[@]}")
+  fi
+  for u in "${errors[@]}"; do msg+="${msg:+; }$u"; done
+  [[ -z $msg ]] || cli_die "$msg"
 }

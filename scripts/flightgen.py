@@ -1442,8 +1442,9 @@ def main(argv):
     ap.add_argument("--set", metavar="KEY=VALUE", action="append", help="set a key (see --list-keys); repeatable")
     ap.add_argument("--list-keys", action="store_true", help="print every key of MODE with default, range, unit; exit")
     args = ap.parse_args(argv)
-    if args.mode is None:
-        ap.error("MODE is required: landing, uav or shipradar (see %s --help)" % PROG)
+    if args.mode is None:  # both missing named at once (--list-keys needs no OUTDIR)
+        ap.error("MODE (landing, uav or shipradar)%s required (see %s --help)"
+                 % (" and OUTDIR are" if not args.outdir and not args.list_keys else " is", PROG))
     if args.mode not in KEYS:
         hint = cli_args.closest(args.mode, list(KEYS))
         ap.error("unknown mode '%s'%s: give landing, uav or shipradar" % (args.mode, " (did you mean '%s'?)" % hint if hint else ""))

@@ -9,7 +9,11 @@
 #   errors  did-you-mean for a scenario key, a scenario value, an option and a scenario name;
 #           --speed and --spy without --realtime; one error prefix where a script relays a
 #           binary's error.
-# Usage: check_cli.sh help|errors SOURCE_DIR BUILD_DIR
+#   collected  every error of one command named at once, in one line: unknown keys in two
+#           sections of a scenario file and of --set (rnav_clock, scripts/run); two unknown options
+#           of a bash script, a binary and a Python program; missing required options of a binary
+#           and of a node; scripts/diagnose's missing KIND (and the INPUT that does not exist).
+# Usage: check_cli.sh help|errors|collected SOURCE_DIR BUILD_DIR
 set -uo pipefail
 MODE=$1 SRC=$2 BUILD=$3
 export RNAV_BUILD=$BUILD
@@ -132,10 +136,53 @@ check_errors() {
   grep -qF "did you mean '--lcm-url'?" "$TMP/err" || fail "rnav_prl --lcm-ur: $(cat "$TMP/err")"
 }
 
+# Every string after the program's name must be in its one error line (exit status 2).
+expect_all() {
+  local prog=$1 what=$2 s; shift 2
+  ((RC == 2)) || fail "$what: exit status $RC, expected 2 ($(cat "$TMP/err"))"
+  check_error_line "$prog" "$what"
+  for s in "$@"; do grep -qF -- "$s" "$TMP/err" || fail "$what: '$s' not named: $(cat "$TMP/err")"; done
+}
+
+check_collected() {
+  local RUN=$SRC/scripts/run BIN=$BUILD/bin out=$TMP/never
+  # a scenario file with unknown keys in two sections and at the top
+  printf '{"radar": {"x_n": -1200}, "prl": {"bias_rang_m": 2}, "nmae": "x"}\n' >"$TMP/two.json"
+  local keys=("radar.x_n (did you mean 'radar.x_m'?)" "prl.bias_rang_m (did you mean 'prl.bias_range_m'?)" "nmae")
+  run "$BIN/rnav_clock" --scenario "$TMP/two.json" --check
+  expect_all rnav_clock "rnav_clock --check of a file with three unknown keys" "${keys[@]}"
+  run "$RUN" "$TMP/two.json" --inproc --out "$out"
+  expect_all run "run of a file with three unknown keys" "${keys[@]}"
+  run "$BIN/rnav_clock" --scenario "$SRC/sim/scenarios/paper.json" --set radar.x_n=1 --set prl.bias_rang_m=2 --check
+  expect_all rnav_clock "rnav_clock --set of two unknown keys" "${keys[@]:0:2}"
+  # two unknown options: a bash script, a binary, a Python program
+  run "$RUN" paper --realisations 3 --sede 2 --out "$out"
+  expect_all run "run with two unknown options" "'--realisations' (did you mean '--realizations'?)" "'--sede' (did you mean '--seed'?)"
+  run "$BIN/rnav_clock" --scenaro x --nods prl --no-such-option-x
+  expect_all rnav_clock "rnav_clock with three unknown options" "'--scenaro' (did you mean '--scenario'?)" \
+    "'--nods' (did you mean '--nodes'?)" "'--no-such-option-x'"
+  run /usr/bin/python3 "$SRC/scripts/spy_text.py" --no-such-option-x --durtion 1
+  expect_all spy_text.py "spy_text.py with two unknown options" "'--no-such-option-x'" "'--durtion' (did you mean '--duration'?)"
+  # missing required options, all named
+  run "$BIN/rnav_clock"
+  expect_all rnav_clock "rnav_clock without options" "--scenario FILE and --nodes a,b,c are required"
+  run "$BIN/rnav_logger"
+  expect_all rnav_logger "rnav_logger without options" "--scenario FILE and --out DIR are required"
+  # scripts/diagnose: the missing KIND named (and the INPUT that does not exist), or both missing
+  run "$SRC/scripts/diagnose" "$TMP/missing-folder"
+  expect_all diagnose "diagnose $TMP/missing-folder" "KIND (prl, uav or multi) is missing" "INPUT '$TMP/missing-folder' does not exist"
+  run "$SRC/scripts/diagnose"
+  expect_all diagnose "diagnose without arguments" "KIND (prl, uav or multi) and INPUT are missing"
+  run "$SRC/scripts/diagnose" prl
+  expect_all diagnose "diagnose prl" "INPUT is missing after KIND 'prl'"
+  [[ -e $out ]] && fail "a rejected command wrote $out"
+}
+
 case $MODE in
   help) check_help ;;
   errors) check_errors ;;
-  *) echo "usage: check_cli.sh help|errors SOURCE_DIR BUILD_DIR" >&2; exit 2 ;;
+  collected) check_collected ;;
+  *) echo "usage: check_cli.sh help|errors|collected SOURCE_DIR BUILD_DIR" >&2; exit 2 ;;
 esac
 ((FAILS == 0)) || { echo "$FAILS failure(s)"; exit 1; }
 echo "ok"

@@ -13,6 +13,7 @@
 
 using Catch::Contains;
 using Catch::StartsWith;
+using Catch::EndsWith;
 using rnav::ConfigError;
 using rnav_test::config_error;
 
@@ -99,6 +100,18 @@ TEST_CASE("bad options are errors naming them", "[cli]") {
   const char* argv[] = {"rnav_toy", "extra"};
   CHECK(config_error([&] { std::ostringstream o; no_pos.parse(2, argv, o); }) ==
         "unexpected argument 'extra' (see rnav_toy --help)");
+}
+
+TEST_CASE("every bad option of a command line is named in one error", "[cli]") {
+  CHECK(config_error([] { Program().parse({"--scenaro", "a", "--verbose", "--spede", "2"}); }) ==
+        "unknown options '--scenaro' (did you mean '--scenario'?), '--verbose', '--spede' (did you mean '--speed'?)"
+        " (see rnav_toy --help)");
+  CHECK(config_error([] { Program().parse({"--scenaro", "a", "--spede", "2"}); }) ==
+        "unknown options '--scenaro' (did you mean '--scenario'?), '--spede' (did you mean '--speed'?)");
+  // unknown options, a bad value and a missing value together
+  const std::string m = config_error([] { Program().parse({"--verbose", "--speed", "fast", "--scenario"}); });
+  CHECK_THAT(m, StartsWith("unknown option '--verbose' (see rnav_toy --help); --speed: 'fast' is not a finite number"));
+  CHECK_THAT(m, EndsWith("; option --scenario needs a value (FILE)"));
 }
 
 TEST_CASE("--help prints usage and every option with its default, --list-options the names", "[cli]") {

@@ -3,6 +3,8 @@
 #include "config.hpp"
 #include "config_error.hpp"
 #include "scenario.hpp"
+#include "site_context.hpp"
+#include "uav_scenario.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -90,6 +92,28 @@ TEST_CASE("an unknown key names the nearest known key of its section, if one is 
   const std::string two = from_json_error(json::parse(R"({"radar": {"x_n": 1, "z_n": 2}})"));
   CHECK_THAT(two, Contains("radar.x_n (did you mean 'radar.x_m'?)"));
   CHECK_THAT(two, Contains("radar.z_n (did you mean 'radar.z_m'?)"));
+}
+
+TEST_CASE("unknown keys in several sections and at the top are named in one error", "[config]") {
+  // Three sections read in turn and a top-level key: each named, with its own guess.
+  const std::string m = from_json_error(
+      json::parse(R"({"radar": {"x_n": 1}, "prl": {"bias_rang_m": 1}, "runner": {"window": 1}, "nmae": "x"})"));
+  CHECK_THAT(m, Contains("radar.x_n (did you mean 'radar.x_m'?)"));
+  CHECK_THAT(m, Contains("prl.bias_rang_m (did you mean 'prl.bias_range_m'?)"));
+  CHECK_THAT(m, Contains("runner.window"));
+  CHECK_THAT(m, Contains("nmae (did you mean 'name'?)"));
+  // The azimuth-only scenario's nested "origin" and its sections too.
+  const std::string u = config_error([] {
+    rnav::UavScenario::from_json(json::parse(R"({"origin": {"lat": 1}, "uav": {"radius": 1}})"));
+  });
+  CHECK_THAT(u, Contains("origin.lat"));
+  CHECK_THAT(u, Contains("uav.radius"));
+  // A reader of some sections only (the nodes' shared site context) still names theirs, both.
+  const std::string s = config_error(
+      [] { rnav::read_site_context(json::parse(R"({"radar": {"x_n": 1}, "runner": {"windw_s": 1}, "prl": {"q": 1}})")); });
+  CHECK_THAT(s, Contains("radar.x_n"));
+  CHECK_THAT(s, Contains("runner.windw_s"));
+  CHECK_THAT(s, !Contains("prl.q"));  // not its section
 }
 
 TEST_CASE("bad values throw ConfigError naming the key", "[config]") {

@@ -104,10 +104,14 @@ class ArgumentParser(argparse.ArgumentParser):
     def parse_args(self, args=None, namespace=None):
         ns, rest = self.parse_known_args(args, namespace)
         if rest:
+            # every unknown option named in one error (a word after one may be its value: the
+            # unexpected arguments are named only when there is no unknown option)
             names = [s for a in self._actions for s in a.option_strings]
-            for r in rest:
-                if r.startswith("-") and len(r) > 1 and not r[1].isdigit():
-                    hint = did_you_mean(r.split("=", 1)[0], names)
-                    self.error("unknown option '%s'%s" % (r, hint or " (see %s --help)" % self.prog))
+            unknown = [(r, did_you_mean(r.split("=", 1)[0], names)) for r in rest
+                       if r.startswith("-") and len(r) > 1 and not r[1].isdigit()]
+            if unknown:
+                self.error("unknown option%s %s%s" % (
+                    "s" if len(unknown) > 1 else "", ", ".join("'%s'%s" % u for u in unknown),
+                    "" if all(h for _, h in unknown) else " (see %s --help)" % self.prog))
             self.error("unexpected argument '%s' (see %s --help)" % (rest[0], self.prog))
         return ns

@@ -157,9 +157,8 @@ bool parse(int argc, char** argv, Options& o, std::ostream& help) {
       .value("--die-rank", "R", "fault injection: rank R kills itself (SIGKILL) once it has started its shard", "none",
              [&](const std::string& v) { o.die_rank = static_cast<int>(rnav::parse_integer("--die-rank", v, 0, INT_MAX)); });
   if (!p.parse(argc, argv, help)) return false;
-  if (o.scenario.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_mpi --help)");
-  if (o.n == 0) throw rnav::ConfigError("--realizations N is required (see rnav_mpi --help)");
-  if (o.out.empty()) throw rnav::ConfigError("--out DIR is required (see rnav_mpi --help)");
+  rnav::cli::require("rnav_mpi", {{"--scenario FILE", !o.scenario.empty()}, {"--realizations N", o.n != 0},
+                                  {"--out DIR", !o.out.empty()}});
   if (o.mode == "lcm" && o.run_script.empty()) throw rnav::ConfigError("--mode lcm needs --run-script PATH (scripts/run)");
   if (!std::filesystem::is_regular_file(o.scenario)) throw rnav::ConfigError("--scenario " + o.scenario + ": no such file");
   return true;

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
         .flag("--force", "write into --out DIR whatever it holds", force)
         .epilog("Scenario keys: see rnav_clock --scenario FILE --check (every key with its value) or the README.");
     if (!p.parse(argc, argv, std::cout)) return 0;
-    if (file.empty() || out.empty()) throw rnav::ConfigError("--scenario FILE and --out DIR are required (see rnav_export_prl --help)");
+    rnav::cli::require("rnav_export_prl", {{"--scenario FILE", !file.empty()}, {"--out DIR", !out.empty()}});
     rnav::prepare_output_dir(out, force);
     const auto sc = rnav::Scenario::load(file, overrides);
     std::string failure;

@@ -218,12 +218,12 @@ int main(int argc, char** argv) {
       if (!a.o.realtime) throw rnav::ConfigError("--speed applies only with --realtime");
       a.o.speed = rnav::cli::number("--speed", a.speed, 1e-6, 1e6);
     }
-    if (a.scenario_file.empty()) throw rnav::ConfigError("--scenario FILE is required (see rnav_clock --help)");
+    rnav::cli::require("rnav_clock", {{"--scenario FILE", !a.scenario_file.empty()},
+                                      {"--nodes a,b,c", a.check || a.print_nodes || !a.nodes.empty()}});
     if (a.print_nodes) {
       print_node_names(a);
       return 0;
     }
-    if (!a.check && a.nodes.empty()) throw rnav::ConfigError("--nodes a,b,c is required (see rnav_clock --help)");
     ClockScenario s;
     const bool run_it = rnav::scenario_kind(a.scenario_file) == "uav" ? load_uav(a, s) : load_prl(a, s);
     if (!run_it) return 0;  // --check
