@@ -9,6 +9,9 @@
 #include <rnav/prl_bias_batch_t.hpp>
 #include <rnav/prl_error_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>
+#include <rnav/scene_detection_batch_t.hpp>
+#include <rnav/scene_observer_batch_t.hpp>
+#include <rnav/scene_target_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>
 #include <rnav/tma_batch_t.hpp>
 
@@ -54,6 +57,19 @@ template <> struct BatchItems<bearing_batch_t> {
 template <> struct BatchItems<tma_batch_t> {
   using Sample = tma_estimate_t;
   static std::vector<Sample>& items(tma_batch_t& b) { return b.estimates; }
+};
+
+template <> struct BatchItems<scene_observer_batch_t> {
+  using Sample = scene_observer_t;
+  static std::vector<Sample>& items(scene_observer_batch_t& b) { return b.states; }
+};
+template <> struct BatchItems<scene_target_batch_t> {
+  using Sample = scene_target_t;
+  static std::vector<Sample>& items(scene_target_batch_t& b) { return b.states; }
+};
+template <> struct BatchItems<scene_detection_batch_t> {
+  using Sample = scene_detection_t;
+  static std::vector<Sample>& items(scene_detection_batch_t& b) { return b.detections; }
 };
 
 }  // namespace rnav

@@ -1,6 +1,9 @@
 // LCM channel names of the simulations.
 #pragma once
 
+#include <cctype>
+#include <string>
+
 namespace rnav::ch {
 inline constexpr const char* kWindow = "SIM_WINDOW";          // rnav::sim_window_t, clock -> all
 inline constexpr const char* kAck = "SIM_ACK";                // rnav::node_ack_t, all -> clock
@@ -18,4 +21,13 @@ inline constexpr const char* kTruthUav = "TRUTH_UAV";         // rnav::observer_
 inline constexpr const char* kUavNav = "UAV_NAV";             // rnav::observer_batch_t, its navigation solution
 inline constexpr const char* kUavBearing = "UAV_BEARING";     // rnav::bearing_batch_t
 inline constexpr const char* kUavTma = "UAV_TMA";             // rnav::tma_batch_t, the estimates
+// A recorded scene (scene scenario).
+inline constexpr const char* kSceneObserver = "SCENE_OBSERVER";  // rnav::scene_observer_batch_t, the observer's recorded track
+inline constexpr const char* kSceneTargets = "SCENE_TARGETS";    // rnav::scene_target_batch_t, the targets' reference tracks
+/// rnav::scene_detection_batch_t of one sensor: "SCENE_DETECTIONS_" and its name in capitals.
+inline std::string scene_detections(const std::string& sensor) {
+  std::string c = "SCENE_DETECTIONS_";
+  for (char x : sensor) c += static_cast<char>(std::toupper(static_cast<unsigned char>(x)));
+  return c;
+}
 }  // namespace rnav::ch

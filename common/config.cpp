@@ -279,8 +279,8 @@ std::string scenario_kind(const std::string& file) {
   if (!doc.is_object()) throw ConfigError("scenario file '" + file + "': expected a JSON object");
   const auto it = doc.find("kind");
   if (it == doc.end()) return "prl";
-  if (!it->is_string() || (*it != "prl" && *it != "uav"))
-    throw ConfigError("scenario file '" + file + "': key 'kind' must be \"prl\" or \"uav\"");
+  if (!it->is_string() || (*it != "prl" && *it != "uav" && *it != "scene"))
+    throw ConfigError("scenario file '" + file + "': key 'kind' must be \"prl\", \"uav\" or \"scene\"");
   return it->get<std::string>();
 }
 

@@ -23,7 +23,7 @@ double wall_seconds() {
 cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_options) {
   cli::Parser parser(p.program,
                      "--scenario FILE [--set key=value]... [--drop CH:R:W[:A[:K]]]... [--lcm-url URL]" +
-                         std::string(p.writes_out ? " --out DIR" : "") +
+                         std::string(p.writes_out ? " --out DIR" : "") + std::string(p.instance_of.empty() ? "" : " --instance NAME") +
                          "\n--scenario FILE [--set key=value]... --print-options",
                      p.does +
                          "\n\nA node of the lock-step simulation: it waits for the clock (rnav_clock) on "
@@ -41,6 +41,8 @@ cli::Parser node_parser(const NodeProgram& p, NodeArgs& args, bool& print_option
       .value("--lcm-url", "URL", "LCM provider URL", "$LCM_DEFAULT_URL, else LCM's default", args.lcm_url);
   if (p.writes_out)
     parser.value("--out", "DIR", "folder the results are written to (created if missing)", "required", args.out_dir);
+  if (!p.instance_of.empty())
+    parser.value("--instance", "NAME", "which instance of this node to run: " + p.instance_of, "required", args.instance);
   if (p.has_free_mode)
     parser.flag("--free",
                 "run without the lock-step clock, driven by the messages' own time stamps (options: " + p.program +

@@ -21,6 +21,7 @@ struct NodeArgs {
   std::vector<DropSpec> drops;          // --drop CHANNEL:R:W[:A[:K]]
   std::string lcm_url;                  // --lcm-url
   std::string out_dir;                  // --out (loggers only)
+  std::string instance;                 // --instance (a node of which a run starts several, e.g. one per sensor)
 };
 
 /// What a node's process is, for its --help and its messages.
@@ -30,6 +31,9 @@ struct NodeProgram {
   std::string does;         ///< what it does, for --help
   bool writes_out = false;  ///< a logger: --out DIR (required) is where it writes its results
   bool has_free_mode = false;  ///< an estimator: --free runs it without the clock (free_main.hpp)
+  /// A node a run starts once per instance (a scene's sensors): --instance NAME (required) says
+  /// which; its node name is "NAME@INSTANCE" (scripts/run passes what follows the @).
+  std::string instance_of{};   ///< what an instance is, for --help (e.g. "the sensor"); "" for a single node
 };
 
 /// Monotonic wall time [s].
@@ -56,7 +60,9 @@ int run_node_main(int argc, char** argv, const NodeProgram& p,
     NodeArgs args;
     bool print_options = false;
     if (!node_parser(p, args, print_options).parse(argc, argv, std::cout)) return 0;
-    cli::require(p.program, {{"--scenario FILE", !args.scenario_file.empty()}, {"--out DIR", !p.writes_out || !args.out_dir.empty()}});
+    cli::require(p.program, {{"--scenario FILE", !args.scenario_file.empty()},
+                             {"--out DIR", !p.writes_out || !args.out_dir.empty()},
+                             {"--instance NAME", p.instance_of.empty() || !args.instance.empty()}});
     const Sc sc = Sc::load(args.scenario_file, args.overrides);
     if (print_options) {
       sc.print(std::cout);

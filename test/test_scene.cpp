@@ -11,6 +11,7 @@
 #include "scene_geometry.hpp"
 #include "scene_sim.hpp"
 #include "scene_validation.hpp"
+#include "scene_recording_gen.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -20,51 +21,9 @@
 #include <set>
 
 using namespace rnav;
+using namespace rnav_test::scene_gen;
 
 namespace {
-
-const LocalLevelFrame kFrame({63.43, 10.39, 0.0}, 0.0);
-
-// (east, north) [m] -> geodetic, through the frame (x north, y up, z east).
-Geodetic geo(const Eigen::Vector2d& en) { return kFrame.to_geodetic(Eigen::Vector3d(en.y(), 0, en.x())); }
-
-Eigen::Vector2d own(double t) { return {0.5 * t, 0.8 * t}; }
-Eigen::Vector2d boat(int k, double t) {
-  if (k == 1) return {300 + 3 * t, 200 - 1.5 * t};  // 3.4 m/s, passing east of the observer
-  const double w = 2 * M_PI / 240;                   // boat 2: a circle of 150 m about (-250, 300)
-  return {-250 + 150 * std::cos(w * t), 300 + 150 * std::sin(w * t)};
-}
-
-constexpr double kRadarBiasRad = 1.5 * M_PI / 180;  // the hidden effect: the radar's bearings 1.5 deg off
-constexpr double kDuration = 240;
-
-// An independent recording: a radar (2 s scans, 0.3 deg and 2 m white noise, p_d 0.9) and a camera
-// (0.25 s, 0.2 deg, p_d 0.8), a clutter return per radar scan, exact references at 1 Hz.
-MultiSensorData recording(std::uint64_t seed, double radar_bias_rad) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> N(0, 1);
-  std::uniform_real_distribution<double> U(0, 1);
-  MultiSensorData d;
-  for (double t = 0; t <= kDuration; t += 0.5) d.observer.push_back({t, geo(own(t))});
-  d.observer_heading_deg.assign(d.observer.size(), NAN);
-  for (int k = 1; k <= 2; ++k)
-    for (double t = 0; t <= kDuration; t += 1) d.truth[std::to_string(k)].push_back({t, geo(boat(k, t))});
-  for (double t = 2; t < kDuration - 2; t += 2) {
-    for (int k = 1; k <= 2; ++k) {
-      if (U(rng) > 0.9) continue;
-      const Eigen::Vector2d r = boat(k, t) - own(t);
-      d.detections.push_back({t, "radar", r.norm() + 2 * N(rng), wrap_pi(std::atan2(r.x(), r.y()) + radar_bias_rad + 0.3 * kDegToRad * N(rng)), NAN});
-    }
-    d.detections.push_back({t, "radar", 100 + 900 * U(rng), wrap_pi(2 * M_PI * U(rng)), NAN});
-  }
-  for (double t = 2; t < kDuration - 2; t += 0.25)
-    for (int k = 1; k <= 2; ++k) {
-      if (U(rng) > 0.8) continue;
-      const Eigen::Vector2d r = boat(k, t) - own(t);
-      d.detections.push_back({t, "eo", NAN, wrap_pi(std::atan2(r.x(), r.y()) + 0.2 * kDegToRad * N(rng)), NAN});
-    }
-  return d;
-}
 
 AssociationOptions assoc() {
   AssociationOptions o;

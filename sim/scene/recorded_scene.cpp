@@ -1,5 +1,6 @@
 #include "recorded_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -26,6 +27,9 @@ void check_track(const std::vector<GeoSample>& tr, const std::string& what) {
 
 void RecordedScene::check() const {
   check_track(observer, "the observer's track");
+  if (!observer_heading_deg.empty() && observer_heading_deg.size() != observer.size())
+    throw std::invalid_argument("recorded scene: the observer's heading has " + std::to_string(observer_heading_deg.size()) +
+                                " samples, its track " + std::to_string(observer.size()));
   for (const auto& [t, tr] : targets) check_track(tr, "target " + t + "'s track");
   if (!(reference_max_gap_s > 0)) throw std::invalid_argument("recorded scene: reference_max_gap_s must be > 0");
   if (!(min_speed_mps >= 0)) throw std::invalid_argument("recorded scene: min_speed_mps must be >= 0");
@@ -46,5 +50,29 @@ void RecordedScene::check() const {
       if (s.clutter[i].t_s < s.clutter[i - 1].t_s) throw std::invalid_argument(w + "clutter times decrease at return " + std::to_string(i));
   }
 }
+
+double RecordedScene::start_s() const {
+  double t = observer.empty() ? INFINITY : observer.front().t_s;
+  for (const auto& [_, tr] : targets)
+    if (!tr.empty()) t = std::min(t, tr.front().t_s);
+  for (const auto& s : sensors)
+    if (!s.scan_times_s.empty()) t = std::min(t, s.scan_times_s.front());
+  if (!std::isfinite(t)) throw std::invalid_argument("recorded scene: no recorded time (no track, no scan)");
+  return std::floor(t);
+}
+
+double RecordedScene::duration_s() const {
+  double t = observer.empty() ? -INFINITY : observer.back().t_s;
+  for (const auto& [_, tr] : targets)
+    if (!tr.empty()) t = std::max(t, tr.back().t_s);
+  for (const auto& s : sensors)
+    if (!s.scan_times_s.empty()) t = std::max(t, s.scan_times_s.back());
+  return t - start_s();
+}
+
+// t - start is exact for the recordings' times (Sterbenz: start <= t <= 2 start for Unix
+// seconds), so a time stamp with microsecond digits comes back to the same digits.
+std::int64_t SceneTime::utime(double t) const { return epoch_utime + std::llround((t - start_s) * 1e6); }
+double SceneTime::t_s(std::int64_t u) const { return start_s + static_cast<double>(u - epoch_utime) * 1e-6; }
 
 }  // namespace rnav::scene

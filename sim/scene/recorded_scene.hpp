@@ -8,6 +8,7 @@
 
 #include "frames.hpp"
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ struct SceneSensor {
 struct RecordedScene {
   std::string name;                    ///< the recording's name (a pooled report's recording scope)
   std::vector<GeoSample> observer;     ///< the observer's track, t_s increasing
+  /// [deg] the observer's heading at observer[i].t_s, clockwise from true north, [0, 360); NaN
+  /// where the recording has none. Empty (no heading at all) or the length of observer.
+  std::vector<double> observer_heading_deg;
   std::map<std::string, std::vector<GeoSample>> targets;  ///< each target's reference track, t_s increasing
   std::vector<SceneSensor> sensors;
   double reference_max_gap_s = 2;      ///< [s] a reference is interpolated only across gaps this short (as the diagnosis), > 0
@@ -59,6 +63,19 @@ struct RecordedScene {
   /// Throws std::invalid_argument naming the first fault (empty or unordered track, a sensor
   /// without scans, a probability or rate out of range).
   void check() const;
+  /// [s] The scene's start on the recording's time scale: its earliest recorded time (observer,
+  /// targets, scans), rounded down to a whole second. Sim time 0 of a run of the scene.
+  double start_s() const;
+  /// [s] The scene's length from start_s() to its latest recorded time.
+  double duration_s() const;
+};
+
+/// A recorded time as a run's utime and back: utime = epoch_utime + round((t - start) 1e6).
+struct SceneTime {
+  double start_s = 0;             ///< [s] RecordedScene::start_s()
+  std::int64_t epoch_utime = 0;   ///< [us since Unix epoch] sim time 0 (runner.epoch_utime)
+  std::int64_t utime(double t_s) const;
+  double t_s(std::int64_t utime) const;
 };
 
 }  // namespace rnav::scene

@@ -1,5 +1,8 @@
 #include "inproc_ensemble.hpp"
 
+#include "scene_logger_node.hpp"
+#include "scene_nodes.hpp"
+
 #include "trajectory.hpp"
 #include "datalink_node.hpp"
 #include "prl_bias_node.hpp"
@@ -85,6 +88,23 @@ InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed
   ConductorOptions shard;
   shard.first_realization = first;
   return run_inproc_nodes(bus, nodes, sc.runner, sc.sensor.period_s, sc.duration_s, n, seed, drops, shard);
+}
+
+InprocResult run_inproc_ensemble(const SceneScenario& sc, int n, std::int64_t seed,
+                                 const std::string& out_dir, const std::vector<std::string>& drops, int first) {
+  InprocBus bus;
+  std::vector<std::unique_ptr<LockstepNode>> nodes;
+  const auto setup = sc.setup;
+  const double timeout = sc.runner.peer_timeout_s;
+  nodes.push_back(std::make_unique<scene::SceneTruthNode>(bus, setup->scene, setup->time, timeout));
+  for (const auto& s : setup->sensors)
+    nodes.push_back(std::make_unique<scene::SceneSensorNode>(bus, setup->scene, s, setup->errors, setup->time, timeout));
+  nodes.push_back(std::make_unique<SceneLoggerNode>(
+      bus, sc.logger, setup->scene.name, setup->sensors, setup->targets, setup->time, timeout, sc.json_text(), out_dir,
+      [setup](const SceneRealization& r, long, const std::string& dir) { write_scene_recording(*setup, r, dir); }));
+  ConductorOptions shard;
+  shard.first_realization = first;
+  return run_inproc_nodes(bus, nodes, sc.runner, SceneScenario::kStepS, sc.duration_s(), n, seed, drops, shard);
 }
 
 }  // namespace rnav

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include "scenario.hpp"
+#include "scene_scenario.hpp"
 #include "uav_scenario.hpp"
 
 #include <string>
@@ -45,6 +46,11 @@ InprocResult run_inproc_ensemble(const Scenario& sc, int n, std::int64_t seed,
                                  const std::vector<std::string>& drops = {}, int first = 0);
 /// The same for the azimuth-only (UAV) scenario.
 InprocResult run_inproc_ensemble(const UavScenario& sc, int n, std::int64_t seed,
+                                 const std::string& out_dir,
+                                 const std::vector<std::string>& drops = {}, int first = 0);
+
+/// The same for a recorded scene (its truth, one node per sensor, its logger).
+InprocResult run_inproc_ensemble(const SceneScenario& sc, int n, std::int64_t seed,
                                  const std::string& out_dir,
                                  const std::vector<std::string>& drops = {}, int first = 0);
 

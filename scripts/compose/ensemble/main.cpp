@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     bool shard = false;  // --first-realization given: a shard of a larger ensemble
     std::int64_t seed = 1;
     rnav::cli::Parser p("rnav_inproc", "--scenario FILE [--set key=value]... [--realizations N] [--first-realization F] [--seed S] [--out DIR] [--force]",
-                        "The whole ensemble (landing radar or azimuth-only, as the scenario's kind says) in one process: "
+                        "The whole ensemble (landing radar, azimuth-only or recorded scene, as the scenario's kind says) in one process: "
                         "the same nodes as scripts/run, over an in-process bus instead of LCM. Its statistics are "
                         "byte-identical to the multi-process run's for the same seed (benchmark, determinism reference).");
     p.value("--scenario", "FILE", "scenario JSON file (sim/scenarios/*.json)", "required", file)
@@ -54,9 +54,10 @@ int main(int argc, char** argv) {
       if (!shard) rnav::check_track_realization(sc.logger, n);
       return rnav::run_inproc_ensemble(sc, n, seed, out, drops, first);
     };
-    const auto r = rnav::scenario_kind(file) == "uav"
-                       ? uav()
-                       : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops, first);
+    const std::string kind = rnav::scenario_kind(file);
+    const auto r = kind == "uav"     ? uav()
+                   : kind == "scene" ? rnav::run_inproc_ensemble(rnav::SceneScenario::load(file, overrides), n, seed, out, drops, first)
+                                     : rnav::run_inproc_ensemble(rnav::Scenario::load(file, overrides), n, seed, out, drops, first);
     if (r.exit_code != 0) {
       std::cerr << rnav::cli::error_line("rnav_inproc", "run failed: " + r.failure) << "\n";
       return r.exit_code;

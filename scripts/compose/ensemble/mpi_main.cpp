@@ -161,6 +161,9 @@ bool parse(int argc, char** argv, Options& o, std::ostream& help) {
                                   {"--out DIR", !o.out.empty()}});
   if (o.mode == "lcm" && o.run_script.empty()) throw rnav::ConfigError("--mode lcm needs --run-script PATH (scripts/run)");
   if (!std::filesystem::is_regular_file(o.scenario)) throw rnav::ConfigError("--scenario " + o.scenario + ": no such file");
+  if (rnav::scenario_kind(o.scenario) == "scene")
+    throw rnav::ConfigError("--scenario " + o.scenario + ": a recorded scene (kind \"scene\") is not sharded over MPI ranks; "
+                            "run it with scripts/run (an ensemble of 100 takes seconds)");
   return true;
 }
 

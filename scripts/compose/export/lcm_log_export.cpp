@@ -40,6 +40,9 @@ int export_lcm_log(const std::string& scenario_file, const std::vector<std::stri
   for (const auto& ov : overrides) apply_override(doc, ov);
   ConductorOptions base;
   base.scenario_kind = scenario_kind(scenario_file);
+  if (base.scenario_kind == "scene")
+    throw ConfigError(scenario_file + ": a recorded scene (kind \"scene\") is not exported this way; record its run with "
+                      "scripts/run SCENARIO --lcm-log FILE");
   base.scenario_source = scenario_file;
   base.scenario_json = doc.dump();
 

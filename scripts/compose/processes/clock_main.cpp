@@ -8,12 +8,14 @@
 #include "node_main.hpp"
 #include "progress.hpp"
 #include "scenario.hpp"
+#include "scene_scenario.hpp"
 #include "uav_scenario.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -92,7 +94,7 @@ rnav::cli::Parser make_parser(Options& a) {
              "none", a.events)
       .value("--lcm-url", "URL", "LCM provider URL", "$LCM_DEFAULT_URL, else LCM's default", a.url)
       .flag("--check", "validate the scenario, print it and its derived times [s], and exit", a.check)
-      .value("--print-kind", "FILE", "print the scenario kind of FILE (prl or uav) and exit", "", a.print_kind)
+      .value("--print-kind", "FILE", "print the scenario kind of FILE (prl, uav or scene) and exit", "", a.print_kind)
       .flag("--print-nodes",
             "validate the scenario, print the nodes a run of it starts (comma-separated, each the process rnav_NAME) and exit",
             a.print_nodes)
@@ -102,8 +104,10 @@ rnav::cli::Parser make_parser(Options& a) {
 
 // Prints the nodes a run of the scenario starts, comma-separated.
 void print_node_names(const Options& a) {
-  const auto names = rnav::scenario_kind(a.scenario_file) == "uav" ? rnav::UavScenario::load(a.scenario_file, a.overrides).node_names()
-                                                                   : rnav::Scenario::load(a.scenario_file, a.overrides).node_names();
+  const std::string kind = rnav::scenario_kind(a.scenario_file);
+  const auto names = kind == "uav"     ? rnav::UavScenario::load(a.scenario_file, a.overrides).node_names()
+                     : kind == "scene" ? rnav::SceneScenario::load(a.scenario_file, a.overrides).node_names()
+                                       : rnav::Scenario::load(a.scenario_file, a.overrides).node_names();
   for (std::size_t i = 0; i < names.size(); ++i) std::cout << (i ? "," : "") << names[i];
   std::cout << "\n";
 }
@@ -127,6 +131,26 @@ bool load_uav(const Options& a, ClockScenario& s) {
     sc.print(std::cout);
     std::cout << "step_s=" << s.step_s << " duration_s=" << s.duration_s << " orbit_period_s=" << sc.orbit_period_s()
               << " eval_time_s=" << sc.eval_time_s() << "\n";
+    return false;
+  }
+  return true;
+}
+
+// A scene scenario's clock needs (its recording read); with --check, prints the scenario and its
+// derived times [s] instead and returns false.
+bool load_scene(const Options& a, ClockScenario& s) {
+  const auto sc = rnav::SceneScenario::load(a.scenario_file, a.overrides);
+  s.runner = sc.runner;
+  s.step_s = rnav::SceneScenario::kStepS;
+  s.duration_s = sc.duration_s();
+  if (a.check) {
+    sc.print(std::cout);
+    std::cout << "step_s=" << s.step_s << " duration_s=" << s.duration_s << " start_s=" << std::fixed << std::setprecision(3)
+              << sc.setup->time.start_s << std::defaultfloat << " sensors=";
+    for (std::size_t i = 0; i < sc.setup->sensors.size(); ++i) std::cout << (i ? "," : "") << sc.setup->sensors[i];
+    std::cout << " targets=";
+    for (std::size_t i = 0; i < sc.setup->targets.size(); ++i) std::cout << (i ? "," : "") << sc.setup->targets[i];
+    std::cout << "\n";
     return false;
   }
   return true;
@@ -225,7 +249,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     ClockScenario s;
-    const bool run_it = rnav::scenario_kind(a.scenario_file) == "uav" ? load_uav(a, s) : load_prl(a, s);
+    const std::string kind = rnav::scenario_kind(a.scenario_file);
+    const bool run_it = kind == "uav" ? load_uav(a, s) : kind == "scene" ? load_scene(a, s) : load_prl(a, s);
     if (!run_it) return 0;  // --check
     return run(a, s);
   });

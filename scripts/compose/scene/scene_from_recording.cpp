@@ -63,6 +63,7 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
   scene::RecordedScene sc;
   sc.name = name;
   sc.observer = data.observer;
+  sc.observer_heading_deg = data.observer_heading_deg;
   sc.targets = data.truth;
   sc.reference_max_gap_s = o.reference_max_gap_s;
   sc.min_speed_mps = o.min_speed_mps;

@@ -1,0 +1,183 @@
+// A recorded scene as a run (kind "scene"): its truth, one process per sensor and its logger,
+// exchanging LCM messages like the other scenarios' processes (scripts/run), or the same nodes in
+// one process (rnav_inproc). Checked on a recording of the suite's own generator
+// (scene_recording_gen.hpp, times in Unix seconds as real recordings stamp them):
+//   - each realization the logger writes is what build/bin/rnav_scene simulate writes for the
+//     same seed and realization, byte for byte, and summary.json counts what it holds;
+//   - the multi-process run over LCM (batches of 10 s, and one message per sample in windows of
+//     0.5 s) writes the in-process run's files, byte for byte;
+//   - the loop over LCM: a radar bias hidden in the recording, diagnosed, the report given as
+//     the run's errors (--effects), and the diagnosis of the run's recording names it again,
+//     its estimate within its standard errors of the injected value; the nominal run's does not;
+//   - bad input named: no recording, a sensor the recording lacks, --effects on a UAV scenario.
+#include "multi_diagnose.hpp"
+#include "scene_recording_gen.hpp"
+#include "shell.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+namespace fs = std::filesystem;
+using namespace rnav_test;
+using namespace rnav_test::scene_gen;
+
+namespace {
+
+const std::string kRoot = RNAV_SOURCE_DIR, kBin = std::string(RNAV_BINARY_DIR) + "/bin";
+constexpr double kUnixT0 = 1.7e9 + 0.25;  // [s] the recording's first time stamp: Unix seconds
+constexpr std::uint64_t kRecordingSeed = 5;
+// The scene options the generator needs: its noise and its radar's gate (scene_validation's test).
+const nlohmann::json kScene = {{"sigma_bearing_deg", 0.3}, {"sigma_range_m", 2}, {"gate_position_m", 30}, {"calibration_seed", 7}};
+const std::string kSimOptions = " --sigma-deg 0.3 --sigma-range-m 2 --gate-m 30 ";
+
+// The generator's recording in d/rec and a scene scenario d/scene.json replaying it (plus `extra` keys of "scene").
+void make_scene(const fs::path& d, double bias_rad, const nlohmann::json& extra = nlohmann::json::object(), long recordings = 3) {
+  recording(kRecordingSeed, bias_rad, kUnixT0).write_folder((d / "rec").string());
+  nlohmann::json sc = {{"name", "gen"}, {"kind", "scene"}, {"scene", kScene}, {"logger", {{"recordings", recordings}}}};
+  sc["scene"]["recording"] = "rec";
+  for (const auto& [k, v] : extra.items()) sc["scene"][k] = v;
+  std::ofstream((d / "scene.json").string()) << sc.dump(1);
+}
+
+// The files of two folders, equal byte for byte (each name of a's in b too; hidden files aside).
+void same_folder(const fs::path& a, const fs::path& b) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(a)) {
+    if (!e.is_regular_file() || e.path().filename().string()[0] == '.') continue;  // rnav_scene's output marker
+    INFO(e.path() << " against " << b / e.path().filename());
+    REQUIRE(fs::exists(b / e.path().filename()));
+    CHECK(slurp(e.path()) == slurp(b / e.path().filename()));
+    ++n;
+  }
+  CHECK(n >= 4);  // observer.csv, detections.csv, truth.csv and their units
+}
+
+std::string folder(int k) {
+  char b[32];
+  std::snprintf(b, sizeof b, "realization_%06d", k);
+  return b;
+}
+
+// The named effects of a report: (name, sensor) -> (estimate, stderr) of its first parameter.
+std::map<std::pair<std::string, std::string>, std::pair<double, double>> named(const nlohmann::json& rep) {
+  std::map<std::pair<std::string, std::string>, std::pair<double, double>> m;
+  for (const auto& e : rep["effects"]) {
+    const auto& sc = e["scope"];
+    const std::string sensor = sc.contains("sensor") && sc["sensor"].is_string() ? sc["sensor"].get<std::string>() : "";
+    const auto& est = e["estimate"];
+    const auto& se = e["stderr"];
+    m[{e["name"].get<std::string>(), sensor}] = {est.is_array() ? est.back().get<double>() : est.get<double>(),
+                                                  se.is_array() ? se.back().get<double>() : se.get<double>()};
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("scene run: each realization as rnav_scene simulate writes it, and the summary counts them", "[scene]") {
+  const fs::path d = scratch("scene_run_inproc");
+  make_scene(d, kRadarBiasRad);
+  sh_ok(kBin + "/rnav_inproc --scenario " + (d / "scene.json").string() + " --realizations 3 --seed 7 --out " + (d / "out").string());
+  double radar_rows = 0;
+  for (int k = 0; k < 3; ++k) {
+    const fs::path e = d / ("expect" + std::to_string(k));
+    sh_ok(kBin + "/rnav_scene simulate " + (d / "rec").string() + kSimOptions + "--seed 7 --realization " + std::to_string(k) +
+          " --out " + e.string());
+    same_folder(e, d / "out" / folder(k));
+    const auto sim = rnav::MultiSensorData::read_folder(e.string());
+    for (const auto& x : sim.detections) radar_rows += x.sensor == "radar" && !x.empty_scan();
+  }
+  CHECK_FALSE(fs::exists(d / "out" / folder(3)));
+  const auto j = nlohmann::json::parse(slurp(d / "out" / "summary.json"));
+  CHECK(j["realizations"] == 3);
+  CHECK(j["kind"] == "scene");
+  CHECK(j["sensors"]["radar"]["detections"]["mean"].get<double>() == Approx(radar_rows / 3).epsilon(1e-12));
+  CHECK(j["sensors"]["eo"]["clutter"]["mean"].get<double>() == 0);  // the generator's camera sees no clutter
+  CHECK(j["sensors"]["radar"]["clutter"]["mean"].get<double>() > 50);       // one replayed return per 2 s scan, ~117 scans
+  // a realization differs from the next (its own streams)
+  CHECK(slurp(d / "out" / folder(0) / "detections.csv") != slurp(d / "out" / folder(1) / "detections.csv"));
+  // the recording's own observer and truth, through the truth node and the logger
+  const auto real = rnav::MultiSensorData::read_folder((d / "rec").string());
+  const auto sim = rnav::MultiSensorData::read_folder((d / "out" / folder(0)).string());
+  REQUIRE(sim.observer.size() == real.observer.size());
+  CHECK(sim.observer.front().t_s == real.observer.front().t_s);
+  CHECK(sim.truth.at("2").back().t_s == real.truth.at("2").back().t_s);
+}
+
+TEST_CASE("scene run: separate processes over LCM write the in-process run's files, byte for byte", "[scene][integration]") {
+  const fs::path d = scratch("scene_run_lcm");
+  make_scene(d, kRadarBiasRad);
+  const std::string scen = (d / "scene.json").string();
+  sh_ok(kBin + "/rnav_inproc --scenario " + scen + " --realizations 3 --seed 7 --out " + (d / "inproc").string());
+  for (const std::string wire : {"batch", "sample"}) {
+    const fs::path out = d / ("lcm_" + wire);
+    const std::string set = wire == "sample" ? " --set runner.wire=sample --set runner.window_s=0.5" : "";
+    const std::string log = sh_ok(kRoot + "/scripts/run " + scen + " --realizations 3 --seed 7 --net netns --out " + out.string() + set);
+    INFO(log);
+    CHECK(slurp(out / "summary.json") == slurp(d / "inproc" / "summary.json"));
+    for (int k = 0; k < 3; ++k) same_folder(d / "inproc" / folder(k), out / folder(k));
+    // one process per sensor, each naming what it published
+    for (const std::string s : {"radar", "eo"}) {
+      const std::string node_log = slurp(out / "logs" / ("scene_sensor@" + s + ".log"));
+      std::string upper = s;
+      for (auto& c : upper) c = static_cast<char>(std::toupper(c));
+      CHECK(node_log.find("published SCENE_DETECTIONS_" + upper + "=") != std::string::npos);
+    }
+    CHECK(slurp(out / "logs" / "scene_truth.log").find("SCENE_OBSERVER=") != std::string::npos);
+  }
+}
+
+TEST_CASE("scene run: a hidden radar bias, diagnosed, injected over LCM and named again; not without it", "[scene][integration]") {
+  const fs::path d = scratch("scene_run_loop");
+  make_scene(d, kRadarBiasRad, nlohmann::json::object(), 1);
+  rnav::MultiDiagnoseOptions mo;
+  mo.association.gate_position_m = 30;
+  mo.sigma_bearing_deg = 0.3;
+  mo.sigma_range_m = 2;
+  const auto real = rnav::diagnose_multi(rnav::MultiSensorData::read_folder((d / "rec").string()), mo);
+  std::ofstream((d / "report.json").string()) << real.to_json().dump(1);
+  const auto injected = named(nlohmann::json::parse(real.to_json().dump()));
+  const auto key = std::make_pair(std::string("bearing_bias"), std::string("radar"));
+  INFO(real.text());
+  REQUIRE(injected.count(key));
+  const std::string scen = (d / "scene.json").string();
+  for (const bool extended : {true, false}) {
+    const fs::path out = d / (extended ? "extended" : "nominal");
+    sh_ok(kRoot + "/scripts/run " + scen + " --realizations 1 --seed 3 --net netns --out " + out.string() +
+          (extended ? " --effects " + (d / "report.json").string() : ""));
+    const auto rep = rnav::diagnose_multi(rnav::MultiSensorData::read_folder((out / folder(0)).string()), mo);
+    const auto found = named(nlohmann::json::parse(rep.to_json().dump()));
+    INFO((extended ? "extended" : "nominal") << ": " << rep.text());
+    if (!extended) {
+      CHECK_FALSE(found.count(key));
+      continue;
+    }
+    REQUIRE(found.count(key));
+    // The re-estimate scatters about the injected value with the simulation's own standard
+    // error (one realization): 4 of its stated standard errors is the bound (two-sided 1e-4).
+    const auto [est, se] = found.at(key);
+    CHECK(std::abs(est - injected.at(key).first) < 4 * se);
+  }
+}
+
+TEST_CASE("scene run: a scenario without a recording, a sensor it lacks and --effects on a UAV scenario are named", "[scene]") {
+  const fs::path d = scratch("scene_run_errors");
+  make_scene(d, 0);
+  std::ofstream((d / "norec.json").string()) << R"({"kind": "scene", "scene": {"sigma_bearing_deg": 0.3}})";
+  auto r = sh(kBin + "/rnav_clock --scenario " + (d / "norec.json").string() + " --check");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("scene.recording") != std::string::npos);
+  r = sh(kBin + "/rnav_scene_sensor --scenario " + (d / "scene.json").string() + " --instance radr");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("radar") != std::string::npos);  // did you mean, and the list
+  CHECK(r.output.find("eo") != std::string::npos);
+  r = sh(kRoot + "/scripts/run uav --effects " + (d / "scene.json").string() + " --realizations 1 --out " + (d / "uav").string());
+  CHECK(r.status != 0);
+  CHECK(r.output.find("--effects applies to") != std::string::npos);
+  // the nodes a run of it starts: its truth, one per sensor, its logger
+  CHECK(sh_ok(kBin + "/rnav_clock --scenario " + (d / "scene.json").string() + " --print-nodes") ==
+        "scene_truth,scene_sensor@eo,scene_sensor@radar,scene_logger\n");
+}
