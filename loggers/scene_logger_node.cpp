@@ -4,22 +4,21 @@
 #include <rnav/scene_observer_batch_t.hpp>
 #include <rnav/scene_target_batch_t.hpp>
 
-#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
 namespace rnav {
 
 std::string scene_realization_folder(long realization) {
-  char b[32];
-  std::snprintf(b, sizeof b, "realization_%06ld", realization);
-  return b;
+  std::string n = std::to_string(realization);
+  if (n.size() < 6) n.insert(0, 6 - n.size(), '0');
+  return "realization_" + n;
 }
 
 SceneLoggerNode::SceneLoggerNode(Bus& bus, const SceneLoggerOptions& o, const std::string& recording, std::vector<std::string> sensors,
                                  std::vector<std::string> targets, scene::SceneTime time, double peer_timeout_s,
                                  std::string scenario_json, std::string out_dir, SceneRecordingWriter write)
-    : EnsembleLoggerNode(bus, "scene_logger", peer_timeout_s, SceneStats(recording, sensors, std::move(targets)),
+    : EnsembleLoggerNode(bus, "scene_logger", peer_timeout_s, SceneRunStats(recording, sensors, std::move(targets)),
                          std::move(scenario_json), std::move(out_dir)),
       o_(o),
       sensors_(std::move(sensors)),

@@ -1,6 +1,6 @@
 // Node "scene_logger": joins a recorded scene run's SCENE_OBSERVER, SCENE_TARGETS and every
 // sensor's SCENE_DETECTIONS_<SENSOR> into one realization (times back on the recording's scale),
-// adds it to SceneStats when the clock moves past it, and hands realizations 0 ...
+// adds it to SceneRunStats when the clock moves past it, and hands realizations 0 ...
 // logger.recordings-1 to the writer the composition root gives (a recording folder each:
 // realization_NNNNNN/). On FINISH: summary.json, summary.txt and scenario.json
 // (ensemble_logger_node.hpp). A detection on another sensor's channel, or out of its window or
@@ -10,7 +10,7 @@
 #include "ensemble_logger_node.hpp"
 #include "recorded_scene.hpp"
 #include "scene_logger_options.hpp"
-#include "scene_stats.hpp"
+#include "scene_run_stats.hpp"
 
 #include <functional>
 #include <string>
@@ -24,7 +24,7 @@ using SceneRecordingWriter = std::function<void(const SceneRealization&, long re
 /// The folder of realization k: "realization_" and k in six digits.
 std::string scene_realization_folder(long realization);
 
-class SceneLoggerNode : public EnsembleLoggerNode<SceneStats, SceneRealization> {
+class SceneLoggerNode : public EnsembleLoggerNode<SceneRunStats, SceneRealization> {
  public:
   /// @param sensors  the scene's sensors, in its order (a channel each)
   /// @param targets  the scene's targets

@@ -181,3 +181,35 @@ TEST_CASE("scene run: a scenario without a recording, a sensor it lacks and --ef
   CHECK(sh_ok(kBin + "/rnav_clock --scenario " + (d / "scene.json").string() + " --print-nodes") ==
         "scene_truth,scene_sensor@eo,scene_sensor@radar,scene_logger\n");
 }
+
+TEST_CASE("scene validation of a landing flight: a range bias of the independent generator found outside the nominal band, inside the extended", "[scene]") {
+  const fs::path d = scratch("scene_prl_validate");
+  // the independent generator's flight (its own geodesy, kinematics and noise) with a 60 m range bias
+  sh_ok("/usr/bin/python3 " + kRoot + "/scripts/flightgen.py landing " + (d / "flight").string() +
+        " --seed 3 --set range_bias_m=60 --set geometry=straight > /dev/null");
+  sh_ok(kRoot + "/scripts/diagnose prl " + (d / "flight").string() + " --injections 0 --json " + (d / "report.json").string());
+  // the base scenario: the generator's white noise (2 sigma), no constant bias of the paper's radar
+  std::ofstream((d / "base.json").string())
+      << R"({"prl": {"bias_range_m": 0, "bias_course_deg": 0, "bias_glide_deg": 0, "noise2s_range_m": 24, "noise2s_course_deg": 0.5,
+                     "noise2s_glide_deg": 0.6, "max_range_m": 200000}})";
+  sh_ok(kBin + "/rnav_scene validate " + (d / "flight").string() + " --scenario " + (d / "base.json").string() + " --effects " +
+        (d / "report.json").string() + " --runs 40 --json " + (d / "v.json").string());
+  const auto v = nlohmann::json::parse(slurp(d / "v.json"));
+  // z of the real value in a band taken as the 5-95 % quantiles of a normal: sigma = width / 3.29.
+  auto z = [&](const std::string& model, const std::string& q, const std::string& st) {
+    for (const auto& r : v["rows"])
+      if (r["model"] == model && r["quantity"] == q && r["statistic"] == st) {
+        const double lo = r["band_lo"], hi = r["band_hi"], x = r["real"];
+        return (x - 0.5 * (lo + hi)) / ((hi - lo) / 3.29);
+      }
+    FAIL("no row " << model << " " << q << " " << st);
+    return 0.0;
+  };
+  // 60 m against a band about 1.2 m wide per sigma: tens of sigmas without the bias; with the
+  // report's bias within 4 (two-sided 6e-5 for a normal; the band's quantiles from 40 runs
+  // carry about 20 % error in width).
+  CHECK(z("nominal", "range", "mean") > 10);
+  CHECK(std::abs(z("extended", "range", "mean")) < 4);
+  CHECK(std::abs(z("extended", "range", "sd")) < 4);
+  CHECK(std::abs(z("extended", "elevation", "mean")) < 4);
+}

@@ -9,7 +9,7 @@
 #include "runner_options.hpp"
 #include "scene_errors.hpp"
 #include "scene_logger_options.hpp"
-#include "scene_stats.hpp"
+#include "scene_run_stats.hpp"
 
 #include <memory>
 #include <ostream>

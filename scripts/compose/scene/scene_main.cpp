@@ -14,9 +14,12 @@
 #include "scene_from_recording.hpp"
 #include "scene_sim.hpp"
 #include "scene_validation.hpp"
+#include "prl_report.hpp"
+#include "prl_validation.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -28,7 +31,7 @@ namespace {
 
 struct Args {
   std::vector<std::string> pos;
-  std::string effects, out, json, name;
+  std::string effects, out, json, name, scenario;
   std::uint64_t seed = 1, realization = 0;
   int runs = 100, threads = 2, min_n = 20;
   double sigma_deg = 0.5, sigma_range_m = 1.0;
@@ -67,14 +70,17 @@ std::string fmt(double x, const char* f = "%.4g") {
   return b;
 }
 
-// A row's values in the unit shown: bearings in degrees.
+// An angle quantity (shown in degrees, held in radians).
+bool angle(const rnav::ValidationRow& r) { return r.quantity == "bearing" || r.quantity == "azimuth" || r.quantity == "elevation"; }
+
+// A row's values in the unit shown: angles in degrees.
 double shown(const rnav::ValidationRow& r, double x) {
-  return r.quantity == "bearing" && (r.statistic == "mean" || r.statistic == "sd") ? x * 180 / M_PI : x;
+  return angle(r) && (r.statistic == "mean" || r.statistic == "sd") ? x * 180 / M_PI : x;
 }
 
 std::string unit_of(const rnav::ValidationRow& r) {
   if (r.statistic == "lag1" || r.statistic == "detection_rate") return "1";
-  return r.quantity == "bearing" ? "deg" : "m";
+  return angle(r) ? "deg" : "m";
 }
 
 // Per pair: inside on every statistic (of both quantities)?
@@ -91,48 +97,31 @@ std::map<std::string, bool> pairs_inside(const std::vector<rnav::ValidationRow>&
   return in;
 }
 
-int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
-  const rnav::scene::RecordedScene base = scene_of(a, d, name);
-  const rnav::SceneStats real = rnav::scene_stats(d, a.assoc);
-  const double sb = a.sigma_deg * M_PI / 180;
-  std::vector<std::pair<std::string, rnav::scene::SceneErrors>> models;
-  if (!a.effects.empty()) {
-    const auto ext = rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
-    models.push_back({"nominal", rnav::nominal_errors(ext.nominal_bearing_sigma_rad, ext.nominal_range_sigma_m)});
-    models.push_back({"extended", ext});
-  } else {
-    models.push_back({"nominal", rnav::nominal_errors(sb, a.sigma_range_m)});
-  }
-  std::vector<rnav::ValidationRow> rows;
-  std::map<std::string, std::vector<rnav::ValidationRow>> by_model;
-  for (const auto& [label, err] : models) {
-    rnav::scene::RecordedScene sc = base;
-    rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
-    const auto sims = rnav::simulated_stats(d, sc, err, a.assoc, a.runs, a.seed, a.threads);
-    by_model[label] = rnav::validation_rows(name, label, real, sims);
-    rows.insert(rows.end(), by_model[label].begin(), by_model[label].end());
-  }
+// The table, the summary per model and --json of one recording's rows per model (in order).
+int report_validation(const Args& a, const std::string& name, const std::vector<std::pair<std::string, std::vector<rnav::ValidationRow>>>& by_model) {
   std::cout << "validate " << name << ": " << a.runs << " simulations per model (seed " << a.seed << "), the 5-95 % band of each statistic\n";
   std::cout << "  pair                      quantity  statistic        n       real";
-  for (const auto& [label, _] : models) std::cout << "  " << label << " band          ";
+  for (const auto& [label, _] : by_model) std::cout << "  " << label << " band          ";
   std::cout << "\n";
-  const auto& first = by_model[models.front().first];
+  const auto& first = by_model.front().second;
   for (std::size_t i = 0; i < first.size(); ++i) {
     const auto& r = first[i];
     char line[160];
     std::snprintf(line, sizeof line, "  %-25s %-9s %-14s %5d %10s %-4s", r.pair.c_str(), r.quantity.c_str(), r.statistic.c_str(), r.n,
                   fmt(shown(r, r.real)).c_str(), unit_of(r).c_str());
     std::cout << line;
-    for (const auto& [label, _] : models) {
-      const auto& x = by_model[label][i];
+    for (const auto& [label, rows] : by_model) {
+      const auto& x = rows[i];
       std::snprintf(line, sizeof line, "  [%9s, %9s] %-3s", fmt(shown(x, x.band_lo)).c_str(), fmt(shown(x, x.band_hi)).c_str(), x.inside ? "in" : "OUT");
       std::cout << line;
     }
     std::cout << "\n";
   }
-  for (const auto& [label, _] : models) {
+  std::vector<rnav::ValidationRow> all;
+  for (const auto& [label, rows] : by_model) {
+    all.insert(all.end(), rows.begin(), rows.end());
     std::map<std::string, std::string> outside;
-    const auto in = pairs_inside(by_model[label], a.min_n, &outside);
+    const auto in = pairs_inside(rows, a.min_n, &outside);
     int k = 0;
     for (const auto& [p, ok] : in) k += ok;
     std::cout << "  " << label << ": " << k << " of " << in.size() << " pairs with >= " << a.min_n
@@ -150,11 +139,60 @@ int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& n
     j["runs"] = a.runs;
     j["seed"] = a.seed;
     j["min_n"] = a.min_n;
-    j["units"] = "bearing mean and sd in rad, range in m, lag1 and detection_rate in 1";
-    j["rows"] = rnav::rows_json(rows);
+    j["units"] = "bearing, azimuth and elevation mean and sd in rad, range in m, lag1 and detection_rate in 1";
+    j["rows"] = rnav::rows_json(all);
     rnav::write_file_atomic(a.json, j.dump(1) + "\n");
   }
   return 0;
+}
+
+int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
+  const rnav::scene::RecordedScene base = scene_of(a, d, name);
+  const rnav::SceneStats real = rnav::scene_stats(d, a.assoc);
+  const double sb = a.sigma_deg * M_PI / 180;
+  std::vector<std::pair<std::string, rnav::scene::SceneErrors>> models;
+  if (!a.effects.empty()) {
+    const auto ext = rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
+    models.push_back({"nominal", rnav::nominal_errors(ext.nominal_bearing_sigma_rad, ext.nominal_range_sigma_m)});
+    models.push_back({"extended", ext});
+  } else {
+    models.push_back({"nominal", rnav::nominal_errors(sb, a.sigma_range_m)});
+  }
+  std::vector<std::pair<std::string, std::vector<rnav::ValidationRow>>> by_model;
+  for (const auto& [label, err] : models) {
+    rnav::scene::RecordedScene sc = base;
+    rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
+    const auto sims = rnav::simulated_stats(d, sc, err, a.assoc, a.runs, a.seed, a.threads);
+    by_model.push_back({label, rnav::validation_rows(name, label, real, sims)});
+  }
+  return report_validation(a, name, by_model);
+}
+
+// A landing flight (site.json, radar.csv, nav.csv): replayed on the base scenario (--scenario,
+// else the paper's defaults), nominal and, with --effects (a landing-radar report), extended.
+int validate_prl(const Args& a, const std::string& dir, const std::string& name) {
+  const rnav::PrlFlightData f = rnav::PrlFlightData::read_folder(dir);
+  const rnav::SceneStats real = rnav::prl_flight_stats(f);
+  const rnav::Scenario base = a.scenario.empty() ? rnav::Scenario::from_json(nlohmann::json::object()) : rnav::Scenario::load(a.scenario);
+  char tmpl[] = "/tmp/rnav_prl_validate_XXXXXX";
+  if (!mkdtemp(tmpl)) throw std::runtime_error("cannot create a work folder in /tmp");
+  struct Cleanup {
+    std::string dir;
+    ~Cleanup() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  } cleanup{tmpl};
+  rnav::Scenario nominal = rnav::scenario_of_flight(f, base, tmpl);
+  nominal.prl_effects = rnav::PrlEffectsOptions{};
+  std::vector<std::pair<std::string, rnav::Scenario>> models{{"nominal", nominal}};
+  if (!a.effects.empty()) {
+    models.push_back({"extended", rnav::extended_scenario(f, nominal, read_report(a.effects), a.effects)});
+  }
+  std::vector<std::pair<std::string, std::vector<rnav::ValidationRow>>> by_model;
+  for (const auto& [label, sc] : models)
+    by_model.push_back({label, rnav::validation_rows(name, label, real, rnav::simulated_flight_stats(sc, a.runs, static_cast<std::int64_t>(a.seed), tmpl))});
+  return report_validation(a, name, by_model);
 }
 
 int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
@@ -239,6 +277,10 @@ int main(int argc, char** argv) {
                    throw rnav::ConfigError("--clutter must be replay or draw, not '" + v + "'" + rnav::did_you_mean(v, {"replay", "draw"}));
                  a.clutter = v;
                })
+        .value("--scenario", "FILE",
+               "validate of a landing flight (a folder with site.json): the landing scenario whose radar and navigation "
+               "models the flight is replayed on (its site, trajectory and radar timing are the flight's)",
+               "the paper's defaults (sim/scenarios/paper.json)", a.scenario)
         .value("--name", "NAME", "the recording's name (a pooled report's recording scope)", "the folder's name", a.name)
         .value("--sigma-deg", "D", "nominal bearing noise, 1 sigma [deg] (with --effects: the report's)", "0.5 deg", num("--sigma-deg", a.sigma_deg, 1e-6, 90))
         .value("--sigma-range-m", "M", "nominal range noise, 1 sigma [m] (with --effects: the report's)", "1 m", num("--sigma-range-m", a.sigma_range_m, 1e-6, 1e5))
@@ -261,8 +303,16 @@ int main(int argc, char** argv) {
     if (cmd != "simulate" && cmd != "validate" && cmd != "closure")
       throw rnav::ConfigError("unknown command '" + cmd + "'" + rnav::did_you_mean(cmd, {"simulate", "validate", "closure"}) +
                               " (simulate, validate or closure)");
-    const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
     const std::string name = a.name.empty() ? recording_name(a.pos[1]) : a.name;
+    // a landing flight (site.json beside radar.csv): validate only
+    if (std::filesystem::exists(std::filesystem::path(a.pos[1]) / "site.json")) {
+      if (cmd != "validate")
+        throw rnav::ConfigError(a.pos[1] + " is a landing flight (site.json): only validate replays it (simulate with rnav_export_prl, "
+                                "closure with scripts/discovery_study)");
+      return validate_prl(a, a.pos[1], name);
+    }
+    if (!a.scenario.empty()) throw rnav::ConfigError("--scenario applies to a landing flight (a folder with site.json) only");
+    const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
     if (cmd == "validate") return validate(a, d, name);
     if (cmd == "closure") return closure(a, d, name);
     if (a.out.empty()) throw rnav::ConfigError("simulate: --out DIR is required");

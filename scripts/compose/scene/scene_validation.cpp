@@ -87,7 +87,14 @@ std::vector<ValidationRow> validation_rows(const std::string& recording, const s
     const auto na = real.associated.find(pair);
     const int n = na == real.associated.end() ? 0 : na->second;
     if (n == 0) continue;  // a target this sensor never detects: nothing to compare
-    for (const char* q : {"bearing", "range"}) {
+    // its quantities: bearing and range first (the multi-sensor pairs), then any other the
+    // statistics hold (a landing radar's azimuth and elevation), in name order
+    std::vector<std::string> quantities{"bearing", "range"};
+    for (auto it = real.residuals.lower_bound(pair + ":"); it != real.residuals.end() && it->first.rfind(pair + ":", 0) == 0; ++it) {
+      const std::string q = it->first.substr(pair.size() + 1);
+      if (std::find(quantities.begin(), quantities.end(), q) == quantities.end()) quantities.push_back(q);
+    }
+    for (const std::string& q : quantities) {
       const auto it = real.residuals.find(pair + ":" + q);
       if (it == real.residuals.end()) continue;
       const PairQuantityStats& r = it->second;

@@ -44,7 +44,7 @@ SceneStats scene_stats(const MultiSensorData& d, const AssociationOptions& o);
 
 /// One row of the validation: a statistic of a pair's quantity under one model.
 struct ValidationRow {
-  std::string recording, pair, quantity, statistic, model;  ///< quantity: bearing, range or detection
+  std::string recording, pair, quantity, statistic, model;  ///< quantity: bearing, range (a landing radar: range, azimuth, elevation) or detection
   int n = 0;            ///< the recording's associated detections of the pair
   double real = NAN, band_lo = NAN, band_hi = NAN, rank = NAN;
   bool inside = false;

@@ -1,4 +1,4 @@
-#include "scene_stats.hpp"
+#include "scene_run_stats.hpp"
 
 #include "atomic_file.hpp"
 
@@ -36,7 +36,7 @@ SceneCounts scene_counts(const SceneRealization& r) {
   return c;
 }
 
-SceneStats::SceneStats(std::string recording, std::vector<std::string> sensors, std::vector<std::string> targets)
+SceneRunStats::SceneRunStats(std::string recording, std::vector<std::string> sensors, std::vector<std::string> targets)
     : recording_(std::move(recording)), sensors_(std::move(sensors)), targets_(std::move(targets)) {}
 
 namespace {
@@ -47,7 +47,7 @@ std::vector<std::string> count_names(const std::vector<std::string>& targets) {
 }
 }  // namespace
 
-void SceneStats::add_realization(const SceneRealization& r, long) {
+void SceneRunStats::add_realization(const SceneRealization& r, long) {
   const SceneCounts c = scene_counts(r);
   for (const auto& s : sensors_)
     for (const auto& name : count_names(targets_)) {
@@ -61,7 +61,7 @@ void SceneStats::add_realization(const SceneRealization& r, long) {
   ++n_;
 }
 
-std::pair<double, double> SceneStats::mean_sd(const std::string& sensor, const std::string& count) const {
+std::pair<double, double> SceneRunStats::mean_sd(const std::string& sensor, const std::string& count) const {
   if (n_ == 0) return {0, 0};
   const auto i = sums_.find(sensor);
   if (i == sums_.end()) return {0, 0};
@@ -73,7 +73,7 @@ std::pair<double, double> SceneStats::mean_sd(const std::string& sensor, const s
   return {m, std::sqrt(var)};
 }
 
-void SceneStats::write(const std::string& dir, std::int64_t seed) const {
+void SceneRunStats::write(const std::string& dir, std::int64_t seed) const {
   nlohmann::ordered_json j;
   j["kind"] = "scene";
   j["recording"] = recording_;

@@ -31,11 +31,11 @@ struct SceneRealization {
 using SceneCounts = std::map<std::string, std::map<std::string, long>>;
 SceneCounts scene_counts(const SceneRealization& r);
 
-class SceneStats {
+class SceneRunStats {
  public:
   /// @param recording  the scene's name (summary.json)
   /// @param sensors    the scene's sensors; @param targets its targets (each counted, 0 if never detected)
-  SceneStats(std::string recording, std::vector<std::string> sensors, std::vector<std::string> targets);
+  SceneRunStats(std::string recording, std::vector<std::string> sensors, std::vector<std::string> targets);
   void add_realization(const SceneRealization& r, long realization);
   long realizations() const { return n_; }
   /// summary.json and summary.txt into dir.
