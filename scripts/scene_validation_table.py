@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Markdown tables of scene validations (rnav_scene validate --json) and a closure (rnav_scene
-closure --json): per recording, the pairs with >= min_n detections inside the simulations' 5-95 %
+"""Markdown tables of scene validations (rnav_scene validate --json: recorded scenes or landing
+flights) and a closure (rnav_scene closure --json): per recording, the pairs with >= min_n detections inside the simulations' 5-95 %
 band on every statistic, nominal and extended; per statistic, the share of rows inside; the
 closure's naming rate and mean estimate per injected effect.
 
@@ -11,8 +11,8 @@ import json
 import re
 from collections import defaultdict
 
-STATS = [("bearing", "mean"), ("bearing", "sd"), ("bearing", "lag1"), ("range", "mean"), ("range", "sd"), ("range", "lag1"),
-         ("detection", "detection_rate")]
+# the statistics in the order shown (a landing flight's pair has range, azimuth and elevation)
+STATS = [(q, s) for q in ("bearing", "range", "azimuth", "elevation") for s in ("mean", "sd", "lag1")] + [("detection", "detection_rate")]
 
 
 def main():
@@ -63,6 +63,8 @@ def main():
     print("| statistic | nominal: rows inside | extended: rows inside |")
     print("|---|---|---|")
     for q, s in STATS:
+        if not any(per_stat[(m, q, s)][1] for m in ("nominal", "extended")):
+            continue  # a statistic none of the recordings has
         cells = []
         for m in ("nominal", "extended"):
             k, n = per_stat[(m, q, s)]
