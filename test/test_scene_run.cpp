@@ -130,7 +130,7 @@ TEST_CASE("scene run: separate processes over LCM write the in-process run's fil
   }
 }
 
-TEST_CASE("scene run: a hidden radar bias, diagnosed, injected over LCM and named again; not without it", "[scene][integration]") {
+TEST_CASE("scene run: a hidden radar bias diagnosed, injected over LCM and named again, and not without it", "[scene][integration]") {
   const fs::path d = scratch("scene_run_loop");
   make_scene(d, kRadarBiasRad, nlohmann::json::object(), 1);
   rnav::MultiDiagnoseOptions mo;
