@@ -22,26 +22,6 @@ namespace {
 
 constexpr double kSiteToleranceM = 0.5;  ///< [m] the scenario's radar site against site.json's (rounding of x_m, z_m, height)
 
-// Mean, sd (n - 1) and lag-1 autocorrelation of residuals in time order.
-PairQuantityStats series_stats(const std::vector<double>& x) {
-  PairQuantityStats s;
-  s.n = static_cast<int>(x.size());
-  if (s.n < 1) return s;
-  double m = 0;
-  for (double v : x) m += v;
-  m /= s.n;
-  s.mean = m;
-  if (s.n < 3) return s;
-  double ss = 0, c1 = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    ss += (x[i] - m) * (x[i] - m);
-    if (i + 1 < x.size()) c1 += (x[i] - m) * (x[i + 1] - m);
-  }
-  s.sd = std::sqrt(ss / (s.n - 1));
-  s.lag1 = ss > 0 ? c1 / ss : NAN;
-  return s;
-}
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -78,9 +58,9 @@ SceneStats prl_flight_stats(const PrlFlightData& f) {
   }
   SceneStats s;
   const std::string pair = "radar:aircraft";
-  s.residuals[pair + ":range"] = series_stats(dr);
-  s.residuals[pair + ":azimuth"] = series_stats(da);
-  s.residuals[pair + ":elevation"] = series_stats(de);
+  s.residuals[pair + ":range"] = residual_stats(dr);
+  s.residuals[pair + ":azimuth"] = residual_stats(da);
+  s.residuals[pair + ":elevation"] = residual_stats(de);
   s.associated[pair] = static_cast<int>(dr.size());
   const double period = plot_interval_s(f);
   const double scans = std::floor((f.t_s.back() - f.t_s.front()) / period + 0.5) + 1;

@@ -14,23 +14,9 @@ namespace {
 
 PairQuantityStats stats_of(std::vector<std::pair<double, double>> tx) {  // (t, residual)
   std::stable_sort(tx.begin(), tx.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  PairQuantityStats s;
-  s.n = static_cast<int>(tx.size());
-  if (s.n < 1) return s;
-  double m = 0;
-  for (const auto& p : tx) m += p.second;
-  m /= s.n;
-  s.mean = m;
-  if (s.n < 3) return s;
-  double ss = 0, c1 = 0;
-  for (std::size_t i = 0; i < tx.size(); ++i) {
-    const double x = tx[i].second - m;
-    ss += x * x;
-    if (i + 1 < tx.size()) c1 += x * (tx[i + 1].second - m);
-  }
-  s.sd = std::sqrt(ss / (s.n - 1));
-  s.lag1 = ss > 0 ? c1 / ss : NAN;
-  return s;
+  std::vector<double> x;
+  for (const auto& p : tx) x.push_back(p.second);
+  return residual_stats(x);
 }
 
 // The q-quantile of sorted finite values, linear between order statistics.
@@ -59,6 +45,25 @@ ValidationRow row_of(const std::string& rec, const std::string& model, const std
 }
 
 }  // namespace
+
+PairQuantityStats residual_stats(const std::vector<double>& x) {
+  PairQuantityStats s;
+  s.n = static_cast<int>(x.size());
+  if (s.n < 1) return s;
+  double m = 0;
+  for (double v : x) m += v;
+  m /= s.n;
+  s.mean = m;
+  if (s.n < 3) return s;
+  double ss = 0, c1 = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    ss += (x[i] - m) * (x[i] - m);
+    if (i + 1 < x.size()) c1 += (x[i] - m) * (x[i + 1] - m);
+  }
+  s.sd = std::sqrt(ss / (s.n - 1));
+  s.lag1 = ss > 0 ? c1 / ss : NAN;
+  return s;
+}
 
 SceneStats scene_stats(const MultiSensorData& d, const AssociationOptions& o) {
   std::map<std::string, SensorAssociation> st;

@@ -32,6 +32,9 @@ struct PairQuantityStats {
   double mean = NAN, sd = NAN, lag1 = NAN;
 };
 
+/// Mean, sd (n - 1) and lag-1 autocorrelation of residuals x in time order (sd and lag1 need 3).
+PairQuantityStats residual_stats(const std::vector<double>& x);
+
 /// One recording's (or simulation's) statistics.
 struct SceneStats {
   std::map<std::string, PairQuantityStats> residuals;  ///< per "sensor:target:bearing" / ":range"
