@@ -53,6 +53,25 @@ double common_value(const NoiseFinding& f, const std::string& name, const std::s
   return m;
 }
 
+// The prl_effects key of a per-channel effect's parameter (bias_drift, bias_step, periodic: one
+// entry per channel, its parameter naming the channel); a ConfigError at `where` for another.
+double PrlEffectsOptions::*channel_key(const std::string& effect, const std::string& param, const std::string& where) {
+  using K = double PrlEffectsOptions::*;
+  static const std::map<std::pair<std::string, std::string>, K> kKey = {
+      {{"bias_drift", "range_mps"}, &PrlEffectsOptions::drift_range_mps},
+      {{"bias_drift", "course_radps"}, &PrlEffectsOptions::drift_course_radps},
+      {{"bias_drift", "glide_radps"}, &PrlEffectsOptions::drift_glide_radps},
+      {{"bias_step", "range_m"}, &PrlEffectsOptions::step_range_m},
+      {{"bias_step", "course_rad"}, &PrlEffectsOptions::step_course_rad},
+      {{"bias_step", "glide_rad"}, &PrlEffectsOptions::step_glide_rad},
+      {{"periodic", "sin_range_m"}, &PrlEffectsOptions::periodic_range_m},
+      {{"periodic", "sin_course_rad"}, &PrlEffectsOptions::periodic_course_rad},
+      {{"periodic", "sin_glide_rad"}, &PrlEffectsOptions::periodic_glide_rad}};
+  const auto it = kKey.find({effect, param});
+  if (it == kKey.end()) throw ConfigError(where + ": unknown parameter '" + param + "'");
+  return it->second;
+}
+
 }  // namespace
 
 PrlEffectsOptions prl_effects_from_report(const nlohmann::json& j, const std::string& source) {
@@ -90,12 +109,7 @@ PrlEffectsOptions prl_effects_from_report(const nlohmann::json& j, const std::st
     } else if (name == "site_offset") {
       need(3), fx.site_offset_east_m = est[0], fx.site_offset_north_m = est[1], fx.site_offset_up_m = est[2];
     } else if (name == "bias_drift") {
-      need(1);
-      const std::string p = param(0);
-      if (p == "range_mps") fx.drift_range_mps = est[0];
-      else if (p == "course_radps") fx.drift_course_radps = est[0];
-      else if (p == "glide_radps") fx.drift_glide_radps = est[0];
-      else throw ConfigError(where + ": unknown parameter '" + p + "'");
+      need(1), fx.*channel_key(name, param(0), where) = est[0];
     } else if (name == "bias_step") {
       need(1);
       if (!std::isfinite(scanned)) throw ConfigError(where + ": no step time (scanned.value)");
@@ -103,11 +117,7 @@ PrlEffectsOptions prl_effects_from_report(const nlohmann::json& j, const std::st
         throw ConfigError(where + ": a step at " + std::to_string(scanned) + " s beside one at " + std::to_string(fx.step_time_s) +
                           " s: the landing radar simulation has one step time (prl_effects.step_time_s)");
       fx.step_time_s = scanned, stepped = true;
-      const std::string p = param(0);
-      if (p == "range_m") fx.step_range_m = est[0];
-      else if (p == "course_rad") fx.step_course_rad = est[0];
-      else if (p == "glide_rad") fx.step_glide_rad = est[0];
-      else throw ConfigError(where + ": unknown parameter '" + p + "'");
+      fx.*channel_key(name, param(0), where) = est[0];
     } else if (name == "periodic") {
       need(2);
       if (!std::isfinite(scanned)) throw ConfigError(where + ": no period (scanned.value)");
@@ -118,11 +128,7 @@ PrlEffectsOptions prl_effects_from_report(const nlohmann::json& j, const std::st
       if (fx.periodic_period_s > 0 && fx.periodic_period_s != scanned)
         throw ConfigError(where + ": a second period: the landing radar simulation has one (prl_effects.periodic_period_s)");
       fx.periodic_period_s = scanned;
-      const std::string p = param(0);
-      if (p == "sin_range_m") fx.periodic_range_m = est[0];
-      else if (p == "sin_course_rad") fx.periodic_course_rad = est[0];
-      else if (p == "sin_glide_rad") fx.periodic_glide_rad = est[0];
-      else throw ConfigError(where + ": unknown parameter '" + p + "'");
+      fx.*channel_key(name, param(0), where) = est[0];
     } else if (name == "noise_scale" || name == "outliers" || name == "correlated_noise") {
       const std::string ch = x.value("channel", std::string());
       const double s = se.empty() ? NAN : se[0];
