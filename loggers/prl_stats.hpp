@@ -109,7 +109,7 @@ template <int N, class Sum = ExactSum> struct Moments {
   }
 };
 
-/// Paper's Table 2 (method.md): APOI and TOI systematic error [m], X Z Y, at 25 km and 4 km.
+/// Paper's Table 2 (docs/method.md): APOI and TOI systematic error [m], X Z Y, at 25 km and 4 km.
 struct PaperTable2 {
   static bool has(double range_m);
   static std::array<double, 3> apoi(double range_m);

@@ -34,7 +34,7 @@ checks = Checks("check_calibration_scan")
 check = checks.check
 
 if not os.path.isdir(AUTOFERRY):
-    raise SystemExit("check_calibration_scan: %s is missing (the Autoferry recordings beside the checkout)" % AUTOFERRY)
+    raise SystemExit("check_calibration_scan: %s is missing (the Autoferry recordings of the repository, test/data)" % AUTOFERRY)
 
 
 def geomean(rows, min_n=5):

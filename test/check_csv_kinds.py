@@ -17,7 +17,7 @@ for each file:
   * rnav.read_run / read_sweep / read_log open the folders and the log;
   * every file a landing-radar, azimuth-only and data-link run writes (plots included) is named
     in the README's table of outputs.
-Usage: PYTHONPATH=SOURCE_DIR/loggers check_csv_kinds.py SOURCE_DIR BUILD_DIR SHARED_DATA_DIR (ctest sets
+Usage: PYTHONPATH=SOURCE_DIR/loggers check_csv_kinds.py SOURCE_DIR BUILD_DIR DATA_DIR (ctest sets
 PYTHONPATH)
 """
 import glob

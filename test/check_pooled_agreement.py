@@ -30,7 +30,7 @@ checks = Checks("check_pooled_agreement")
 check = checks.check
 
 if not os.path.isdir(AUTOFERRY):
-    raise SystemExit("check_pooled_agreement: %s is missing (the Autoferry recordings beside the checkout)" % AUTOFERRY)
+    raise SystemExit("check_pooled_agreement: %s is missing (the Autoferry recordings of the repository, test/data)" % AUTOFERRY)
 
 with tempfile.TemporaryDirectory(prefix="check_pooled_agreement.") as tmp:
     dirs = []

@@ -29,7 +29,7 @@ checks = Checks("check_reference_jump")
 check = checks.check
 
 if not os.path.isdir(SCENARIO):
-    raise SystemExit("check_reference_jump: %s is missing (the Autoferry recordings beside the checkout)" % SCENARIO)
+    raise SystemExit("check_reference_jump: %s is missing (the Autoferry recordings of the repository, test/data)" % SCENARIO)
 
 with tempfile.TemporaryDirectory(prefix="check_reference_jump.") as tmp:
     d = os.path.join(tmp, "sc6")

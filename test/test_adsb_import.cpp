@@ -199,11 +199,8 @@ TEST_CASE("gzip and plain files read the same and the export replays", "[adsb]")
 
 TEST_CASE("real Vienna inspection flight: 17 approaches, most within 60 m RMS of one line",
           "[adsb][real]") {
-  const std::string f = std::string(RNAV_SOURCE_DIR) + "/../shared/data/adsb/vienna.json.gz";
-  if (!fs::exists(f)) {
-    WARN("shared data not found at " << f << ": skipped");
-    return;
-  }
+  const std::string f = std::string(RNAV_DATA_DIR) + "/adsb/vienna.json.gz";
+  REQUIRE(fs::exists(f));  // the recordings are part of the repository (test/data)
   const auto rec = read_adsb_file(f);
   CHECK(rec.size() == 2738);  // the data README's count
   const auto c = remove_glitches(rec, GlitchOptions{}, f);

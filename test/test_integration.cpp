@@ -34,6 +34,7 @@ namespace {
 
 const std::string kRoot = RNAV_SOURCE_DIR;
 const std::string kBuild = RNAV_BINARY_DIR;
+const std::string kData = RNAV_DATA_DIR;  // the real recordings in the repository (test/data)
 
 // The pid of process `name` of the run whose work folder is scratch folder d's "out.partial.*"
 // (from its logs/pids file; other tests may run their own processes of the same name); 0 if it
@@ -531,7 +532,7 @@ TEST_CASE("an output folder that is not ours is refused (--out) and left intact"
   CHECK(sh(inproc + (d / "mine4").string() + " --force").status == 0);
   CHECK(fs::exists(d / "mine4" / "stats_time.csv"));
   std::ofstream(d / "approach.csv") << "precious";
-  const std::string adsb = kBuild + "/bin/rnav_import_adsb " + kRoot + "/../shared/data/adsb/vienna.json.gz --approach 2 --out " +
+  const std::string adsb = kBuild + "/bin/rnav_import_adsb " + kData + "/adsb/vienna.json.gz --approach 2 --out " +
                            (d / "approach.csv").string();
   const auto ad_exists = sh(adsb);
   INFO(ad_exists.output);

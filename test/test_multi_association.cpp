@@ -488,7 +488,7 @@ TEST_CASE("reference jumps: on the nine Autoferry recordings one track jumps, an
   // sds of the track's scatter, 0.4-0.5 m on the 25 Hz tracks). Asserted: none of the 17 clean
   // tracks jumps (no false alarm), and at 1.25 m at least 90 % of the 170 steps are found (the
   // docs' limit: 153 of 170).
-  const std::string data = std::string(RNAV_SOURCE_DIR) + "/../shared/data/autoferry";
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry";
   if (!std::filesystem::exists(data)) FAIL("the Autoferry recordings are not at " << data);
   constexpr int kInjections = 10;
   const double sizes_m[] = {0.5, 1.0, 1.25, 1.5, 2.0};

@@ -397,11 +397,8 @@ TEST_CASE("multi-sensor data: bad observer and truth name file and line and colu
 
 TEST_CASE("Autoferry import: counts of the README, radar and lidar on the GNSS truth",
           "[multisensor][autoferry][real]") {
-  const std::string data = std::string(RNAV_SOURCE_DIR) + "/../shared/data/autoferry";
-  if (!fs::exists(data)) {
-    WARN("shared data not found at " << data << ": skipped");
-    return;
-  }
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry";
+  REQUIRE(fs::exists(data));  // the recordings are part of the repository (test/data)
   struct Count {
     std::size_t scans, detections;
   };

@@ -1,5 +1,5 @@
 // Unit tests of estimators/prl_bias/scalar_gm_kalman.hpp: the scalar Gauss-Markov bias filter
-// (method.md section 1, equation (11) corrected).
+// (docs/method.md section 1, equation (11) corrected).
 #include "random.hpp"
 #include "scalar_gm_kalman.hpp"
 #include "stat_bands.hpp"

@@ -88,7 +88,7 @@ TEST_CASE("Moments: mean, rms and sample sd of a small sample", "[stats]") {
   CHECK_FALSE(std::isnan(c.sd(0)));
 }
 
-TEST_CASE("PaperTable2 holds the paper's Table 2 (method.md)", "[stats]") {
+TEST_CASE("PaperTable2 holds the paper's Table 2 (docs/method.md)", "[stats]") {
   CHECK(rnav::PaperTable2::has(25000));
   CHECK(rnav::PaperTable2::has(4000));
   CHECK_FALSE(rnav::PaperTable2::has(10000));

@@ -130,11 +130,8 @@ TEST_CASE("uav diagnose: a hidden bearing bias and a hidden time offset are foun
 
 TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nominal and correlated",
           "[diagnose][uav][real]") {
-  const std::string sc = std::string(RNAV_SOURCE_DIR) + "/../shared/data/autoferry/scenario4";
-  if (!fs::exists(sc)) {
-    WARN("shared data not found at " << sc << ": skipped");
-    return;
-  }
+  const std::string sc = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
+  REQUIRE(fs::exists(sc));  // the recordings are part of the repository (test/data)
   const fs::path out = fs::temp_directory_path() / "rnav_af4";
   fs::remove_all(out);  // (the importer refuses a folder that is not its own output)
   const std::string cmd = std::string(RNAV_BINARY_DIR) + "/bin/rnav_import_autoferry " + sc +

@@ -1,4 +1,4 @@
-// rnav_import_autoferry: one scenario of the Autoferry dataset (../shared/data/autoferry) into a
+// rnav_import_autoferry: one scenario of the Autoferry dataset (test/data/autoferry) into a
 // CSV folder, in one of two modes:
 //   rnav_import_autoferry SCENARIO_DIR --out DIR
 //     the multi-sensor format (estimators/diagnosis/multi_sensor_data.hpp): the ferry's
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
     rnav::cli::Parser p("rnav_import_autoferry",
                         "SCENARIO_DIR --out DIR [--force]\n"
                         "SCENARIO_DIR --sensor eo|ir --target 1|2 --out DIR [--force]",
-                        "One scenario of the Autoferry dataset (../shared/data/autoferry) as a CSV folder. Without "
+                        "One scenario of the Autoferry dataset (test/data/autoferry in the source tree) as a CSV folder. Without "
                         "--sensor and --target: all four sensors (radar, lidar, eo, ir) and both targets (1, 2) in "
                         "the multi-sensor format (observer.csv, detections.csv, truth.csv; for scripts/diagnose "
                         "multi). With either: one camera's bearings and one target's truth in the azimuth-only "

@@ -1,4 +1,4 @@
-// The radar systematic-error estimator (method.md section 1), one plot at a time, no I/O:
+// The radar systematic-error estimator (docs/method.md section 1), one plot at a time, no I/O:
 //   nav solution at the plot's time -> radar polar coordinates zeta2
 //   chi = zeta1_meas - zeta2   (course difference wrapped)                          (5), (6)
 //   one ScalarGmKalman per coordinate (range, course, glide)                         (11)

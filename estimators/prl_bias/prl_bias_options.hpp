@@ -5,7 +5,7 @@
 
 namespace rnav {
 
-/// Estimator of the radar's systematic error (method.md section 1).
+/// Estimator of the radar's systematic error (docs/method.md section 1).
 struct PrlBiasOptions {
   double switch_time_s = 400;     ///< [s] estimation before, compensation after (paper)
   double delta_range_m = 10;      ///< [m] delta: prior 1 sigma of the bias (Gauss-Markov model)

@@ -1,5 +1,5 @@
 // Scalar Kalman filter for a first-order Gauss-Markov bias observed in white noise
-// (method.md section 1, equations (7)-(11) with the paper's slips corrected):
+// (docs/method.md section 1, equations (7)-(11) with the paper's slips corrected):
 //   model:       eta(k+1) = phi eta(k) + w(k),  phi = exp(-dt/T),  q = Var w = delta^2 (1 - phi^2)
 //   observation: chi(k) = eta(k) + omega(k),    Var omega = r(k)
 //   predict:     eta_bar = phi eta_hat,   m = phi^2 p + q

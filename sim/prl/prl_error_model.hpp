@@ -1,6 +1,6 @@
 // Landing-radar (PRL) error model: a list of effects, each adding to the systematic
 // (slowly varying) and/or fluctuation (white) part of the polar measurement error:
-//   zeta_meas = zeta_true + sum(systematic) + sum(fluctuation)              (method.md eq. 1)
+//   zeta_meas = zeta_true + sum(systematic) + sum(fluctuation)              (docs/method.md eq. 1)
 // Open for further effects: derive from PrlErrorEffect and add it in PrlErrorModel's constructor.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The Autoferry dataset (../shared/data/autoferry, its README) into the project's measured-data
+// The Autoferry dataset (test/data/autoferry, its README) into the project's measured-data
 // formats. One scenario is two JSON arrays of equal length: NAME_detections.json (one record per
 // sensor scan: sensorID 1 lidar, 2 radar, 3 IR, 4 EO; time [Unix s]; ownshipPosition [N, E] in
 // Piren NED [m]; measurement: bearings [rad] for 3/4, Cartesian offsets [m] for 1/2) and

@@ -5,7 +5,7 @@
 // plus the shared site context (site()). Each section's options, with unit, default and range,
 // live with the module they configure (e.g. sim/prl/prl_options.hpp); this composition reads
 // them in file order and checks what spans sections.
-// Defaults reproduce the paper's conditions (../shared/docs/method.md) plus the documented
+// Defaults reproduce the paper's conditions (docs/method.md) plus the documented
 // choices for what the paper leaves open (speed, lateral path, radar site, airfield).
 #pragma once
 

@@ -1,4 +1,4 @@
-// The azimuth-only scenario (method.md section 2): a UAV circling a surface object measures
+// The azimuth-only scenario (docs/method.md section 2): a UAV circling a surface object measures
 // bearings to it and estimates its position and velocity. Every process's options composed
 // into one file, each section's options (unit, default, range) living with the module they
 // configure; strict parsing as in scenario.hpp. Frame F: local level at the origin, x north,
