@@ -16,14 +16,26 @@ std::string sensor_node_name(const std::string& sensor) { return "scene_sensor@"
 SceneTruthNode::SceneTruthNode(Bus& bus, const RecordedScene& scene, SceneTime time, double peer_timeout_s)
     : LockstepNode(bus, "scene_truth", peer_timeout_s), scene_(scene), time_(time) {}
 
+void SceneTruthNode::reset(const sim_window_t&) {
+  next_observer_ = 0;
+  next_target_.assign(scene_.targets.size(), 0);
+}
+
 int SceneTruthNode::process(const sim_window_t& w) {
-  const auto in_window = [&w](std::int64_t u) { return u >= w.utime_begin && u < w.utime_end; };
+  // every sample with utime < utime_end not yet published; one before the window would be a
+  // window skipped (an invariant of the protocol)
+  const auto take = [&](double t_s, const std::string& what) {
+    const std::int64_t u = time_.utime(t_s);
+    if (u >= w.utime_end) return false;
+    if (u < w.utime_begin) throw std::logic_error(name() + ": a sample of " + what + " at utime " + std::to_string(u) + " precedes window " + std::to_string(w.window));
+    return true;
+  };
   scene_observer_batch_t ob;
-  for (std::size_t i = 0; i < scene_.observer.size(); ++i) {
+  for (; next_observer_ < scene_.observer.size() && take(scene_.observer[next_observer_].t_s, "the observer"); ++next_observer_) {
+    const std::size_t i = next_observer_;
     const GeoSample& g = scene_.observer[i];
     scene_observer_t s;
     s.utime = time_.utime(g.t_s);
-    if (!in_window(s.utime)) continue;
     s.lat_deg = g.g.lat_deg;
     s.lon_deg = g.g.lon_deg;
     s.h_m = g.g.h_m;
@@ -32,17 +44,19 @@ int SceneTruthNode::process(const sim_window_t& w) {
   }
   ob.n = static_cast<std::int32_t>(ob.states.size());
   scene_target_batch_t tb;
-  for (const auto& [name, track] : scene_.targets)
-    for (const GeoSample& g : track) {
+  std::size_t k = 0;
+  for (const auto& [name, track] : scene_.targets) {
+    for (std::size_t& i = next_target_[k++]; i < track.size() && take(track[i].t_s, "target " + name); ++i) {
+      const GeoSample& g = track[i];
       scene_target_t s;
       s.utime = time_.utime(g.t_s);
-      if (!in_window(s.utime)) continue;
       s.target = name;
       s.lat_deg = g.g.lat_deg;
       s.lon_deg = g.g.lon_deg;
       s.h_m = g.g.h_m;
       tb.states.push_back(s);
     }
+  }
   // increasing utime, targets in name order at equal utime (the map's order, kept by a stable sort)
   std::stable_sort(tb.states.begin(), tb.states.end(), [](const scene_target_t& a, const scene_target_t& b) { return a.utime < b.utime; });
   tb.n = static_cast<std::int32_t>(tb.states.size());

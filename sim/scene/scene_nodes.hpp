@@ -31,12 +31,15 @@ class SceneTruthNode : public LockstepNode {
   SceneTruthNode(Bus& bus, const RecordedScene& scene, SceneTime time, double peer_timeout_s);
 
  protected:
-  void reset(const sim_window_t&) override {}
+  void reset(const sim_window_t&) override;
   int process(const sim_window_t& w) override;
 
  private:
   const RecordedScene& scene_;
   SceneTime time_;
+  // the first sample not yet published: windows come in order within an attempt (lockstep_node.hpp)
+  std::size_t next_observer_ = 0;
+  std::vector<std::size_t> next_target_;  // per target, in the scene's (name) order
 };
 
 class SceneSensorNode : public LockstepNode {

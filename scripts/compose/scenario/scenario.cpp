@@ -2,6 +2,7 @@
 
 #include "options_io.hpp"
 #include "prl_report.hpp"
+#include "scenario_paths.hpp"
 
 #include <fstream>
 
@@ -59,25 +60,11 @@ Scenario Scenario::from_json(const nlohmann::json& doc) {
 
 Scenario Scenario::load(const std::string& file, const std::vector<std::string>& overrides) {
   Scenario sc = load_scenario<Scenario>(file, overrides);
-  // trajectory.replay_csv: a relative path in the file is relative to the file's directory;
-  // one given by an override (--set) is relative to the working directory, like any argument.
-  bool from_override = false;
-  for (const auto& o : overrides)
-    if (o.rfind("trajectory.replay_csv=", 0) == 0) from_override = true;
-  std::string& csv = sc.trajectory.replay_csv;
-  if (!csv.empty() && std::filesystem::path(csv).is_relative()) {
-    const std::filesystem::path base =
-        from_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path();
-    csv = (base / csv).lexically_normal().string();
-  }
-  // prl_effects_report: the same rule for its path; its effects replace prl_effects
+  // trajectory.replay_csv and prl_effects_report: paths by the scenario rule (scenario_paths.hpp)
+  sc.trajectory.replay_csv = resolve_scenario_path(sc.trajectory.replay_csv, "trajectory.replay_csv", file, overrides);
+  // prl_effects_report: its effects replace prl_effects
   if (!sc.prl_effects_report.empty()) {
-    bool report_override = false;
-    for (const auto& o : overrides)
-      if (o.rfind("prl_effects_report=", 0) == 0) report_override = true;
-    std::filesystem::path path(sc.prl_effects_report);
-    if (path.is_relative())
-      path = (report_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path()) / path;
+    const std::filesystem::path path = resolve_scenario_path(sc.prl_effects_report, "prl_effects_report", file, overrides);
     nlohmann::json given, nominal;
     PrlEffectsOptions defaults;
     write_section(given, "s", sc.prl_effects);

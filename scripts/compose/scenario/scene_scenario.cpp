@@ -5,6 +5,7 @@
 #include "scene_effects_json.hpp"
 #include "scene_from_recording.hpp"
 #include "scene_nodes.hpp"
+#include "scenario_paths.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -51,30 +52,10 @@ SceneScenario SceneScenario::from_json(const nlohmann::json& doc) {
   return sc;
 }
 
-namespace {
-
-// A path of the file: relative to the file's directory, or (given by --set) to the working directory.
-std::string resolve(const std::string& path, const std::string& key, const std::string& file, const std::vector<std::string>& overrides) {
-  if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
-  bool from_override = false;
-  for (const auto& o : overrides)
-    if (o.rfind(key + "=", 0) == 0) from_override = true;
-  const std::filesystem::path base = from_override ? std::filesystem::current_path() : std::filesystem::absolute(file).parent_path();
-  return (base / path).lexically_normal().string();
-}
-
-std::string folder_name(const std::string& dir) {
-  std::filesystem::path p(dir);
-  if (p.filename().empty()) p = p.parent_path();
-  return p.filename().string();
-}
-
-}  // namespace
-
 SceneScenario SceneScenario::load(const std::string& file, const std::vector<std::string>& overrides) {
   SceneScenario sc = load_scenario<SceneScenario>(file, overrides);
-  sc.scene.recording = resolve(sc.scene.recording, "scene.recording", file, overrides);
-  sc.scene.effects_report = resolve(sc.scene.effects_report, "scene.effects_report", file, overrides);
+  sc.scene.recording = resolve_scenario_path(sc.scene.recording, "scene.recording", file, overrides);
+  sc.scene.effects_report = resolve_scenario_path(sc.scene.effects_report, "scene.effects_report", file, overrides);
   auto setup = std::make_shared<SceneSetup>();
   try {
     setup->data = std::make_shared<const MultiSensorData>(MultiSensorData::read_folder(sc.scene.recording));
@@ -82,7 +63,7 @@ SceneScenario SceneScenario::load(const std::string& file, const std::vector<std
     throw ConfigError(file + ": scenario key 'scene.recording': " + e.what());
   }
   const MultiSensorData& d = *setup->data;
-  const std::string rec_name = sc.scene.name.empty() ? folder_name(sc.scene.recording) : sc.scene.name;
+  const std::string rec_name = sc.scene.name.empty() ? recording_folder_name(sc.scene.recording) : sc.scene.name;
   AssociationOptions assoc;
   assoc.gate_bearing_deg = sc.scene.gate_bearing_deg;
   assoc.gate_position_m = sc.scene.gate_position_m;

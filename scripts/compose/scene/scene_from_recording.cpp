@@ -1,5 +1,7 @@
 #include "scene_from_recording.hpp"
 
+#include <filesystem>
+
 #include "frames.hpp"
 #include "scene_geometry.hpp"
 
@@ -127,6 +129,12 @@ void calibrate_detection(scene::RecordedScene& sc, const MultiSensorData& real, 
       const int all = count(st_all);
       p = all > 0 ? std::min(1.0, static_cast<double>(count(st_real)) / all) : 0.0;
     }
+}
+
+std::string recording_folder_name(const std::string& dir) {
+  std::filesystem::path p(dir);
+  if (p.filename().empty()) p = p.parent_path();
+  return p.filename().string();
 }
 
 MultiSensorData recording_of(const MultiSensorData& real, const std::vector<scene::SceneDetection>& det) {

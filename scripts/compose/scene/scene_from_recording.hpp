@@ -44,6 +44,9 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
 void calibrate_detection(scene::RecordedScene& scene, const MultiSensorData& real, const scene::SceneErrors& errors,
                          const AssociationOptions& o, std::uint64_t seed);
 
+/// A recording's name from its folder: the folder's own name ("a/b/sc5/" -> "sc5").
+std::string recording_folder_name(const std::string& dir);
+
 /// The simulated detections as a recording: the scene's observer and truth with `det`.
 MultiSensorData recording_of(const MultiSensorData& real, const std::vector<scene::SceneDetection>& det);
 

@@ -47,12 +47,6 @@ rnav::scene::RecordedScene scene_of(const Args& a, const rnav::MultiSensorData& 
   return sc;
 }
 
-std::string recording_name(const std::string& dir) {
-  std::filesystem::path p(dir);
-  if (p.filename().empty()) p = p.parent_path();
-  return p.filename().string();
-}
-
 nlohmann::json read_report(const std::string& path) {
   std::ifstream f(path);
   if (!f) throw rnav::ConfigError("--effects " + path + ": cannot be read");
@@ -303,7 +297,7 @@ int main(int argc, char** argv) {
     if (cmd != "simulate" && cmd != "validate" && cmd != "closure")
       throw rnav::ConfigError("unknown command '" + cmd + "'" + rnav::did_you_mean(cmd, {"simulate", "validate", "closure"}) +
                               " (simulate, validate or closure)");
-    const std::string name = a.name.empty() ? recording_name(a.pos[1]) : a.name;
+    const std::string name = a.name.empty() ? rnav::recording_folder_name(a.pos[1]) : a.name;
     // a landing flight (site.json beside radar.csv): validate only
     if (std::filesystem::exists(std::filesystem::path(a.pos[1]) / "site.json")) {
       if (cmd != "validate")
