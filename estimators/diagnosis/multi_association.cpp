@@ -60,6 +60,14 @@ Eigen::Vector2d rel(const Scan& s, std::size_t i, const Pred& pr) {
   return (pr.p + dt * pr.v) - (s.po + dt * s.vo);
 }
 
+// The same as a sensor whose clock is tau [s] off sees it (its stamp minus true time): the row
+// stamped t shows the target where it was at t - tau,
+//   d(t - tau) = d(t) - tau (v_T - v_O)   (first order, as sensor_clock in multi_effect_columns.hpp);
+// exactly rel() for tau = 0.
+Eigen::Vector2d rel(const Scan& s, std::size_t i, const Pred& pr, double tau) {
+  return tau == 0 ? rel(s, i, pr) : Eigen::Vector2d(rel(s, i, pr) - tau * (pr.v - s.vo));
+}
+
 // The relative position d moved by a bearing shift db [rad] and a range shift dr [m] about the observer:
 //   d' = max(0, |d| + dr) (cos(atan2(d_e, d_n) + db), sin(atan2(d_e, d_n) + db));  d itself without shift.
 Eigen::Vector2d shifted(const Eigen::Vector2d& d, double db, double dr) {
@@ -167,39 +175,33 @@ void check_options(const AssociationOptions& o) {
     throw ConfigError("association: ambiguous_gates must be finite and > 0");
 }
 
-// One sensor's unambiguous first-pass residuals, per target.
-struct WideResiduals {
-  std::map<std::string, std::vector<double>> bearing_rad;  // wrap(b_meas - b_pred) [rad]
-  std::map<std::string, std::vector<double>> range_m;      // r_meas - |d| [m], range sensors
-  std::vector<double> pred_range_m;                        // |d| [m], range sensors
-  bool ranged = false;
-  int pairs = 0;
+// One unambiguous first-pass pair (or a pass's associated pair): its residuals and how fast the
+// reference geometry moves, which a sensor clock turns into residual (sensor_clock in
+// multi_effect_columns.hpp).
+struct PairResidual {
+  std::string target;
+  double bearing_rad = 0;         // wrap(b_meas - b_pred) [rad]
+  double bearing_rate_radps = 0;  // beta_dot = d b_pred / dt along the relative velocity [rad/s]
+  double range_m = 0;             // r_meas - |d| [m], range sensors
+  double range_rate_mps = 0;      // r_dot = d |d| / dt [m/s], range sensors
+  double pred_range_m = 0;        // |d| [m]
 };
 
-std::vector<double> pooled(const std::map<std::string, std::vector<double>>& by_target) {
-  std::vector<double> all;
-  for (const auto& [t, v] : by_target) all.insert(all.end(), v.begin(), v.end());
-  return all;
-}
+// One sensor's unambiguous first-pass residuals (or the pairs a pass associated).
+struct WideResiduals {
+  std::vector<PairResidual> pairs;
+  bool ranged = false;
+};
 
 // A shift and its standard error (value 0: not applied).
 struct ShiftEstimate {
   double value = 0, se = 0;
 };
 
-// On pairs: the median of `r` if there are `min_pairs`, beyond kShiftMinSe standard errors and,
-// as `scale` x median, beyond kShiftMinGateFraction of `gate`; else 0.
-ShiftEstimate shift_on_pairs(const std::vector<double>& r, int min_pairs, double scale, double gate) {
-  if (static_cast<int>(r.size()) < min_pairs) return {};
-  const double m = median(r);
-  std::vector<double> dev(r.size());
-  for (std::size_t i = 0; i < r.size(); ++i) dev[i] = std::abs(r[i] - m);
-  const double se = kMedianSeFactor * kMadToSigma * median(dev) / std::sqrt(static_cast<double>(r.size()));
-  return {std::abs(m) > kShiftMinSe * se && std::abs(m) * scale > kShiftMinGateFraction * gate ? m : 0.0, se};
-}
-
-// The targets' medians (targets with kMinTargetPairs pairs or more).
-std::vector<double> target_medians(const std::map<std::string, std::vector<double>>& by_target) {
+// The targets' medians of one residual (targets with kMinTargetPairs pairs or more).
+std::vector<double> target_medians(const WideResiduals& w, double PairResidual::*field) {
+  std::map<std::string, std::vector<double>> by_target;
+  for (const PairResidual& p : w.pairs) by_target[p.target].push_back(p.*field);
   std::vector<double> m;
   for (const auto& [t, v] : by_target)
     if (static_cast<int>(v.size()) >= kMinTargetPairs) m.push_back(median(v));
@@ -216,34 +218,172 @@ ShiftEstimate shift_across_targets(const std::vector<double>& m) {
   return {std::abs(c) > kShiftMinSe * se ? c : 0.0, se};
 }
 
-// Per sensor: (bearing [rad], range [m]) shifts for gating, and whether they are judged across
-// targets (and iterated).
+// Per sensor: (bearing [rad], range [m], clock [s]) shifts for gating, and whether they are
+// judged across targets (and iterated).
 struct SensorShift {
-  ShiftEstimate bearing, range;
+  ShiftEstimate bearing, range, clock;
   bool across_targets = false;
   int targets = 0;
+  bool iterate = false;  // re-estimated from each pass's pairs (across targets, or a fit on pairs applied)
 };
 using Shifts = std::map<std::string, SensorShift>;
 
-// A sensor's shifts from its residuals per target (first pass, or the pairs of the last pass).
-SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o) {
+// Huber's M-estimate with its scale per group of rows (bearings, ranges): the rows'
+// residuals e_k = y_k - x_k theta are taken in units of their group's robust sd
+// s_g = 1.4826 MAD(e over the group), u_k = e_k / s_g, and theta minimises sum rho(u_k) with
+// rho(u) = u^2 / 2 for |u| <= c, c |u| - c^2 / 2 beyond (iteratively reweighted least squares,
+// weights w = min(1, c / |u|), s_g re-estimated each iteration; convex in theta for given
+// scales, so the start only sets the path). Covariance (Huber 1981, 7.6):
+//   cov(theta) = K (X_s' X_s)^-1,  K = [sum psi(u)^2 / (n - p)] / [sum psi'(u) / n]^2,
+// X_s the rows divided by their group's scale, psi(u) = max(-c, min(c, u)), psi' = 1 inside c.
+// It counts every pair as independent, as the median's standard error above does.
+constexpr double kHuberC = 1.345;         // 95 % efficiency at Gaussian noise, bounded influence of clutter and gross errors
+constexpr int kMaxRobustIterations = 100; // IRLS steps; convergence takes 10-30 on the Autoferry pairs
+constexpr double kRobustStepSe = 1e-6;    // converged: no parameter moved by more than this share of its SE
+constexpr double kMinScale = 1e-12;       // [rad or m] floor of a group's scale: noise-free data keep finite weights
+constexpr double kMinRcond = 1e-12;       // a normal matrix nearer singular than this has no fit (a rate without spread)
+struct RobustFit {
+  Eigen::VectorXd theta, se;
+  bool ok = false;
+};
+RobustFit huber_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<int>& group, Eigen::VectorXd theta) {
+  const Eigen::Index n = X.rows(), p = X.cols();
+  RobustFit f;
+  if (n <= p) return f;
+  int groups = 0;
+  for (int g : group) groups = std::max(groups, g + 1);
+  Eigen::VectorXd scale(groups), u(n);
+  Eigen::MatrixXd cov_unscaled;
+  for (int it = 0; it < kMaxRobustIterations; ++it) {
+    const Eigen::VectorXd e = y - X * theta;
+    for (int g = 0; g < groups; ++g) {
+      std::vector<double> eg;
+      for (Eigen::Index k = 0; k < n; ++k)
+        if (group[k] == g) eg.push_back(e(k));
+      scale(g) = std::max(kMadToSigma * median_abs(eg), kMinScale);
+    }
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p), N = Eigen::MatrixXd::Zero(p, p);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(p);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double s = scale(group[k]);
+      u(k) = e(k) / s;
+      const double w = std::abs(u(k)) <= kHuberC ? 1.0 : kHuberC / std::abs(u(k));
+      const Eigen::RowVectorXd xs = X.row(k) / s;
+      A += w * xs.transpose() * xs;
+      N += xs.transpose() * xs;
+      rhs += w * xs.transpose() * (y(k) / s);
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A), ldlt_n(N);
+    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > kMinRcond) || !(ldlt_n.rcond() > kMinRcond)) return f;
+    const Eigen::VectorXd next = ldlt.solve(rhs);
+    cov_unscaled = ldlt_n.solve(Eigen::MatrixXd::Identity(p, p));
+    const Eigen::VectorXd step = (next - theta).cwiseAbs().cwiseQuotient(cov_unscaled.diagonal().cwiseSqrt());
+    theta = next;
+    if (step.maxCoeff() < kRobustStepSe) break;
+  }
+  const Eigen::VectorXd e = y - X * theta;
+  double psi2 = 0, dpsi = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double v = e(k) / scale(group[k]);
+    psi2 += std::pow(std::clamp(v, -kHuberC, kHuberC), 2);
+    dpsi += std::abs(v) <= kHuberC;
+  }
+  if (dpsi == 0) return f;
+  const double K = (psi2 / static_cast<double>(n - p)) / std::pow(dpsi / static_cast<double>(n), 2);
+  f.theta = theta;
+  f.se = (K * cov_unscaled.diagonal()).cwiseSqrt();
+  f.ok = f.theta.allFinite() && f.se.allFinite();
+  return f;
+}
+
+// A sensor's common error fitted on pairs: bearing bias b [rad], range bias r [m] (range
+// sensors) and clock tau [s] (its stamp minus true time: a detection stamped t shows the target
+// where it was at t - tau, sensor_clock in multi_effect_columns.hpp), jointly on
+//   bearing residual  wrap(b_meas - b_pred) = b - beta_dot tau   (every pair)
+//   range residual    r_meas - |d|          = r - r_dot tau      (range sensors)
+// by Huber's M-estimate (huber_fit), started at the residuals' medians and tau = 0. The clock
+// stays in only beyond kShiftMinSe of its SE; without it b and r are refitted alone (a clock
+// without spread in the rates takes up a constant). Each of b, r, tau is applied only beyond
+// kShiftMinSe of its SE (0 otherwise; its SE kept). A clock on moving targets whose bearings turn
+// the same way shifts every residual by -beta_dot tau: a median constant takes the bias plus the
+// clock's share at the median rate (Autoferry scenario 5's simulated IR camera: 6.7 deg and
+// -1.8 s on boats turning at -1.3 to -2.4 deg/s gave 4.3 deg), and a gate centred there truncates
+// the residuals on one side.
+SensorShift fit_on_pairs(const WideResiduals& w) {
+  const bool ranged = w.ranged;
+  const Eigen::Index n = static_cast<Eigen::Index>(w.pairs.size());
+  const Eigen::Index rows = ranged ? 2 * n : n;
+  // columns: b, [r,] tau
+  const Eigen::Index p = ranged ? 3 : 2;
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, p);
+  Eigen::VectorXd y(rows);
+  std::vector<int> group(static_cast<std::size_t>(rows), 0);
+  std::vector<double> rb, rr;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PairResidual& q = w.pairs[static_cast<std::size_t>(i)];
+    X(i, 0) = 1, X(i, p - 1) = -q.bearing_rate_radps, y(i) = q.bearing_rad;
+    rb.push_back(q.bearing_rad);
+    if (!ranged) continue;
+    X(n + i, 1) = 1, X(n + i, 2) = -q.range_rate_mps, y(n + i) = q.range_m;
+    group[static_cast<std::size_t>(n + i)] = 1;
+    rr.push_back(q.range_m);
+  }
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(p);
+  start(0) = median(rb);
+  if (ranged) start(1) = median(rr);
   SensorShift sh;
-  const std::vector<double> mb = target_medians(w.bearing_rad);
+  RobustFit f = huber_fit(X, y, group, start);
+  if (f.ok && std::abs(f.theta(p - 1)) > kShiftMinSe * f.se(p - 1)) {
+    sh.clock = {f.theta(p - 1), f.se(p - 1)};
+  } else {
+    const double tau_se = f.ok ? f.se(p - 1) : 0.0;
+    f = huber_fit(X.leftCols(p - 1), y, group, start.head(p - 1));
+    sh.clock = {0.0, tau_se};
+    if (!f.ok) return sh;
+  }
+  const auto significant = [](double v, double se) { return ShiftEstimate{std::abs(v) > kShiftMinSe * se ? v : 0.0, se}; };
+  sh.bearing = significant(f.theta(0), f.se(0));
+  if (ranged) sh.range = significant(f.theta(1), f.se(1));
+  return sh;
+}
+
+// The gating displacement of pair q under shifts sh, in the gate's units: a bearing-only
+// sensor's |b - beta_dot tau| [rad]; a range sensor's distance the prediction moves [m],
+//   sqrt((|d| (b - beta_dot tau))^2 + (r - r_dot tau)^2)   (to first order in the shifts).
+double displacement(const PairResidual& q, const SensorShift& sh, bool ranged) {
+  const double db = sh.bearing.value - q.bearing_rate_radps * sh.clock.value;
+  if (!ranged) return std::abs(db);
+  return std::hypot(q.pred_range_m * db, sh.range.value - q.range_rate_mps * sh.clock.value);
+}
+
+// A sensor's shifts from its residuals (first pass, or the pairs of the last pass).
+// With at least kMinCommonTargets targets: medians across targets (constant shifts, no clock).
+// Otherwise (first_pass): the fit on pairs (fit_on_pairs), applied only with recentre_min_pairs
+// pairs and when it moves the median pair's prediction beyond kShiftMinGateFraction of the final
+// gate (a bias the gate would lose); later passes (not first_pass) refine an applied fit on the
+// pairs associated through its gates, which then sit where the data are and truncate both sides alike.
+SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bool first_pass) {
+  SensorShift sh;
+  const std::vector<double> mb = target_medians(w, &PairResidual::bearing_rad);
   if (static_cast<int>(mb.size()) >= kMinCommonTargets) {
-    sh.across_targets = true;
+    sh.across_targets = sh.iterate = true;
     sh.targets = static_cast<int>(mb.size());
     sh.bearing = shift_across_targets(mb);
     if (w.ranged) {
-      const std::vector<double> mr = target_medians(w.range_m);
+      const std::vector<double> mr = target_medians(w, &PairResidual::range_m);
       if (static_cast<int>(mr.size()) >= kMinCommonTargets) sh.range = shift_across_targets(mr);
     }
     return sh;
   }
-  const double gate_b = o.gate_bearing_deg * kDegToRad;
-  // a range sensor's bearing shift is judged as metres across the line of sight at the pairs' median range
-  const double scale = w.pred_range_m.empty() ? 1.0 : median(w.pred_range_m);  // [m/rad] or [1]
-  sh.bearing = shift_on_pairs(pooled(w.bearing_rad), o.recentre_min_pairs, scale, w.ranged ? o.gate_position_m : gate_b);
-  if (w.ranged) sh.range = shift_on_pairs(pooled(w.range_m), o.recentre_min_pairs, 1.0, o.gate_position_m);
+  if (static_cast<int>(w.pairs.size()) < o.recentre_min_pairs) return sh;
+  sh = fit_on_pairs(w);
+  if (first_pass) {
+    const double gate = w.ranged ? o.gate_position_m : o.gate_bearing_deg * kDegToRad;
+    std::vector<double> moved_by;
+    for (const PairResidual& q : w.pairs) moved_by.push_back(displacement(q, sh, w.ranged));
+    if (!(median(moved_by) > kShiftMinGateFraction * gate)) sh.bearing.value = sh.range.value = sh.clock.value = 0;
+  }
+  sh.iterate = sh.bearing.value != 0 || sh.range.value != 0 || sh.clock.value != 0;
   return sh;
 }
 
@@ -383,15 +523,18 @@ std::map<std::string, WideResiduals> wide_residuals(const std::vector<Scan>& sca
       for (std::size_t b = 0; b < s.preds.size(); ++b)
         shared |= b != a && distance(det[s.rows[hit]], s, rel(s, hit, s.preds[b])) <= gate;
       if (shared) continue;
-      const Eigen::Vector2d d = rel(s, hit, s.preds[a]);
+      const Eigen::Vector2d d = rel(s, hit, s.preds[a]), v = s.preds[a].v - s.vo;
       const Detection& dk = det[s.rows[hit]];
-      const std::string& t = s.preds[a].target;
-      w.bearing_rad[t].push_back(wrap_pi(dk.bearing_rad + s.gamma - bearing_rad(d)));
-      ++w.pairs;
+      PairResidual q;
+      q.target = s.preds[a].target;
+      q.bearing_rad = wrap_pi(dk.bearing_rad + s.gamma - bearing_rad(d));
+      q.bearing_rate_radps = bearing_rate_radps(d, v);
+      q.pred_range_m = d.norm();
       if (s.ranged) {
-        w.range_m[t].push_back(dk.range_m - d.norm());
-        w.pred_range_m.push_back(d.norm());
+        q.range_m = dk.range_m - d.norm();
+        q.range_rate_mps = range_jacobian(d) * v;
       }
+      w.pairs.push_back(q);
     }
   }
   return wide;
@@ -403,12 +546,16 @@ std::map<std::string, WideResiduals> pass_residuals(const std::vector<Associated
   for (const AssociatedDetection& x : out) {
     WideResiduals& w = r[x.sensor];
     w.ranged = w.ranged || x.has_range;
-    w.bearing_rad[x.target].push_back(wrap_pi(x.bearing_rad - x.bearing_pred()));
-    ++w.pairs;
+    PairResidual q;
+    q.target = x.target;
+    q.bearing_rad = wrap_pi(x.bearing_rad - x.bearing_pred());
+    q.bearing_rate_radps = bearing_rate_radps(x.d, x.v_rel);
+    q.pred_range_m = x.range_pred();
     if (x.has_range) {
-      w.range_m[x.target].push_back(x.range_m - x.range_pred());
-      w.pred_range_m.push_back(x.range_pred());
+      q.range_m = x.range_m - x.range_pred();
+      q.range_rate_mps = x.drange() * x.v_rel;
     }
+    w.pairs.push_back(q);
   }
   return r;
 }
@@ -456,11 +603,12 @@ void associate_scan(const Context& c, const Scan& s, const Shifts& shift, std::m
   st.detections += static_cast<int>(s.rows.size());
   const auto sh = shift.find(s.sensor);
   const double db = sh == shift.end() ? 0.0 : sh->second.bearing.value, dr = sh == shift.end() ? 0.0 : sh->second.range.value;
+  const double tau = sh == shift.end() ? 0.0 : sh->second.clock.value;
   const double gate = s.ranged ? o.gate_position_m : gate_b;
   const std::size_t T = s.preds.size();
   // ambiguity: two gating predictions within ambiguous_gates gates of each other
   std::vector<Eigen::Vector2d> gp;  // gating predictions relative to the observer, at the scan's time
-  for (const auto& pr : s.preds) gp.push_back(shifted(pr.p - s.po, db, dr));
+  for (const auto& pr : s.preds) gp.push_back(shifted(pr.p - s.po - tau * (pr.v - s.vo), db, dr));
   std::vector<char> ambiguous(T, 0);
   for (std::size_t a = 0; a < T; ++a)
     for (std::size_t b = a + 1; b < T; ++b)
@@ -472,7 +620,7 @@ void associate_scan(const Context& c, const Scan& s, const Shifts& shift, std::m
   for (std::size_t a = 0; a < T; ++a) {
     if (ambiguous[a]) continue;
     for (std::size_t i = 0; i < s.rows.size(); ++i) {
-      const double x = distance(det[s.rows[i]], s, shifted(rel(s, i, s.preds[a]), db, dr)) / gate;
+      const double x = distance(det[s.rows[i]], s, shifted(rel(s, i, s.preds[a], tau), db, dr)) / gate;
       if (x <= 1) cost(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(i)) = x * x;
     }
   }
@@ -509,6 +657,8 @@ void record_shift(SensorAssociation& st, const SensorShift& sh, int wide_pairs) 
   st.gate_shift_range_m = sh.range.value;
   st.gate_shift_bearing_se_rad = sh.bearing.se;
   st.gate_shift_range_se_m = sh.range.se;
+  st.gate_shift_clock_s = sh.clock.value;
+  st.gate_shift_clock_se_s = sh.clock.se;
   st.wide_pairs = wide_pairs;
   st.shift_rule = sh.across_targets ? "targets" : "pairs";
   st.shift_targets = sh.targets;
@@ -555,8 +705,8 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   std::map<std::string, int> wide_pairs;
   if (o.recentre_gates)
     for (const auto& [sensor, w] : wide_residuals(scans, data.detections, o)) {
-      shift[sensor] = sensor_shift(w, o);
-      wide_pairs[sensor] = w.pairs;
+      shift[sensor] = sensor_shift(w, o, true);
+      wide_pairs[sensor] = static_cast<int>(w.pairs.size());
     }
 
   // the passes: gates around the predictions moved by each sensor's shifts (for gating only);
@@ -564,15 +714,17 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   std::map<std::string, SensorAssociation> st;
   std::vector<AssociatedDetection> out = associate_all(c, scans, shift, st);
   int passes = 1;
-  const bool iterate = std::any_of(shift.begin(), shift.end(), [](const auto& x) { return x.second.across_targets; });
+  const bool iterate = std::any_of(shift.begin(), shift.end(), [](const auto& x) { return x.second.iterate; });
   while (iterate && passes < o.max_passes) {
     bool any_moved = false;
     for (auto& [sensor, w] : pass_residuals(out)) {
       auto it = shift.find(sensor);
-      if (it == shift.end() || !it->second.across_targets) continue;
-      const SensorShift next = sensor_shift(w, o);
-      if (!next.across_targets) continue;  // too few targets left: keep the shifts
-      any_moved |= moved(it->second.bearing, next.bearing) || moved(it->second.range, next.range);
+      if (it == shift.end() || !it->second.iterate) continue;
+      const SensorShift next = sensor_shift(w, o, false);
+      // too few targets left for the rule across them, or too few pairs for a fit: keep the shifts
+      if (next.across_targets != it->second.across_targets || !next.iterate) continue;
+      any_moved |= moved(it->second.bearing, next.bearing) || moved(it->second.range, next.range) ||
+                   moved(it->second.clock, next.clock);
       it->second = next;
     }
     if (!any_moved) break;
@@ -584,7 +736,7 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     if (rotating.count(sensor)) x.rotation_period_s = rotating.at(sensor);
     const auto it = shift.find(sensor);
     if (it != shift.end()) record_shift(x, it->second, wide_pairs[sensor]);
-    x.passes = it != shift.end() && it->second.across_targets ? passes : 1;
+    x.passes = it != shift.end() && it->second.iterate ? passes : 1;
     stats[sensor] = x;
   }
   return out;

@@ -35,15 +35,25 @@
 //    prediction truncate symmetrically), until no shift moves by more than a tenth of its se, or
 //    max_passes;
 //  * on pairs (fewer targets, as on the Autoferry recordings' two or three boats, whose
-//    per-target offsets cannot be told from a common one): the median over all unambiguous
-//    pairs, with se = sqrt(pi/2) 1.4826 MAD / sqrt(n), applied only with n >= recentre_min_pairs,
-//    |shift| > 3 se and |shift| beyond the final gate itself (a range sensor's bearing shift as
-//    metres at the pairs' median range): only a bias the gate would lose. One pass.
-// The shifts move each prediction's bearing and range for gating only: the associated
-// measurements and geometry stay the raw ones, so the diagnosis estimates the bias itself from
-// the raw residuals. Without an applied shift the final pass is exactly the one-pass
-// association. A sensor's clock offset moves each target along its own velocity: a common shift
-// takes up only its mean over the pairs.
+//    per-target offsets cannot be told from a common one): the sensor's bearing bias b, range
+//    bias r (range sensors) and clock tau (stamp minus true time) fitted jointly on all
+//    unambiguous pairs,
+//      bearing residual = b - beta_dot tau,   range residual = r - r_dot tau
+//    (beta_dot, r_dot: the rates of the predicted bearing and range along the relative
+//    velocity), by Huber's robust M-estimate with each quantity's MAD scale, standard errors from
+//    its sandwich covariance; the clock kept only beyond 3 of its SEs (else b and r refitted
+//    alone), each term applied only beyond 3 SEs, and all only with n >= recentre_min_pairs and
+//    when they move the median pair's prediction beyond the final gate itself (a range sensor's
+//    as metres): only a bias the gate would lose. A clock on boats whose bearings turn the same
+//    way moves every residual by -beta_dot tau, so a median constant (the rule before) took the
+//    bias plus the clock's share and left the gates off the data. An applied fit is then
+//    refined like the shifts across targets, from the pairs each pass associates, until no term
+//    moves by more than a tenth of its SE, or max_passes.
+// The shifts move each prediction's bearing and range (and, by the clock, its time) for gating
+// only: the associated measurements and geometry stay the raw ones, so the diagnosis estimates
+// the bias itself from the raw residuals. Without an applied shift the final pass is exactly the
+// one-pass association. Across targets a sensor's clock offset, which moves each target along
+// its own velocity, is not fitted: a common shift takes up only its share at the targets' median.
 //
 // Assignment: in each scan the targets' gates are assigned detections jointly, one detection per
 // target and one target per detection (assignment.hpp), minimising the sum of (distance /
@@ -147,11 +157,16 @@ struct SensorAssociation {
   double gate_shift_range_m = 0;      ///< [m] added to every predicted range (range sensors)
   int wide_pairs = 0;                 ///< unambiguous first-pass pairs the shifts were estimated from
   /// "targets": the shifts are medians over targets (shift_targets of them), iterated; "pairs":
-  /// a median over pairs applied only beyond the gate; "" without recentring
+  /// a bias and clock fitted on pairs, applied only when they move the gates beyond the gate, then
+  /// iterated; "" without recentring
   std::string shift_rule;
   int shift_targets = 0;              ///< targets whose medians gave the shifts ("targets" rule)
   double gate_shift_bearing_se_rad = 0;  ///< [rad] the bearing shift's standard error
   double gate_shift_range_se_m = 0;      ///< [m] the range shift's standard error
+  /// [s] the sensor's clock (stamp minus true time) the gating predictions were moved back by
+  /// along each target's relative velocity ("pairs" rule; 0 where not applied or across targets)
+  double gate_shift_clock_s = 0;
+  double gate_shift_clock_se_s = 0;      ///< [s] the clock's standard error ("pairs" rule)
   int passes = 1;                     ///< association passes run (the last one's pairs are used)
   /// [s] > 0: the sensor stamps each detection at its own time and was read as scans of one
   /// rotation of this period each (rotation_scans.hpp); 0: scans as stamped

@@ -413,7 +413,8 @@ nlohmann::ordered_json MultiReport::to_json() const {
                            {"associated", st.associated}, {"missed", st.missed}, {"ambiguous", st.ambiguous},
                            {"wide_pairs", st.wide_pairs}, {"gate_shift_bearing_rad", st.gate_shift_bearing_rad},
                            {"gate_shift_range_m", st.gate_shift_range_m}, {"gate_shift_bearing_se_rad", st.gate_shift_bearing_se_rad},
-                           {"gate_shift_range_se_m", st.gate_shift_range_se_m}, {"shift_rule", st.shift_rule},
+                           {"gate_shift_range_se_m", st.gate_shift_range_se_m}, {"gate_shift_clock_s", st.gate_shift_clock_s},
+                           {"gate_shift_clock_se_s", st.gate_shift_clock_se_s}, {"shift_rule", st.shift_rule},
                            {"shift_targets", st.shift_targets}, {"passes", st.passes}, {"rotation_period_s", st.rotation_period_s}};
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
   j["dropped_channels"] = dropped_channels;
@@ -466,15 +467,17 @@ std::string MultiReport::text() const {
     o << " (ambiguous scans " << st.ambiguous_scans << ")";
     if (st.rotation_period_s > 0)
       o << ", each detection stamped at its own time: read as rotations of " << short_num(st.rotation_period_s) << " s";
-    if (st.gate_shift_bearing_rad != 0 || st.gate_shift_range_m != 0) {
+    if (st.gate_shift_bearing_rad != 0 || st.gate_shift_range_m != 0 || st.gate_shift_clock_s != 0) {
       o << ", gates recentred by " << short_num(st.gate_shift_bearing_rad / kDegToRad) << " deg, "
         << short_num(st.gate_shift_range_m) << " m";
+      if (st.gate_shift_clock_s != 0) o << " and a clock of " << short_num(st.gate_shift_clock_s) << " s";
       if (st.shift_rule == "targets")
         o << " (the sensor's common offset: the median over " << st.shift_targets << " targets' medians, +- "
           << short_num(st.gate_shift_bearing_se_rad / kDegToRad) << " deg, " << short_num(st.gate_shift_range_se_m) << " m; "
           << st.passes << " pass" << (st.passes == 1 ? "" : "es") << ")";
       else
-        o << " (the sensor's common offset beyond its gate, from " << st.wide_pairs << " unambiguous pairs)";
+        o << " (the sensor's common offset beyond its gate, fitted on " << st.wide_pairs << " unambiguous pairs, then on each pass's; "
+          << st.passes << " pass" << (st.passes == 1 ? "" : "es") << ")";
     } else if (st.shift_rule == "targets") {
       o << ", gates centred on the prediction (no common offset over " << st.shift_targets << " targets)";
     }
