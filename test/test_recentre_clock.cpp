@@ -23,6 +23,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -61,7 +62,9 @@ struct Scene {
   std::map<std::pair<double, std::string>, double> own_bearing;  // (t_s, boat): its detection's bearing
 };
 
-Scene make(std::uint64_t seed) {
+// clock_s[k - 1]: boat k's clock as the camera sees it (the same for both: the camera's clock;
+// different: an offset of one boat's own, its reference stamped late)
+Scene make(std::uint64_t seed, std::array<double, 2> clock_s = {kClockS, kClockS}) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> N(0, 1);
   std::uniform_real_distribution<double> U(0, 1);
@@ -79,7 +82,7 @@ Scene make(std::uint64_t seed) {
     for (int k = 1; k <= 2; ++k) {
       const Eigen::Vector2d rel = boat(k, t) - own(t), v = boat_velocity(k) - own_velocity(t);
       // b_meas = beta(t) + b - beta_dot(t) tau + noise
-      const double b = wrap_pi(bearing_rad(rel) + kBiasDeg * kDegToRad - bearing_rate_radps(rel, v) * kClockS +
+      const double b = wrap_pi(bearing_rad(rel) + kBiasDeg * kDegToRad - bearing_rate_radps(rel, v) * clock_s[k - 1] +
                                kSigmaBearingDeg * kDegToRad * N(rng));
       if (U(rng) < kMissProbability) continue;
       d.detections.push_back({t, "ir", NAN, b, NAN});
@@ -206,4 +209,25 @@ TEST_CASE("recentring: a range sensor's bearing and range biases with a clock, f
   CHECK(std::abs(radar.gate_shift_clock_s - kClockS) < kToleranceSe * radar.gate_shift_clock_se_s);
   // every boat detection found but a few the clutter wins (2 returns in 400 m x 360 deg)
   CHECK(own >= 0.95 * generated);
+}
+
+// The guard: a clock that only one boat shows is that boat's own (its reference stamped late),
+// not the camera's. Boat 1's bearings carry the clock kClockS, boat 2's none; pooled, the fit
+// still finds a clock (of a size between), but each boat's own fit gives its own: -1.8 s and 0,
+// many SEs apart, and the clock is left out of the gates and named, with both boats' clocks. The
+// bias stays recentred (beyond the gate). Without the guard the pooled clock was applied.
+TEST_CASE("recentring: a clock only one target shows is refused and named") {
+  const Scene sc = make(24, {kClockS, 0.0});
+  std::map<std::string, SensorAssociation> st;
+  const auto a = associate(sc.data, AssociationOptions{}, st);
+  const SensorAssociation& ir = st.at("ir");
+  INFO("gates recentred by " << ir.gate_shift_bearing_rad / kDegToRad << " deg and " << ir.gate_shift_clock_s
+                             << " s; refused: " << ir.clock_refused_s << " s: " << ir.clock_refused);
+  REQUIRE(ir.shift_rule == "pairs");
+  CHECK(ir.gate_shift_clock_s == 0);
+  CHECK(ir.clock_refused_s != 0);
+  CHECK(ir.clock_refused.find("disagree") != std::string::npos);
+  CHECK(ir.clock_refused.find("1 ") != std::string::npos);
+  CHECK(ir.clock_refused.find("2 ") != std::string::npos);
+  CHECK(ir.gate_shift_bearing_rad > 3 * kDegToRad);  // beyond the 3 deg gate: still recentred
 }

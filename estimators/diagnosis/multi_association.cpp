@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace rnav {
 
@@ -225,6 +226,8 @@ struct SensorShift {
   bool across_targets = false;
   int targets = 0;
   bool iterate = false;  // re-estimated from each pass's pairs (across targets, or a fit on pairs applied)
+  std::string clock_refused;  // a significant pooled clock left out, and why (clock_disagreement); "" otherwise
+  double clock_fitted_s = 0;  // [s] that refused clock's value
 };
 using Shifts = std::map<std::string, SensorShift>;
 
@@ -310,36 +313,98 @@ RobustFit huber_fit(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const st
 // and -1.78 s alone, white noise: boats turning at -0.4 to -2.8 deg/s, a median of 4.2-4.5 deg
 // over the first pass's pairs, this fit 6.75-6.86 deg and -1.78 to -1.87 s), and a gate centred
 // on the median truncates the residuals on one side.
-SensorShift fit_on_pairs(const WideResiduals& w) {
-  const bool ranged = w.ranged;
-  const Eigen::Index n = static_cast<Eigen::Index>(w.pairs.size());
-  const Eigen::Index rows = ranged ? 2 * n : n;
-  // columns: b, [r,] tau
+// The rows of the fit below on a set of pairs: columns b, [r,] tau; bearing rows first, group 0;
+// range rows (range sensors) group 1; the start at the residuals' medians and tau = 0.
+struct PairDesign {
+  Eigen::MatrixXd X;
+  Eigen::VectorXd y, start;
+  std::vector<int> group;
+};
+PairDesign pair_design(const std::vector<const PairResidual*>& pairs, bool ranged) {
+  const Eigen::Index n = static_cast<Eigen::Index>(pairs.size());
   const Eigen::Index p = ranged ? 3 : 2;
-  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(rows, p);
-  Eigen::VectorXd y(rows);
-  std::vector<int> group(static_cast<std::size_t>(rows), 0);
+  PairDesign d;
+  d.X = Eigen::MatrixXd::Zero(ranged ? 2 * n : n, p);
+  d.y.resize(d.X.rows());
+  d.group.assign(static_cast<std::size_t>(d.X.rows()), 0);
   std::vector<double> rb, rr;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const PairResidual& q = w.pairs[static_cast<std::size_t>(i)];
-    X(i, 0) = 1, X(i, p - 1) = -q.bearing_rate_radps, y(i) = q.bearing_rad;
+    const PairResidual& q = *pairs[static_cast<std::size_t>(i)];
+    d.X(i, 0) = 1, d.X(i, p - 1) = -q.bearing_rate_radps, d.y(i) = q.bearing_rad;
     rb.push_back(q.bearing_rad);
     if (!ranged) continue;
-    X(n + i, 1) = 1, X(n + i, 2) = -q.range_rate_mps, y(n + i) = q.range_m;
-    group[static_cast<std::size_t>(n + i)] = 1;
+    d.X(n + i, 1) = 1, d.X(n + i, 2) = -q.range_rate_mps, d.y(n + i) = q.range_m;
+    d.group[static_cast<std::size_t>(n + i)] = 1;
     rr.push_back(q.range_m);
   }
-  Eigen::VectorXd start = Eigen::VectorXd::Zero(p);
-  start(0) = median(rb);
-  if (ranged) start(1) = median(rr);
+  d.start = Eigen::VectorXd::Zero(p);
+  if (n > 0) d.start(0) = median(rb);
+  if (ranged && n > 0) d.start(1) = median(rr);
+  return d;
+}
+
+// A clock fitted on the pooled pairs is one sensor's only if every target says so: a per-target
+// offset (a reference antenna away from the hull's centre, a target's own positioning error)
+// whose residual correlates with that target's bearing rate fits a clock too, of another size on
+// each target. Each target with kMinTargetPairs pairs or more gets its own fit of b_k, [r_k,]
+// tau_k (huber_fit); with m >= kMinClockTargets of them the clocks must agree:
+//   X^2 = sum_k (tau_k - tau_w)^2 / se_k^2,  tau_w = sum_k tau_k / se_k^2 / sum_k 1 / se_k^2,
+// refused when P(chi2(m - 1) > X^2) < kClockAgreementP. With fewer targets the clock cannot be
+// told from one target's own offset and is refused. Returns "" when it agrees, else why not.
+// The SEs count every pair as independent: correlated noise within a target makes them too
+// small, so such a target's clock disagrees sooner and the clock is left out (the gate then
+// sits on the bias-only fit, as without a clock).
+constexpr int kMinClockTargets = 2;
+constexpr double kClockAgreementP = 0.01;
+std::string clock_disagreement(const WideResiduals& w) {
+  std::map<std::string, std::vector<const PairResidual*>> by_target;
+  for (const PairResidual& q : w.pairs) by_target[q.target].push_back(&q);
+  std::vector<std::pair<std::string, ShiftEstimate>> tau;
+  for (const auto& [target, pairs] : by_target) {
+    if (static_cast<int>(pairs.size()) < kMinTargetPairs) continue;
+    const PairDesign d = pair_design(pairs, w.ranged);
+    const RobustFit f = huber_fit(d.X, d.y, d.group, d.start);
+    const Eigen::Index k = d.X.cols() - 1;
+    if (f.ok && f.se(k) > 0) tau.push_back({target, {f.theta(k), f.se(k)}});
+  }
+  std::ostringstream why;
+  why.precision(3);
+  if (static_cast<int>(tau.size()) < kMinClockTargets) {
+    why << "fitted on " << tau.size() << " target(s) only: a clock cannot be told from one target's own offset";
+    return why.str();
+  }
+  double sw = 0, swt = 0;
+  for (const auto& [t, e] : tau) sw += 1 / (e.se * e.se), swt += e.value / (e.se * e.se);
+  const double tau_w = swt / sw;
+  double x2 = 0;
+  for (const auto& [t, e] : tau) x2 += std::pow((e.value - tau_w) / e.se, 2);
+  const double dof = static_cast<double>(tau.size() - 1);
+  if (chi2_sf(x2, dof) >= kClockAgreementP) return "";
+  why << "the targets' own fits disagree (";
+  for (std::size_t i = 0; i < tau.size(); ++i)
+    why << (i ? ", " : "") << tau[i].first << " " << tau[i].second.value << " +- " << tau[i].second.se << " s";
+  why << "; chi2 = " << x2 << " on " << dof << " dof)";
+  return why.str();
+}
+
+SensorShift fit_on_pairs(const WideResiduals& w) {
+  const bool ranged = w.ranged;
+  std::vector<const PairResidual*> all;
+  for (const PairResidual& q : w.pairs) all.push_back(&q);
+  const PairDesign d = pair_design(all, ranged);
+  const Eigen::Index p = d.X.cols();
   SensorShift sh;
-  RobustFit f = huber_fit(X, y, group, start);
-  if (f.ok && std::abs(f.theta(p - 1)) > kShiftMinSe * f.se(p - 1)) {
+  RobustFit f = huber_fit(d.X, d.y, d.group, d.start);
+  const bool clock = f.ok && std::abs(f.theta(p - 1)) > kShiftMinSe * f.se(p - 1);
+  if (clock) sh.clock_refused = clock_disagreement(w);
+  if (clock && sh.clock_refused.empty()) {
     sh.clock = {f.theta(p - 1), f.se(p - 1)};
   } else {
     const double tau_se = f.ok ? f.se(p - 1) : 0.0;
-    f = huber_fit(X.leftCols(p - 1), y, group, start.head(p - 1));
+    const double tau_value = clock ? f.theta(p - 1) : 0.0;
+    f = huber_fit(d.X.leftCols(p - 1), d.y, d.group, d.start.head(p - 1));
     sh.clock = {0.0, tau_se};
+    sh.clock_fitted_s = tau_value;
     if (!f.ok) return sh;
   }
   const auto significant = [](double v, double se) { return ShiftEstimate{std::abs(v) > kShiftMinSe * se ? v : 0.0, se}; };
@@ -382,7 +447,10 @@ SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bo
     const double gate = w.ranged ? o.gate_position_m : o.gate_bearing_deg * kDegToRad;
     std::vector<double> moved_by;
     for (const PairResidual& q : w.pairs) moved_by.push_back(displacement(q, sh, w.ranged));
-    if (!(median(moved_by) > kShiftMinGateFraction * gate)) sh.bearing.value = sh.range.value = sh.clock.value = 0;
+    if (!(median(moved_by) > kShiftMinGateFraction * gate)) {
+      sh.bearing.value = sh.range.value = sh.clock.value = 0;
+      sh.clock_refused.clear(), sh.clock_fitted_s = 0;  // nothing applied: nothing refused either
+    }
   }
   sh.iterate = sh.bearing.value != 0 || sh.range.value != 0 || sh.clock.value != 0;
   return sh;
@@ -660,6 +728,8 @@ void record_shift(SensorAssociation& st, const SensorShift& sh, int wide_pairs) 
   st.gate_shift_range_se_m = sh.range.se;
   st.gate_shift_clock_s = sh.clock.value;
   st.gate_shift_clock_se_s = sh.clock.se;
+  st.clock_refused = sh.clock_refused;
+  st.clock_refused_s = sh.clock_fitted_s;
   st.wide_pairs = wide_pairs;
   st.shift_rule = sh.across_targets ? "targets" : "pairs";
   st.shift_targets = sh.targets;

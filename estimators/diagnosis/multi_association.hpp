@@ -167,6 +167,10 @@ struct SensorAssociation {
   /// along each target's relative velocity ("pairs" rule; 0 where not applied or across targets)
   double gate_shift_clock_s = 0;
   double gate_shift_clock_se_s = 0;      ///< [s] the clock's standard error ("pairs" rule)
+  /// A clock significant on the pooled pairs but left out of the gates, and why (the targets'
+  /// own clocks disagree, or only one target has a fit); "" when applied or not significant
+  std::string clock_refused;
+  double clock_refused_s = 0;            ///< [s] that clock's pooled value (0 when none refused)
   int passes = 1;                     ///< association passes run (the last one's pairs are used)
   /// [s] > 0: the sensor stamps each detection at its own time and was read as scans of one
   /// rotation of this period each (rotation_scans.hpp); 0: scans as stamped
