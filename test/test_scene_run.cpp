@@ -9,7 +9,9 @@
 //   - the loop over LCM: a radar bias hidden in the recording, diagnosed, the report given as
 //     the run's errors (--effects), and the diagnosis of the run's recording names it again,
 //     its estimate within its standard errors of the injected value; the nominal run's does not;
-//   - bad input named: no recording, a sensor the recording lacks, --effects on a UAV scenario.
+//   - bad input named: no recording, a sensor the recording lacks, --effects on a UAV scenario;
+//   - a landing flight's scenario (rnav_scene scenario): run over LCM as in one process, with
+//     its report's range bias.
 #include "multi_diagnose.hpp"
 #include "scene_recording_gen.hpp"
 #include "shell.hpp"
@@ -17,6 +19,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -212,4 +215,45 @@ TEST_CASE("scene validation of a landing flight: a range bias of the independent
   CHECK(std::abs(z("extended", "range", "mean")) < 4);
   CHECK(std::abs(z("extended", "range", "sd")) < 4);
   CHECK(std::abs(z("extended", "elevation", "mean")) < 4);
+}
+
+// A landing flight as a scenario that scripts/run runs as separate processes: rnav_scene scenario
+// writes the flight's landing scenario (extended by its report), and the run over LCM writes the
+// in-process run's realizations byte for byte. The report's constant range bias is the scenario's
+// radar bias (no drift named: b_sim = b), and replay.csv holds every nav sample of the flight.
+TEST_CASE("scene scenario of a landing flight: run over LCM as in one process, with the report's range bias", "[scene][integration]") {
+  const fs::path d = scratch("scene_prl_scenario");
+  sh_ok("/usr/bin/python3 " + kRoot + "/scripts/flightgen.py landing " + (d / "flight").string() +
+        " --seed 3 --set range_bias_m=60 --set geometry=straight > /dev/null");
+  sh_ok(kRoot + "/scripts/diagnose prl " + (d / "flight").string() + " --injections 0 --json " + (d / "report.json").string());
+  std::ofstream((d / "base.json").string()) << R"({"prl": {"bias_range_m": 0, "max_range_m": 200000}})";
+  sh_ok(kBin + "/rnav_scene scenario " + (d / "flight").string() + " --scenario " + (d / "base.json").string() + " --effects " +
+        (d / "report.json").string() + " --out " + (d / "sc").string());
+  const auto sc = nlohmann::json::parse(slurp(d / "sc" / "scenario.json"));
+  const auto rep = nlohmann::json::parse(slurp(d / "report.json"));
+  double range_bias = NAN;
+  for (const auto& e : rep["effects"])
+    if (e.value("nominal", false) && e["name"] == "range_bias") range_bias = e["estimate"];
+  CHECK(sc["kind"] == "prl");
+  CHECK(sc["trajectory"]["replay_csv"] == "replay.csv");
+  CHECK(sc["prl"]["bias_range_m"].get<double>() == Approx(range_bias).margin(1e-9));
+  CHECK(std::abs(range_bias - 60) < 10);  // the generator's 60 m, found (its SE is about 1 m)
+  auto lines = [](const std::string& s) { return std::count(s.begin(), s.end(), '\n'); };
+  CHECK(lines(slurp(d / "sc" / "replay.csv")) == lines(slurp(d / "flight" / "nav.csv")));
+  const std::string scen = (d / "sc" / "scenario.json").string();
+  sh_ok(kBin + "/rnav_inproc --scenario " + scen + " --realizations 3 --seed 7 --out " + (d / "inproc").string());
+  INFO(sh_ok(kRoot + "/scripts/run " + scen + " --realizations 3 --seed 7 --net netns --out " + (d / "lcm").string()));
+  CHECK(slurp(d / "lcm" / "realizations.csv") == slurp(d / "inproc" / "realizations.csv"));
+  CHECK(lines(slurp(d / "lcm" / "realizations.csv")) > 3);
+}
+
+TEST_CASE("scene scenario: --out is required, and a landing flight's closure is refused naming what replays it", "[scene]") {
+  const fs::path d = scratch("scene_scenario_errors");
+  sh_ok("/usr/bin/python3 " + kRoot + "/scripts/flightgen.py landing " + (d / "flight").string() + " --seed 3 > /dev/null");
+  auto r = sh(kBin + "/rnav_scene scenario " + (d / "flight").string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("--out DIR is required") != std::string::npos);
+  r = sh(kBin + "/rnav_scene closure " + (d / "flight").string() + " --effects x.json");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("validate and scenario replay it") != std::string::npos);
 }

@@ -1,5 +1,6 @@
 #include "prl_validation.hpp"
 
+#include "atomic_file.hpp"
 #include "config.hpp"
 #include "csv_columns.hpp"
 #include "inproc_ensemble.hpp"
@@ -113,6 +114,18 @@ Scenario scenario_of_flight(const PrlFlightData& f, Scenario sc, const std::stri
   if ((back - p).norm() > kSiteToleranceM)
     throw ConfigError("the flight's radar site cannot be placed in the scenario (" + value_text((back - p).norm()) + " m off)");
   return sc;
+}
+
+std::string write_flight_scenario(const Scenario& sc, const std::string& out_dir) {
+  const std::filesystem::path dir(out_dir), csv = dir / "replay.csv";
+  if (std::filesystem::absolute(sc.trajectory.replay_csv).lexically_normal() != std::filesystem::absolute(csv).lexically_normal())
+    throw std::logic_error("write_flight_scenario: the scenario's replay_csv " + sc.trajectory.replay_csv + " is not " + csv.string());
+  nlohmann::ordered_json doc = nlohmann::ordered_json::parse(sc.json_text());
+  doc["kind"] = "prl";
+  doc["trajectory"]["replay_csv"] = "replay.csv";
+  const std::string file = (dir / "scenario.json").string();
+  write_file_atomic(file, doc.dump(2) + "\n");
+  return file;
 }
 
 Scenario extended_scenario(const PrlFlightData& f, Scenario sc, const nlohmann::json& report, const std::string& source) {

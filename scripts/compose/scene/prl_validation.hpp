@@ -42,6 +42,12 @@ Scenario scenario_of_flight(const PrlFlightData& f, Scenario base, const std::st
 /// b - d (t_first_plot - t_nav_start). A report without those entries is a ConfigError.
 Scenario extended_scenario(const PrlFlightData& f, Scenario sc, const nlohmann::json& report, const std::string& source);
 
+/// The landing scenario of a flight as a file that scripts/run runs as separate processes:
+/// out_dir/replay.csv (the nav track) and out_dir/scenario.json (kind "prl", every option, its
+/// trajectory.replay_csv "replay.csv", relative to the file); `sc` is scenario_of_flight's
+/// (written with work_dir = out_dir) or extended_scenario's. Returns the scenario file's path.
+std::string write_flight_scenario(const Scenario& sc, const std::string& out_dir);
+
 /// The statistics of `runs` simulated flights (realizations 0 .. runs - 1 of `seed`) of
 /// scenario sc, each exported into work_dir and read back.
 std::vector<SceneStats> simulated_flight_stats(const Scenario& sc, int runs, std::int64_t seed, const std::string& work_dir);

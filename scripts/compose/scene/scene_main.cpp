@@ -1,10 +1,12 @@
-// rnav_scene simulate|validate|closure RECORDING [options]: a recorded scene (a multi-sensor CSV folder)
+// rnav_scene simulate|validate|closure|scenario RECORDING [options]: a recorded scene (a multi-sensor CSV folder)
 // replayed as a simulation, its sensors' errors from a diagnosis report (--effects) or nominal.
 //   simulate  one realization written as a recording folder (scripts/diagnose multi reads it);
 //   validate  N simulations per model (nominal, and extended with --effects) and the recording
 //             placed among them per sensor:target pair (scene_validation.hpp);
 //   closure   N extended simulations diagnosed: each injected effect's naming rate and the
-//             mean of its estimates against the injected value (scene_closure.hpp).
+//             mean of its estimates against the injected value (scene_closure.hpp);
+//   scenario  a scenario file that scripts/run runs as separate processes over LCM: a scene
+//             scenario of a multi-sensor recording, the landing scenario of a landing flight.
 #include "atomic_file.hpp"
 #include "cli.hpp"
 #include "config.hpp"
@@ -189,6 +191,40 @@ int validate_prl(const Args& a, const std::string& dir, const std::string& name)
   return report_validation(a, name, by_model);
 }
 
+// The landing scenario of a flight (nominal, or extended with --effects) written to --out DIR.
+int scenario_prl(const Args& a, const std::string& dir) {
+  const rnav::PrlFlightData f = rnav::PrlFlightData::read_folder(dir);
+  const rnav::Scenario base = a.scenario.empty() ? rnav::Scenario::from_json(nlohmann::json::object()) : rnav::Scenario::load(a.scenario);
+  rnav::prepare_output_dir(a.out, a.force);
+  rnav::Scenario sc = rnav::scenario_of_flight(f, base, a.out);
+  sc.prl_effects = rnav::PrlEffectsOptions{};
+  if (!a.effects.empty()) sc = rnav::extended_scenario(f, sc, read_report(a.effects), a.effects);
+  const std::string file = rnav::write_flight_scenario(sc, a.out);
+  std::cout << "scenario " << file << ": the landing flight " << dir << " (" << (a.effects.empty() ? "nominal" : "extended by " + a.effects)
+            << "); run it with scripts/run " << file << "\n";
+  return 0;
+}
+
+// The scene scenario of a multi-sensor recording written to --out DIR/scenario.json: the recording
+// (and the report, with --effects) named relative to the file, the options given here.
+int scenario_scene(const Args& a, const std::string& dir, const std::string& name) {
+  rnav::MultiSensorData::read_folder(dir);  // a recording the scene can replay, checked now rather than at run time
+  rnav::prepare_output_dir(a.out, a.force);
+  const std::filesystem::path out = std::filesystem::absolute(a.out);
+  auto rel = [&out](const std::string& p) { return std::filesystem::absolute(p).lexically_normal().lexically_relative(out).string(); };
+  nlohmann::ordered_json scene = {{"recording", rel(dir)}, {"name", name}, {"clutter", a.clutter},
+                                  {"sigma_bearing_deg", a.sigma_deg}, {"sigma_range_m", a.sigma_range_m},
+                                  {"gate_bearing_deg", a.assoc.gate_bearing_deg}, {"gate_position_m", a.assoc.gate_position_m},
+                                  {"reference_max_gap_s", a.assoc.reference_max_gap_s}, {"calibration_seed", a.seed}};
+  if (!a.effects.empty()) scene["effects_report"] = rel(a.effects);
+  const nlohmann::ordered_json doc = {{"name", name}, {"kind", "scene"}, {"scene", scene}};
+  const std::string file = (out / "scenario.json").string();
+  rnav::write_file_atomic(file, doc.dump(2) + "\n");
+  std::cout << "scenario " << file << ": the recorded scene " << dir << " (" << (a.effects.empty() ? "nominal" : "extended by " + a.effects)
+            << "); run it with scripts/run " << file << "\n";
+  return 0;
+}
+
 int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
   if (a.effects.empty()) throw rnav::ConfigError("closure: --effects REPORT.json is required (the effects to inject and re-find)");
   const auto err = rnav::errors_from_report(read_report(a.effects), a.effects, name, a.sigma_deg * M_PI / 180, a.sigma_range_m);
@@ -236,7 +272,8 @@ int main(int argc, char** argv) {
     Args a;
     rnav::cli::Parser p("rnav_scene", "simulate RECORDING --out DIR [--effects REPORT.json] [--seed S] [--realization K]\n"
                                       "validate RECORDING [--effects REPORT.json] [--runs N] [--json FILE]\n"
-                                      "closure RECORDING --effects REPORT.json [--runs N] [--json FILE]",
+                                      "closure RECORDING --effects REPORT.json [--runs N] [--json FILE]\n"
+                                      "scenario RECORDING|FLIGHT --out DIR [--effects REPORT.json] [--scenario BASE.json]",
                         "A recorded scene (a multi-sensor CSV folder: observer.csv, detections.csv, truth.csv) replayed as a "
                         "simulation: the observer's and the targets' reference tracks are the truth; each sensor scans at its "
                         "recorded times, covers the bearings and ranges the recording shows, detects each target with the "
@@ -246,7 +283,9 @@ int main(int argc, char** argv) {
                         "validate runs --runs simulations per model and places the recording among them per sensor:target "
                         "pair (residual mean, sd, lag-1 autocorrelation, detection rate; the 5-95 % band); closure diagnoses "
                         "--runs extended simulations and says how often each injected effect is named and how close the "
-                        "mean estimate comes to the injected value.");
+                        "mean estimate comes to the injected value; scenario writes DIR/scenario.json, which scripts/run runs as "
+                        "separate processes over LCM (a scene scenario of the recording, or the landing scenario of a landing "
+                        "flight, a folder with site.json: its nav track in DIR/replay.csv).");
     auto num = [](const char* opt, double& x, double lo, double hi) {
       return [opt, &x, lo, hi](const std::string& v) { x = rnav::cli::number(opt, v, lo, hi); };
     };
@@ -255,8 +294,9 @@ int main(int argc, char** argv) {
     };
     constexpr long long kMaxSeed = std::numeric_limits<long long>::max();
     p.value("--effects", "REPORT.json", "the extended model: a multi-sensor diagnosis report of this recording (pooled or alone)", "none (nominal)", a.effects)
-        .value("--out", "DIR", "simulate: the recording folder written; new, empty or an earlier output unless --force", "required for simulate", a.out)
-        .flag("--force", "simulate: write into --out DIR whatever it holds", a.force)
+        .value("--out", "DIR", "simulate: the recording folder written; scenario: the folder of scenario.json; new, empty or an earlier output unless --force",
+               "required for simulate and scenario", a.out)
+        .flag("--force", "simulate, scenario: write into --out DIR whatever it holds", a.force)
         .value("--seed", "S", "seed of the simulations' random streams, >= 0", "1", integer("--seed", a.seed, 0, kMaxSeed))
         .value("--realization", "K", "simulate: which realization of the seed, >= 0", "0", integer("--realization", a.realization, 0, kMaxSeed))
         .value("--runs", "N", "validate: simulations per model; closure: simulations diagnosed, >= 20", "100", integer("--runs", a.runs, 20, 100000))
@@ -272,7 +312,7 @@ int main(int argc, char** argv) {
                  a.clutter = v;
                })
         .value("--scenario", "FILE",
-               "validate of a landing flight (a folder with site.json): the landing scenario whose radar and navigation "
+               "validate and scenario of a landing flight (a folder with site.json): the landing scenario whose radar and navigation "
                "models the flight is replayed on (its site, trajectory and radar timing are the flight's)",
                "the paper's defaults (sim/scenarios/paper.json)", a.scenario)
         .value("--name", "NAME", "the recording's name (a pooled report's recording scope)", "the folder's name", a.name)
@@ -282,10 +322,10 @@ int main(int argc, char** argv) {
         .value("--gate-m", "M", "association gate of range sensors [m], as rnav_diagnose multi", "20 m", num("--gate-m", a.assoc.gate_position_m, 1e-3, 1e5))
         .value("--reference-max-gap", "S", "a reference is interpolated only across gaps this short [s], as rnav_diagnose multi", "2 s",
                num("--reference-max-gap", a.assoc.reference_max_gap_s, 1e-3, 1e5))
-        .positionals("simulate|validate|closure RECORDING", "the command and the recording folder", [&a](const std::string& v) { a.pos.push_back(v); });
+        .positionals("simulate|validate|closure|scenario RECORDING", "the command and the recording folder", [&a](const std::string& v) { a.pos.push_back(v); });
     if (!p.parse(argc, argv, std::cout)) return 0;
     std::vector<std::string> missing;
-    if (a.pos.empty()) missing.push_back("the command (simulate, validate or closure)");
+    if (a.pos.empty()) missing.push_back("the command (simulate, validate, closure or scenario)");
     if (a.pos.size() < 2) missing.push_back("RECORDING (a multi-sensor CSV folder)");
     if (!missing.empty()) {
       std::string m;
@@ -294,21 +334,24 @@ int main(int argc, char** argv) {
     }
     if (a.pos.size() > 2) throw rnav::ConfigError("one RECORDING only, not '" + a.pos[2] + "'");
     const std::string& cmd = a.pos[0];
-    if (cmd != "simulate" && cmd != "validate" && cmd != "closure")
-      throw rnav::ConfigError("unknown command '" + cmd + "'" + rnav::did_you_mean(cmd, {"simulate", "validate", "closure"}) +
-                              " (simulate, validate or closure)");
+    if (cmd != "simulate" && cmd != "validate" && cmd != "closure" && cmd != "scenario")
+      throw rnav::ConfigError("unknown command '" + cmd + "'" + rnav::did_you_mean(cmd, {"simulate", "validate", "closure", "scenario"}) +
+                              " (simulate, validate, closure or scenario)");
+    if (cmd == "scenario" && a.out.empty()) throw rnav::ConfigError("scenario: --out DIR is required");
     const std::string name = a.name.empty() ? rnav::recording_folder_name(a.pos[1]) : a.name;
-    // a landing flight (site.json beside radar.csv): validate only
+    // a landing flight (site.json beside radar.csv): validate and scenario
     if (std::filesystem::exists(std::filesystem::path(a.pos[1]) / "site.json")) {
+      if (cmd == "scenario") return scenario_prl(a, a.pos[1]);
       if (cmd != "validate")
-        throw rnav::ConfigError(a.pos[1] + " is a landing flight (site.json): only validate replays it (simulate with rnav_export_prl, "
-                                "closure with scripts/discovery_study)");
+        throw rnav::ConfigError(a.pos[1] + " is a landing flight (site.json): validate and scenario replay it (simulate: scripts/run "
+                                "the scenario that 'rnav_scene scenario' writes; closure with scripts/discovery_study)");
       return validate_prl(a, a.pos[1], name);
     }
     if (!a.scenario.empty()) throw rnav::ConfigError("--scenario applies to a landing flight (a folder with site.json) only");
     const auto d = rnav::MultiSensorData::read_folder(a.pos[1]);
     if (cmd == "validate") return validate(a, d, name);
     if (cmd == "closure") return closure(a, d, name);
+    if (cmd == "scenario") return scenario_scene(a, a.pos[1], name);
     if (a.out.empty()) throw rnav::ConfigError("simulate: --out DIR is required");
     const double sb = a.sigma_deg * M_PI / 180;
     const auto err = a.effects.empty() ? rnav::nominal_errors(sb, a.sigma_range_m)
