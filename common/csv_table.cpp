@@ -2,11 +2,13 @@
 
 #include "decimal.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -17,6 +19,59 @@ std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
+// The first byte offset of `text` that is not valid UTF-8 (RFC 3629: no overlong forms, no
+// surrogates, at most U+10FFFF), or npos.
+std::size_t invalid_utf8_at(const std::string& text) {
+  const auto* b = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned c = b[i];
+    if (c < 0x80) { ++i; continue; }
+    std::size_t len = 0;
+    unsigned lo = 0x80, hi = 0xBF;  // the second byte's range
+    if (c >= 0xC2 && c <= 0xDF) len = 2;
+    else if (c == 0xE0) len = 3, lo = 0xA0;
+    else if (c >= 0xE1 && c <= 0xEC) len = 3;
+    else if (c == 0xED) len = 3, hi = 0x9F;
+    else if (c >= 0xEE && c <= 0xEF) len = 3;
+    else if (c == 0xF0) len = 4, lo = 0x90;
+    else if (c >= 0xF1 && c <= 0xF3) len = 4;
+    else if (c == 0xF4) len = 4, hi = 0x8F;
+    else return i;
+    if (i + len > n || b[i + 1] < lo || b[i + 1] > hi) return i;
+    for (std::size_t k = 2; k < len; ++k)
+      if (b[i + k] < 0x80 || b[i + k] > 0xBF) return i;
+    i += len;
+  }
+  return std::string::npos;
+}
+
+// A file's text must be UTF-8: UTF-16 or UTF-32 (a byte-order mark, or NUL bytes, which no
+// UTF-8 text holds) and other encodings (a byte that is not UTF-8, e.g. Latin-1's degree sign)
+// are named with the line and byte, not read as a header without its columns or a cut line.
+void require_utf8(const std::string& file, std::istream& in) {
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto starts = [&text](const char* m, std::size_t k) { return text.size() >= k && text.compare(0, k, m, k) == 0; };
+  if (starts("\xFF\xFE\x00\x00", 4) || starts("\x00\x00\xFE\xFF", 4))
+    throw ConfigError(file + ": is UTF-32 text (its byte-order mark): save it as UTF-8");
+  if (starts("\xFF\xFE", 2) || starts("\xFE\xFF", 2))
+    throw ConfigError(file + ": is UTF-16 text (its byte-order mark): save it as UTF-8");
+  const std::size_t nul = text.find('\0');
+  if (nul != std::string::npos) {
+    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    throw ConfigError(file + ":" + std::to_string(line) + ": holds NUL bytes (byte " + std::to_string(nul + 1) +
+                      "): UTF-16 or binary data, not UTF-8 text: save it as UTF-8");
+  }
+  const std::size_t bad = invalid_utf8_at(text);
+  if (bad != std::string::npos) {
+    const long line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(text[bad]));
+    throw ConfigError(file + ":" + std::to_string(line) + ": byte " + std::to_string(bad + 1) + " (" + hex +
+                      ") is not UTF-8 (Latin-1 or another 8-bit encoding?): save the file as UTF-8");
+  }
+}
+
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;
   std::stringstream ss(line);
@@ -60,6 +115,9 @@ CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvCo
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(file + ": cannot open");
+  // its encoding first: UTF-16's last byte is a NUL, not a cut line
+  require_utf8(file, in);
+  in.clear();
   // A file cut while being written ends inside its last line, perhaps inside a number that
   // would still read as a (shorter) valid one: a last line without its newline is refused.
   in.seekg(0, std::ios::end);
@@ -81,6 +139,12 @@ CsvTable CsvTable::read_columns(const std::string& file, const std::vector<CsvCo
       return s;
     }() + ")");
   const auto header = split(line);
+  // a name given twice: which column is meant is ambiguous (the reader would take one silently)
+  for (std::size_t i = 0; i < header.size(); ++i)
+    for (std::size_t j = i + 1; j < header.size(); ++j)
+      if (!header[i].empty() && header[i] == header[j])
+        throw ConfigError(file + ":1: column '" + header[i] + "' appears twice in the header (fields " + std::to_string(i + 1) +
+                          " and " + std::to_string(j + 1) + "): which one holds the data is ambiguous; rename or remove one");
   std::vector<int> idx;  // field index per asked column, -1 for an absent optional one
   for (const auto& c : columns) {
     int found = -1;

@@ -71,6 +71,85 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
                       (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
 }
 
+namespace {
+// Distance along the surface [m] (haversine on the WGS84 equatorial radius: enough for a bound).
+double surface_distance_m(double lat1, double lon1, double lat2, double lon2) {
+  constexpr double kR = 6378137.0, kDeg = 3.14159265358979323846 / 180;
+  const double dlat = (lat1 - lat2) * kDeg, dlon = (lon1 - lon2) * kDeg;
+  const double a = std::pow(std::sin(dlat / 2), 2) + std::cos(lat1 * kDeg) * std::cos(lat2 * kDeg) * std::pow(std::sin(dlon / 2), 2);
+  return 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
+}
+}  // namespace
+
+void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b) {
+  if (a.g.empty() || b.g.empty()) return;
+  auto med = [](const NamedPositions& p, double Geodetic::*field) {
+    std::vector<double> v;
+    for (const auto& g : p.g) v.push_back(g.*field);
+    return median_of(v);
+  };
+  const double lat_a = med(a, &Geodetic::lat_deg), lon_a = med(a, &Geodetic::lon_deg);
+  const double lat_b = med(b, &Geodetic::lat_deg), lon_b = med(b, &Geodetic::lon_deg);
+  const double given = surface_distance_m(lat_a, lon_a, lat_b, lon_b);
+  if (!(given > kSwapFarM)) return;
+  const NamedPositions* p[2] = {&a, &b};
+  const double swapped[2] = {std::abs(lon_a) <= 90 ? surface_distance_m(lon_a, lat_a, lat_b, lon_b) : HUGE_VAL,
+                             std::abs(lon_b) <= 90 ? surface_distance_m(lat_a, lon_a, lon_b, lat_b) : HUGE_VAL};
+  const int i = swapped[0] <= swapped[1] ? 0 : 1, o = 1 - i;
+  if (!(swapped[i] <= kSwapNearM)) return;
+  throw ConfigError(p[i]->lat_name + " and " + p[i]->lon_name + " look swapped: as given its position lies " + num(given / 1000) +
+                    " km from " + p[o]->lat_name + "/" + p[o]->lon_name + "'s, with latitude and longitude swapped " +
+                    num(swapped[i] / 1000) + " km");
+}
+
+void same_time_scale(const std::string& name, const std::vector<double>& t, const std::string& ref_name,
+                     const std::vector<double>& ref) {
+  if (t.empty() || ref.size() < 2) return;
+  const auto [lo_it, hi_it] = std::minmax_element(ref.begin(), ref.end());
+  const double lo = *lo_it, hi = *hi_it;
+  // the share of t inside ref's span when t is multiplied by s_t and ref by s_r
+  auto inside = [&](double s_t, double s_r) {
+    std::size_t n = 0;
+    for (double x : t) n += x * s_t >= lo * s_r && x * s_t <= hi * s_r;
+    return static_cast<double>(n) / static_cast<double>(t.size());
+  };
+  const double as_given = inside(1, 1);
+  if (as_given >= kMinTimeOverlap) return;
+  const auto [t_lo_it, t_hi_it] = std::minmax_element(t.begin(), t.end());
+  const std::string spans = name + " runs " + num(*t_lo_it) + " to " + num(*t_hi_it) + " s, " + ref_name + " " + num(lo) + " to " +
+                            num(hi) + " s";
+  struct Unit {
+    double s_t, s_r;
+    const char* said;
+  };
+  const Unit units[] = {{1e-3, 1, " looks like milliseconds"}, {1e-6, 1, " looks like microseconds"},
+                        {1, 1e-3, " looks like seconds where the other is in milliseconds"},
+                        {1, 1e-6, " looks like seconds where the other is in microseconds"}};
+  // a unit explains the mismatch when, scaled, the rows fall inside and the two spans are alike
+  // (within kSpanRatio of each other): a time 2 h late, scaled by 1e-3, lands inside too, as a
+  // few seconds' sliver
+  constexpr double kSpanRatio = 10;
+  const double t_span = *t_hi_it - *t_lo_it, r_span = hi - lo;
+  auto alike = [&](const Unit& u) {
+    const double a = t_span * u.s_t, b = r_span * u.s_r;
+    return a * kSpanRatio >= b && b * kSpanRatio >= a;
+  };
+  for (const Unit& u : units)
+    if (alike(u) && inside(u.s_t, u.s_r) >= kMinTimeOverlap)
+      throw ConfigError(name + u.said + " (" + spans + "; scaled, " + num(100 * inside(u.s_t, u.s_r)) +
+                        " % of its rows fall inside): one time scale, in seconds, for every file");
+  // epoch (Unix seconds, 1e9 and more) against relative (from 0)
+  constexpr double kEpochS = 1e8;  // [s] 1973: a recording's times from the Unix epoch lie beyond this
+  const double t_mid = median_of(t), r_mid = median_of(ref);
+  if ((std::abs(t_mid) >= kEpochS) != (std::abs(r_mid) >= kEpochS))
+    throw ConfigError(name + " and " + ref_name + " are on different time origins (" + spans + "): " +
+                      (std::abs(t_mid) >= kEpochS ? name : ref_name) + " looks like Unix epoch seconds, the other relative: "
+                      "one time scale for every file");
+  if (as_given == 0)
+    throw ConfigError(name + "'s times do not overlap " + ref_name + "'s (" + spans + "; no unit or origin explains it): "
+                      "one time scale for every file, or a reference of this recording");
+}
+
 std::vector<Geodetic> positions(const std::vector<GeoSample>& v) {
   std::vector<Geodetic> g;
   g.reserve(v.size());

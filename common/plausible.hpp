@@ -55,6 +55,26 @@ inline constexpr double kRadiansMatchDeg = 1;
 /// before `near`, whose "far away" would not say which column. Empty lists pass.
 void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b);
 
+/// [m] Latitude and longitude swapped in one file: its median position as given lies farther
+/// than kSwapFarM from the other file's, swapped within kSwapNearM of it. (A scene is tens of
+/// kilometres across, 100 km for a landing approach; swapped coordinates of a place away from the
+/// diagonal lat = lon land hundreds to thousands of kilometres off.)
+inline constexpr double kSwapFarM = 300e3, kSwapNearM = 150e3;
+/// Throws ConfigError naming the file of `a` or `b` whose latitude and longitude look swapped
+/// (see kSwapFarM), with both distances. Empty lists pass.
+void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b);
+
+/// One time scale for the files of a recording: the times `t` of file `name` (measurements)
+/// against the span of `ref` (named ref_name: the navigation or observer track they are placed
+/// on). Passes when at least kMinTimeOverlap of t lies inside ref's span. Otherwise names the
+/// likely cause: t scaled by 1e-3 or 1e-6 (or ref's) puts kMinTimeOverlap inside with spans
+/// alike (within a factor 10: milliseconds, microseconds), or t and ref lie on different origins (one near the Unix epoch's 1e9 s, the
+/// other near 0: epoch and relative), else that they do not overlap (times and spans given).
+/// Spans overlapping by less (a reference that ends mid-recording) are left to the diagnosis.
+inline constexpr double kMinTimeOverlap = 0.5;
+void same_time_scale(const std::string& name, const std::vector<double>& t, const std::string& ref_name,
+                     const std::vector<double>& ref);
+
 /// Which heights of a track are checked against [kMinHeightM, kMaxHeightM].
 enum class Heights { kAll, kWhereKnown /* finite ones: NaN marks an unknown height */, kNone };
 /// A sampled track of positions, sample i named `what` + " " + i (e.g. "FILE: observer sample"):

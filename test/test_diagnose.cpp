@@ -12,6 +12,9 @@
 #include "prl_flight_data.hpp"
 #include "scenario.hpp"
 
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -305,7 +308,64 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   expect_error("radar.csv", "t_s,range_m,azimuth_deg,elevation_deg\n0,100,1,2\n1,100,1\n", "radar.csv:3: 3 fields");
   expect_error("radar.csv", "t_s,range_m,azimuth_deg,elevation_deg\n2,100,1,2\n1,100,1,2\n", "radar.csv:3: column 't_s' is not in time order");
   expect_error("nav.csv", "t_s,lat_deg,lon_deg,h_m\n0,48.1,16.5,200\n1,48.1,abc,200\n", "nav.csv:3: column 'lon_deg'");
+  // a repeated column: the reader took the last one silently (and a range gain was named)
+  expect_error("radar.csv", "t_s,range_m,azimuth_deg,elevation_deg,range_m\n0,100,1,2,101\n",
+               "radar.csv:1: column 'range_m' appears twice in the header (fields 2 and 5)");
+  // text in another encoding than UTF-8: named as such, not as a header without t_s or a cut line
+  const std::string utf16_bom = std::string("\xFF\xFE", 2) + std::string("t\0_\0s\0\n\0", 8);
+  expect_error("radar.csv", utf16_bom, "radar.csv: is UTF-16 text (its byte-order mark): save it as UTF-8");
+  expect_error("radar.csv", std::string("t\0_\0s\0,\0", 8) + "\n", "radar.csv:1: holds NUL bytes (byte 2)");
+  expect_error("nav.csv", "t_s,lat_deg,lon_deg,h_m\n0,48.1,16.5,200\n# 20\xB0" "C\n", "nav.csv:3: byte 45 (0xB0) is not UTF-8");
   expect_error("site.json", "{\"radar\": {\"lat_deg\": 48, \"lon_deg\": 16, \"h_m\": 1, \"azimuth_reference_deg\": 0, \"typo\": 1}, \"runway\": {\"threshold_lat_deg\": 48, \"threshold_lon_deg\": 16, \"threshold_h_m\": 1, \"heading_deg\": 0}}", "radar.typo");
+  // One time scale and coordinates the right way round, named with the likely cause: the
+  // folder's own files rewritten (radar times x1000, truth 2 h late, site.json's radar lat/lon
+  // swapped), each refused naming the file.
+  auto rewrite = [&](const std::string& file, auto&& edit) {
+    std::ifstream f(d / file);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string orig = ss.str();
+    std::ofstream(d / file) << edit(orig);
+    std::string what;
+    try {
+      PrlFlightData::read_folder(d.string());
+    } catch (const ConfigError& e) {
+      what = e.what();
+    }
+    std::ofstream(d / file) << orig;
+    return what;
+  };
+  // the first column of every data line scaled by k, or shifted by dt [s]
+  auto times = [](double k, double dt) {
+    return [k, dt](const std::string& text) {
+      std::istringstream in(text);
+      std::string line, out;
+      std::getline(in, line);
+      out = line + "\n";
+      while (std::getline(in, line)) {
+        const auto c = line.find(',');
+        char b[64];
+        std::snprintf(b, sizeof b, "%.6f", std::stod(line.substr(0, c)) * k + dt);
+        out += b + line.substr(c) + "\n";
+      }
+      return out;
+    };
+  };
+  std::string e = rewrite("radar.csv", times(1000, 0));
+  INFO(e);
+  CHECK(e.find("radar.csv t_s looks like milliseconds") != std::string::npos);
+  e = rewrite("truth.csv", times(1, 7200));
+  INFO(e);
+  CHECK(e.find("truth.csv t_s's times do not overlap") != std::string::npos);
+  e = rewrite("site.json", [](std::string text) {
+    const auto j = nlohmann::json::parse(text);
+    auto k = j;
+    k["radar"]["lat_deg"] = j["radar"]["lon_deg"];
+    k["radar"]["lon_deg"] = j["radar"]["lat_deg"];
+    return k.dump();
+  });
+  INFO(e);
+  CHECK(e.find("site.json radar.lat_deg and site.json radar.lon_deg look swapped") != std::string::npos);
   // Extra columns are ignored.
   std::ofstream(d / "nav_extra.csv") << "t_s,foo,lat_deg,lon_deg,h_m\n0,x,48.1,16.5,200\n";
   const CsvTable t = CsvTable::read((d / "nav_extra.csv").string(), {"t_s", "lat_deg"});

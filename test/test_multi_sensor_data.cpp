@@ -327,7 +327,7 @@ TEST_CASE("multi-sensor data: bad detections name file and line and column", "[m
     f.expect_in("detections.csv", "t_s,sensor,range_m,bearing_deg,elevation_deg\n1,radar,10,20,\n2,radar,10,20,91\n", "detections.csv:3", "elevation_deg");
   }
   SECTION("time going backwards within a sensor; two sensors interleaving is fine") {
-    f.det("1,radar,10,20\n0.5,eo,,20\n1,radar,12,21\n2,radar,10,20\n1.5,eo,,20\n");
+    f.det("100.1,radar,10,20\n100.05,eo,,20\n100.1,radar,12,21\n100.2,radar,10,20\n100.15,eo,,20\n");
     CHECK(read_error(dir).empty());
     f.det("1,radar,10,20\n0.5,eo,,20\n2,radar,10,20\n1.9,radar,10,20\n");
     f.expect("detections.csv:5", "t_s");
@@ -369,7 +369,7 @@ TEST_CASE("multi-sensor data: bad observer and truth name file and line and colu
     f.expect("detection 1 (sensor radar): time 1e+300 s", "");
   }
   SECTION("truth: time order per target, target name; missing truth.csv is fine") {
-    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n2,1,63,10\n";
+    std::ofstream(dir / "truth.csv") << "t_s,target,lat_deg,lon_deg\n100,1,63,10\n100.5,2,63,10\n101,1,63,10\n";
     CHECK(read_error(dir).empty());
     f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n0.5,2,63,10\n0.9,1,63,10\n", "truth.csv:4", "t_s");
     f.expect_in("truth.csv", "t_s,target,lat_deg,lon_deg\n1,1,63,10\n2,boat-1,63,10\n", "truth.csv:3", "target");
@@ -529,7 +529,25 @@ TEST_CASE("Autoferry import: malformed JSON is named by file and record", "[mult
     CHECK(err.find("(imported eo): observer sample 0: height") != std::string::npos);
     write(R"({"sensorID":4,"time":1e300,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
     CHECK(run(az, tmp, err) != 0);
-    CHECK(err.find("time 1e+300 s is not finite or beyond") != std::string::npos);
+    CHECK(err.find("record 1: time 1e+300 is outside [0, 4102444800] s") != std::string::npos);
+  }
+  SECTION("a time beyond Unix seconds is named on its own record (it was blamed on the next one), ms named as such") {
+    write(R"({"sensorID":2,"time":1e30,"ownshipPosition":[0,0],"measurement":[]},)"
+          R"({"sensorID":2,"time":12.0,"ownshipPosition":[0,0],"measurement":[]})", gt_ok + "," + gt_ok);
+    CHECK(run(cmd, tmp, err) != 0);
+    INFO(err);
+    CHECK(err.find("scenarioX_detections.json record 1: time 1e+30 is outside [0, 4102444800] s") != std::string::npos);
+    fails_with(R"({"sensorID":4,"time":1620115864722.0,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok,
+               {"record 1: time 1.62012e+12 is outside", "milliseconds?"});
+  }
+  SECTION("a failed import leaves no output folder behind") {
+    write(R"({"sensorID":4,"time":1e30,"ownshipPosition":[0,0],"measurement":0.5})", gt_ok);
+    fs::remove_all(tmp / "out");
+    CHECK(run(cmd, tmp, err) != 0);
+    CHECK(!fs::exists(tmp / "out"));
+    write(eo_ok, gt_ok);
+    CHECK(run(cmd, tmp, err) == 0);  // the same folder then imports
+    CHECK(fs::exists(tmp / "out" / "detections.csv"));
   }
   SECTION("ragged radar rows") {
     fails_with(R"({"sensorID":2,"time":11.0,"ownshipPosition":[0,0],"measurement":[[1,2,3],[4,5]]})", gt_ok,

@@ -45,7 +45,16 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
   // coordinates in radians, named by file and column before validate's "far away"
   plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)},
                                     {"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)});
+  plausible::coordinates_not_swapped({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)},
+                                     {"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)});
   d.validate(dir);
+  // one time scale, after each time's own checks: the frames and the truth on the observer's
+  std::vector<double> obs_t, frame_t, truth_t;
+  for (const auto& s : d.observer) obs_t.push_back(s.t_s);
+  for (const auto& f : d.frames) frame_t.push_back(f.t_s);
+  for (const auto& s : d.truth) truth_t.push_back(s.t_s);
+  plausible::same_time_scale(dir + "/bearings.csv t_s", frame_t, dir + "/observer.csv t_s", obs_t);
+  plausible::same_time_scale(dir + "/truth.csv t_s", truth_t, dir + "/observer.csv t_s", obs_t);
   return d;
 }
 

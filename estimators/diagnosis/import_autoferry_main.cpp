@@ -16,6 +16,7 @@
 #include "cli.hpp"
 #include "config.hpp"
 
+#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -77,10 +78,22 @@ int main(int argc, char** argv) {
     if (!sensor.empty() && sensor != "eo" && sensor != "ir")
       throw rnav::ConfigError("--sensor must be eo or ir, got '" + sensor + "'");
     const int tgt = target.empty() ? 1 : static_cast<int>(rnav::parse_integer("--target", target, 1, 2));
-    rnav::prepare_output_dir(out, force);
+    // Everything read and converted before --out is touched: a failed import leaves no folder
+    // behind (and an earlier output as it was until the write).
     const rnav::AutoferryRecords records = rnav::load_autoferry(dir);
     if (!boat_names.empty() && !(sensor.empty() && target.empty()))
       throw rnav::ConfigError("--boat-names applies to the multi-sensor format (without --sensor and --target)");
+    const bool existed = std::filesystem::exists(out);
+    auto write = [&](auto&& body) {
+      rnav::prepare_output_dir(out, force);
+      try {
+        body();
+      } catch (...) {
+        std::error_code ec;
+        if (!existed) std::filesystem::remove_all(out, ec);  // nothing of a failed import left behind
+        throw;
+      }
+    };
     if (sensor.empty() && target.empty()) {
       rnav::MultiSensorData d = rnav::autoferry_to_multi(records);
       if (!boat_names.empty()) {
@@ -92,13 +105,15 @@ int main(int argc, char** argv) {
         for (auto& [id, track] : d.truth) named[id == "1" ? n1 : id == "2" ? n2 : id] = std::move(track);
         d.truth = std::move(named);
       }
-      d.write_folder(out);
-      rnav::MultiSensorData::read_folder(out);  // what was written must read back
+      write([&] {
+        d.write_folder(out);
+        rnav::MultiSensorData::read_folder(out);  // what was written must read back
+      });
       report(d);
       return 0;
     }
     const rnav::AzimuthData d = rnav::autoferry_to_azimuth(records, sensor.empty() ? "eo" : sensor, tgt);
-    d.write_folder(out);
+    write([&] { d.write_folder(out); });
     report(d, tgt);
     return 0;
   });

@@ -228,7 +228,8 @@ void refuse_raw_autoferry(const std::string& dir) {
 
 // Units the range checks cannot see, by file and column (before validate's "far away", which
 // would not say which column):
-//   coordinates: observer.csv's and truth.csv's medians (plausible::coordinates_in_degrees);
+//   coordinates: observer.csv's and truth.csv's medians (plausible::coordinates_in_degrees), and
+//                latitude and longitude swapped in one of them (coordinates_not_swapped);
 //   heading:     every heading_deg within [0, 2 pi] while most of the observer's courses over
 //                ground (between rows kMinCourseSpeedMps or faster, flat Earth: atan2(dE, dN))
 //                lie outside that band read as degrees (bearings_look_like_radians): radians.
@@ -239,6 +240,7 @@ void check_units(const MultiSensorData& d) {
   for (const auto& [name, v] : d.truth)
     for (const auto& s : v) tru.g.push_back(s.g);  // every target's samples together
   plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)}, tru);
+  plausible::coordinates_not_swapped({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)}, tru);
   int n = 0, inside = 0, refs = 0, refs_outside = 0;
   for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
     const double h = d.observer_heading_deg[i];
@@ -257,6 +259,21 @@ void check_units(const MultiSensorData& d) {
                       std::to_string(refs_outside) + " of " + std::to_string(refs) + " moving steps)");
 }
 
+// One time scale for the folder, after each time's own checks (validate): the detections and
+// each target's reference on observer.csv's (plausible::same_time_scale: milliseconds,
+// microseconds, epoch against relative, no overlap at all).
+void check_time_scales(const MultiSensorData& d) {
+  std::vector<double> obs_t, det_t;
+  for (const auto& s : d.observer) obs_t.push_back(s.t_s);
+  for (const auto& x : d.detections) det_t.push_back(x.t_s);
+  plausible::same_time_scale("detections.csv t_s", det_t, "observer.csv t_s", obs_t);
+  for (const auto& [name, v] : d.truth) {
+    std::vector<double> t;
+    for (const auto& s : v) t.push_back(s.t_s);
+    plausible::same_time_scale("truth.csv t_s (target " + name + ")", t, "observer.csv t_s", obs_t);
+  }
+}
+
 }  // namespace
 
 MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
@@ -268,6 +285,7 @@ MultiSensorData MultiSensorData::read_folder(const std::string& dir) {
   if (std::filesystem::exists(dir + "/targets.csv")) read_targets(dir + "/targets.csv", d);
   check_units(d);
   d.validate(dir);
+  check_time_scales(d);
   return d;
 }
 

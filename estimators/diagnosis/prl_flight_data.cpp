@@ -92,7 +92,19 @@ PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   plausible::coordinates_in_degrees({"nav.csv lat_deg", "nav.csv lon_deg", plausible::positions(d.nav)}, site);
   plausible::coordinates_in_degrees({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, site);
   plausible::coordinates_in_degrees({"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}}, site);
+  // latitude and longitude swapped in one file (before "far from the radar site")
+  const plausible::NamedPositions nav{"nav.csv lat_deg", "nav.csv lon_deg", plausible::positions(d.nav)};
+  plausible::coordinates_not_swapped(nav, site);
+  plausible::coordinates_not_swapped({"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}}, site);
+  plausible::coordinates_not_swapped({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, site);
   d.validate(dir);
+  // one time scale, after each time's own checks: the plots (and the truth) on the nav solution's
+  std::vector<double> nav_t;
+  for (const auto& s : d.nav) nav_t.push_back(s.t_s);
+  plausible::same_time_scale(dir + "/radar.csv t_s", d.t_s, dir + "/nav.csv t_s", nav_t);
+  std::vector<double> truth_t;
+  for (const auto& s : d.truth) truth_t.push_back(s.t_s);
+  plausible::same_time_scale(dir + "/truth.csv t_s", truth_t, dir + "/nav.csv t_s", nav_t);
   return d;
 }
 

@@ -69,6 +69,21 @@ constexpr int kMaxTargetId = 1000000;
 /// Rounded to the microsecond that the CSV files hold [s].
 double to_us(double t_s) { return std::round(t_s * 1e6) / 1e6; }
 
+/// A record's time [s]: the dataset stamps Unix seconds (1.62e9 in 2021). A time outside
+/// [0, kMaxUnixS] is named on its own record (not as the next record's disorder): beyond it by
+/// 10^3 or 10^6 as milliseconds or microseconds, else as out of range.
+constexpr double kMaxUnixS = 4102444800;  // [s] 2100-01-01T00:00:00Z
+double record_time(const json& rec, const std::string& where) {
+  const double t = finite(member(rec, "time", where), where, "time");
+  if (t >= 0 && t <= kMaxUnixS) return t;
+  std::string why = "outside [0, " + fixed(kMaxUnixS, 0) + "] s (Unix seconds up to the year 2100)";
+  if (t > kMaxUnixS && t / 1e3 <= kMaxUnixS) why += ": milliseconds?";
+  else if (t > kMaxUnixS && t / 1e6 <= kMaxUnixS) why += ": microseconds?";
+  char b[64];
+  std::snprintf(b, sizeof b, "time %.6g is ", t);
+  bad(where, b + why);
+}
+
 /// The detections of one record: lidar / radar as Cartesian offsets [] | [N, E] |
 /// [[N1..NM], [E1..EM]] in ownship-fixed NED [m]; IR / EO as bearings b | [b1..bM] [rad],
 /// clockwise from north.
@@ -138,7 +153,7 @@ MultiSensorData autoferry_to_multi(const AutoferryRecords& r) {
     if (sid_v < kLidar || sid_v > kEo)
       bad(where, "unknown sensorID " + std::to_string(sid_v) + " (1 lidar, 2 radar, 3 IR, 4 EO)");
     const int sid = static_cast<int>(sid_v);
-    const double t = to_us(finite(member(rec, "time", where), where, "time"));
+    const double t = to_us(record_time(rec, where));
     const auto p = finite_list(member(rec, "ownshipPosition", where), where, "ownshipPosition");
     if (p.size() != 2) bad(where, "ownshipPosition has " + std::to_string(p.size()) + " numbers, not 2 [N, E]");
     const auto lt = last_t.find(sid);
@@ -159,7 +174,7 @@ MultiSensorData autoferry_to_multi(const AutoferryRecords& r) {
       const int id = integer(member(g, "targetID", w), w, "targetID", 0, kMaxTargetId);
       const auto pos = finite_list(member(g, "position", w), w, "position");
       if (pos.size() != 3) bad(w, "position has " + std::to_string(pos.size()) + " numbers, not 3 [N, E, D]");
-      const double tt = to_us(finite(member(g, "time", w), w, "time"));
+      const double tt = to_us(record_time(g, w));
       const std::array<double, 3> ned{pos[0], pos[1], pos[2]};
       const auto [it, fresh] = truth[id].emplace(tt, ned);
       if (!fresh && it->second != ned)
@@ -191,10 +206,10 @@ AzimuthData autoferry_to_azimuth(const AutoferryRecords& r, const std::string& s
       if (finite(member(g, "targetID", gw), gw, "targetID") != target) continue;
       const auto pos = finite_list(member(g, "position", gw), gw, "position");
       if (pos.size() < 2) bad(gw, "position has " + std::to_string(pos.size()) + " numbers, not [N, E(, D)]");
-      truth[finite(member(g, "time", gw), gw, "time")] = {pos[0], pos[1]};
+      truth[record_time(g, gw)] = {pos[0], pos[1]};
     }
     if (finite(member(rec, "sensorID", where), where, "sensorID") != sid) continue;
-    const double t = finite(member(rec, "time", where), where, "time");
+    const double t = record_time(rec, where);
     const auto own = finite_list(member(rec, "ownshipPosition", where), where, "ownshipPosition");
     if (own.size() != 2) bad(where, "ownshipPosition has " + std::to_string(own.size()) + " numbers, not 2 [N, E]");
     if (!d.observer.empty() && t <= d.observer.back().t_s) continue;  // keep time order per sensor
