@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rnav::plausible {
 
@@ -97,9 +98,12 @@ void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b) {
                              std::abs(lon_b) <= 90 ? surface_distance_m(lat_a, lon_a, lon_b, lat_b) : HUGE_VAL};
   const int i = swapped[0] <= swapped[1] ? 0 : 1, o = 1 - i;
   if (!(swapped[i] <= kSwapNearM)) return;
-  throw ConfigError(p[i]->lat_name + " and " + p[i]->lon_name + " look swapped: as given its position lies " + num(given / 1000) +
-                    " km from " + p[o]->lat_name + "/" + p[o]->lon_name + "'s, with latitude and longitude swapped " +
-                    num(swapped[i] / 1000) + " km");
+  char km[96];
+  std::snprintf(km, sizeof km, "%.1f km from", given / 1000);
+  char sw[64];
+  std::snprintf(sw, sizeof sw, "%.1f km", swapped[i] / 1000);
+  throw ConfigError(p[i]->lat_name + " and " + p[i]->lon_name + " look swapped: their median position lies " + km + " that of " +
+                    p[o]->lat_name + " and " + p[o]->lon_name + " as given, " + sw + " with latitude and longitude swapped");
 }
 
 void same_time_scale(const std::string& name, const std::vector<double>& t, const std::string& ref_name,
