@@ -3,6 +3,7 @@
 #include "config.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -82,28 +83,39 @@ double surface_distance_m(double lat1, double lon1, double lat2, double lon2) {
 }
 }  // namespace
 
-void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b) {
+void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b, const NamedPositions* third) {
   if (a.g.empty() || b.g.empty()) return;
-  auto med = [](const NamedPositions& p, double Geodetic::*field) {
-    std::vector<double> v;
-    for (const auto& g : p.g) v.push_back(g.*field);
-    return median_of(v);
+  auto med = [](const NamedPositions& p) {
+    std::vector<double> lat, lon;
+    for (const auto& g : p.g) lat.push_back(g.lat_deg), lon.push_back(g.lon_deg);
+    return std::array<double, 2>{median_of(lat), median_of(lon)};
   };
-  const double lat_a = med(a, &Geodetic::lat_deg), lon_a = med(a, &Geodetic::lon_deg);
-  const double lat_b = med(b, &Geodetic::lat_deg), lon_b = med(b, &Geodetic::lon_deg);
-  const double given = surface_distance_m(lat_a, lon_a, lat_b, lon_b);
+  const auto pa = med(a), pb = med(b);
+  const double given = surface_distance_m(pa[0], pa[1], pb[0], pb[1]);
   if (!(given > kSwapFarM)) return;
-  const NamedPositions* p[2] = {&a, &b};
-  const double swapped[2] = {std::abs(lon_a) <= 90 ? surface_distance_m(lon_a, lat_a, lat_b, lon_b) : HUGE_VAL,
-                             std::abs(lon_b) <= 90 ? surface_distance_m(lat_a, lon_a, lon_b, lat_b) : HUGE_VAL};
-  const int i = swapped[0] <= swapped[1] ? 0 : 1, o = 1 - i;
-  if (!(swapped[i] <= kSwapNearM)) return;
-  char km[96];
-  std::snprintf(km, sizeof km, "%.1f km from", given / 1000);
-  char sw[64];
-  std::snprintf(sw, sizeof sw, "%.1f km", swapped[i] / 1000);
-  throw ConfigError(p[i]->lat_name + " and " + p[i]->lon_name + " look swapped: their median position lies " + km + " that of " +
-                    p[o]->lat_name + " and " + p[o]->lon_name + " as given, " + sw + " with latitude and longitude swapped");
+  // either file swapped; each only where its longitude can be a latitude
+  const double swapped_a = std::abs(pa[1]) <= 90 ? surface_distance_m(pa[1], pa[0], pb[0], pb[1]) : HUGE_VAL;
+  const double swapped_b = std::abs(pb[1]) <= 90 ? surface_distance_m(pa[0], pa[1], pb[1], pb[0]) : HUGE_VAL;
+  const double swapped = std::min(swapped_a, swapped_b);
+  if (!(swapped <= kSwapNearM)) return;
+  char km[160];
+  std::snprintf(km, sizeof km, "their median positions lie %.1f km apart as given, %.1f km with latitude and longitude swapped", given / 1000,
+                swapped / 1000);
+  // which one: the one a third file disagrees with, else the one whose swap alone closes the gap
+  int blame = swapped_a <= kSwapNearM && swapped_b <= kSwapNearM ? -1 : swapped_a <= kSwapNearM ? 0 : 1;
+  if (third && !third->g.empty()) {
+    const auto pt = med(*third);
+    const bool a_ok = surface_distance_m(pa[0], pa[1], pt[0], pt[1]) <= kSwapNearM;
+    const bool b_ok = surface_distance_m(pb[0], pb[1], pt[0], pt[1]) <= kSwapNearM;
+    if (a_ok != b_ok) blame = a_ok ? 1 : 0;
+  }
+  if (blame < 0)
+    throw ConfigError(a.lat_name + "/" + a.lon_name + " or " + b.lat_name + "/" + b.lon_name + " look swapped: " + km +
+                      " (either file; which one these files cannot tell)");
+  const NamedPositions& x = blame == 0 ? a : b;
+  const NamedPositions& y = blame == 0 ? b : a;
+  throw ConfigError(x.lat_name + " and " + x.lon_name + " look swapped against " + y.lat_name + " and " + y.lon_name + ": " + km +
+                    (third && !third->g.empty() ? " (" + third->lat_name + " agrees with " + y.lat_name + ")" : std::string()));
 }
 
 void same_time_scale(const std::string& name, const std::vector<double>& t, const std::string& ref_name,

@@ -61,8 +61,10 @@ void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b);
 /// diagonal lat = lon land hundreds to thousands of kilometres off.)
 inline constexpr double kSwapFarM = 300e3, kSwapNearM = 150e3;
 /// Throws ConfigError naming the file of `a` or `b` whose latitude and longitude look swapped
-/// (see kSwapFarM), with both distances. Empty lists pass.
-void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b);
+/// (see kSwapFarM), with both distances. Which of the two: the one `third` (a third file, may
+/// be null) disagrees with; without it, the one whose swap alone closes the gap, else both are
+/// named (either may be swapped). Empty lists pass.
+void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b, const NamedPositions* third = nullptr);
 
 /// One time scale for the files of a recording: the times `t` of file `name` (measurements)
 /// against the span of `ref` (named ref_name: the navigation or observer track they are placed

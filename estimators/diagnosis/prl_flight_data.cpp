@@ -93,10 +93,12 @@ PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   plausible::coordinates_in_degrees({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, site);
   plausible::coordinates_in_degrees({"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}}, site);
   // latitude and longitude swapped in one file (before "far from the radar site")
+  // (the third file decides which of two is swapped)
   const plausible::NamedPositions nav{"nav.csv lat_deg", "nav.csv lon_deg", plausible::positions(d.nav)};
-  plausible::coordinates_not_swapped(nav, site);
-  plausible::coordinates_not_swapped({"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}}, site);
-  plausible::coordinates_not_swapped({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, site);
+  const plausible::NamedPositions threshold{"site.json runway.threshold_lat_deg", "site.json runway.threshold_lon_deg", {d.threshold}};
+  plausible::coordinates_not_swapped(nav, site, &threshold);
+  plausible::coordinates_not_swapped(threshold, site, &nav);
+  plausible::coordinates_not_swapped({"truth.csv lat_deg", "truth.csv lon_deg", plausible::positions(d.truth)}, nav, &site);
   d.validate(dir);
   // one time scale, after each time's own checks: the plots (and the truth) on the nav solution's
   std::vector<double> nav_t;
