@@ -357,6 +357,10 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   e = rewrite("truth.csv", times(1, 7200));
   INFO(e);
   CHECK(e.find("truth.csv t_s's times do not overlap") != std::string::npos);
+  // 100 s late: the spans still overlap (same_time_scale passes), the positions do not (7 km off)
+  e = rewrite("truth.csv", times(1, 100));
+  INFO(e);
+  CHECK(e.find("truth.csv's time stamps look +100.0") != std::string::npos);
   e = rewrite("site.json", [](std::string text) {
     const auto j = nlohmann::json::parse(text);
     auto k = j;

@@ -6,6 +6,8 @@
 #include "csv_table.hpp"
 #include "plausible.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +40,66 @@ void write_geo(const std::string& dir, const std::string& name, const std::vecto
   write_file_atomic(dir, name, f);
   write_csv_units(dir, name, columns);
 }
+// The truth against the nav solution: an aircraft's nav solution lies metres, at worst tens of
+// metres, from its truth. The median horizontal distance over the nav samples inside the truth's span
+// (truth interpolated linearly in the site's local frame) beyond kTruthFarM is refused; a time
+// shift of the truth that brings it within kTruthNearM is named with its size (a grid of
+// kShiftStepS over +-half the overlap, then refined to kShiftStepS / 100), else the distance.
+constexpr double kTruthFarM = 500;      // [m] beyond any nav error the diagnosis models (an INS drift of a few hundred metres at worst)
+constexpr double kTruthNearM = 50;      // [m] a shift that explains the distance brings it within this
+constexpr double kShiftStepS = 1;       // [s] the shift's search grid
+constexpr std::size_t kMaxPairs = 2000;  // nav samples used (evenly spaced): enough for a median
+// A track in the site's local frame (computed once: the shift search evaluates it many times).
+struct LocalTrack {
+  std::vector<double> t;
+  std::vector<Eigen::Vector3d> p;
+};
+LocalTrack local(const std::vector<GeoSample>& v, const LocalLevelFrame& F, std::size_t step = 1) {
+  LocalTrack out;
+  for (std::size_t i = 0; i < v.size(); i += step) out.t.push_back(v[i].t_s), out.p.push_back(F.from_geodetic(v[i].g));
+  return out;
+}
+double median_truth_distance_m(const LocalTrack& nav, const LocalTrack& truth, double shift_s) {
+  std::vector<double> dist;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < nav.t.size(); ++i) {
+    const double t = nav.t[i] + shift_s;  // the truth row stamped t describes the nav sample at t - shift
+    while (k + 1 < truth.t.size() && truth.t[k + 1] < t) ++k;
+    if (k + 1 >= truth.t.size() || t < truth.t[k]) continue;
+    const double a = (t - truth.t[k]) / (truth.t[k + 1] - truth.t[k]);
+    const Eigen::Vector3d e = (1 - a) * truth.p[k] + a * truth.p[k + 1] - nav.p[i];
+    dist.push_back(std::hypot(e.x(), e.z()));  // horizontal (F: x, z level, y up): heights have their own unit checks
+  }
+  if (dist.size() < 10) return NAN;
+  std::nth_element(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(dist.size() / 2), dist.end());
+  return dist[dist.size() / 2];
+}
+void check_truth_against_nav(const PrlFlightData& d, const std::string& dir) {
+  if (d.truth.size() < 2) return;
+  const LocalLevelFrame F(d.radar_site, 0.0);
+  const LocalTrack nav = local(d.nav, F, std::max<std::size_t>(1, d.nav.size() / kMaxPairs)), truth = local(d.truth, F);
+  const double given = median_truth_distance_m(nav, truth, 0);
+  if (!(given > kTruthFarM)) return;  // near, or too little overlap to say (same_time_scale's)
+  const double half = 0.5 * (std::min(d.nav.back().t_s, d.truth.back().t_s) - std::max(d.nav.front().t_s, d.truth.front().t_s));
+  double best = given, best_s = 0;
+  auto try_shift = [&](double s) {
+    const double m = median_truth_distance_m(nav, truth, s);
+    if (m < best) best = m, best_s = s;
+  };
+  for (double s = -half; s <= half; s += kShiftStepS) try_shift(s);
+  const double coarse = best_s;
+  for (double s = coarse - kShiftStepS; s <= coarse + kShiftStepS; s += kShiftStepS / 100) try_shift(s);
+  char b[256];
+  if (best <= kTruthNearM) {
+    std::snprintf(b, sizeof b, "/truth.csv's time stamps look %+.2f s off nav.csv's (its median distance from the nav solution "
+                  "%.0f m as stamped, %.1f m shifted): one time scale for every file", best_s, given, best);
+    throw ConfigError(dir + b);
+  }
+  std::snprintf(b, sizeof b, "/truth.csv lies a median %.0f m from nav.csv's solution (no time shift brings it within %.0f m): "
+                "not this flight's truth, or a nav solution far off", given, kTruthNearM);
+  throw ConfigError(dir + b);
+}
+
 }  // namespace
 
 std::vector<CsvColumnDoc> PrlFlightData::radar_columns() {
@@ -107,6 +169,7 @@ PrlFlightData PrlFlightData::read_folder(const std::string& dir) {
   std::vector<double> truth_t;
   for (const auto& s : d.truth) truth_t.push_back(s.t_s);
   plausible::same_time_scale(dir + "/truth.csv t_s", truth_t, dir + "/nav.csv t_s", nav_t);
+  check_truth_against_nav(d, dir);
   return d;
 }
 
