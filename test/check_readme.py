@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""ctest readme.examples: the examples of the README and of docs/ run as written and give the
+"""ctest readme.EXAMPLE (one test per example): the examples of the README and of docs/ run as written and give the
 figures they quote.
 
 The documentation is README.md and every docs/*.md page. Each example below is found by the
@@ -15,6 +15,10 @@ that changes a figure without the code, or the code without the documentation, f
 naming the figure and the file that quotes it.
 
 Usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...]   (no EXAMPLE: all of them)
+       check_readme.py --list                                (the examples' names, one a line)
+
+ctest runs each example as a test of its own, readme.EXAMPLE (test/CMakeLists.txt asks --list at
+configure time), so that ctest -j2 runs them beside the other tests instead of one after another.
 """
 import glob
 import json
@@ -25,13 +29,16 @@ import subprocess
 import sys
 import tempfile
 
-SRC, BUILD = sys.argv[1], sys.argv[2]
-ONLY = sys.argv[3:]
+LIST = sys.argv[1:] == ["--list"]
+if not LIST and len(sys.argv) < 3:
+    raise SystemExit("usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...] | --list")
+SRC, BUILD = (None, None) if LIST else (sys.argv[1], sys.argv[2])
+ONLY = [] if LIST else sys.argv[3:]
 # The documentation, file by file: (path relative to SRC, text). Each file is searched on its own,
 # so a block and the prose after it never cross from one file into the next.
-DOCS = [(name, open(os.path.join(SRC, name), encoding="utf-8").read())
-        for name in ["README.md"] + sorted(os.path.relpath(p, SRC)
-                                           for p in glob.glob(os.path.join(SRC, "docs", "*.md")))]
+DOCS = [] if LIST else [(name, open(os.path.join(SRC, name), encoding="utf-8").read())
+                        for name in ["README.md"] + sorted(os.path.relpath(p, SRC)
+                                                           for p in glob.glob(os.path.join(SRC, "docs", "*.md")))]
 WHERE = "the documentation"  # the file the current example was found in (named in messages)
 FAILS = []
 
@@ -395,6 +402,12 @@ EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnos
             "replay": ex_replay, "python": ex_python, "python_run": ex_python_run, "uav_ml": ex_uav_ml,
             "uav_pf": ex_uav_pf, "shards": ex_shards}
 
+if LIST:
+    print("\n".join(EXAMPLES))
+    sys.exit(0)
+unknown = [x for x in ONLY if x not in EXAMPLES]
+if unknown:
+    raise SystemExit("check_readme: unknown example(s) %s; the examples are %s" % (", ".join(unknown), ", ".join(EXAMPLES)))
 for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:
         continue
