@@ -384,13 +384,15 @@ def to_ecef(lat, lon, h):
 
 
 def to_geodetic(x, y, z):
+    # (the generator's inner loop: math's functions bound locally, the same operations in order)
+    sin, sqrt, atan2 = math.sin, math.sqrt, math.atan2
     p = math.hypot(x, y)
-    lat = math.atan2(z, p * (1 - E2))
+    lat = atan2(z, p * (1 - E2))
     for _ in range(10):
-        s = math.sin(lat)
-        lat = math.atan2(z + E2 * A_WGS / math.sqrt(1 - E2 * s * s) * s, p)
-    s, c = math.sin(lat), math.cos(lat)
-    return math.degrees(lat), math.degrees(math.atan2(y, x)), p * c + z * s - A_WGS * math.sqrt(1 - E2 * s * s)
+        s = sin(lat)
+        lat = atan2(z + E2 * A_WGS / sqrt(1 - E2 * s * s) * s, p)
+    s, c = sin(lat), math.cos(lat)
+    return math.degrees(lat), math.degrees(atan2(y, x)), p * c + z * s - A_WGS * sqrt(1 - E2 * s * s)
 
 
 class Frame:
@@ -403,12 +405,18 @@ class Frame:
                   (-math.sin(la) * math.cos(lo), -math.sin(la) * math.sin(lo), math.cos(la)),
                   (math.cos(la) * math.cos(lo), math.cos(la) * math.sin(lo), math.sin(la)))
 
+    # enu and ecef are the generator's inner loop: written out, each sum in the order (and from
+    # the 0 start) of sum() over range(3), so the results are the same to the bit
     def enu(self, p):
-        d = [p[i] - self.o[i] for i in range(3)]
-        return tuple(sum(r[i] * d[i] for i in range(3)) for r in self.m)
+        o, m = self.o, self.m
+        d0, d1, d2 = p[0] - o[0], p[1] - o[1], p[2] - o[2]
+        return tuple(0.0 + r[0] * d0 + r[1] * d1 + r[2] * d2 for r in m)
 
     def ecef(self, v):
-        return tuple(self.o[i] + sum(v[k] * self.m[k][i] for k in range(3)) for i in range(3))
+        o, (m0, m1, m2) = self.o, self.m
+        v0, v1, v2 = v[0], v[1], v[2]
+        return (o[0] + (0.0 + v0 * m0[0] + v1 * m1[0] + v2 * m2[0]), o[1] + (0.0 + v0 * m0[1] + v1 * m1[1] + v2 * m2[1]),
+                o[2] + (0.0 + v0 * m0[2] + v1 * m1[2] + v2 * m2[2]))
 
     def place(self, e, n, h):
         """(lat, lon, h, ECEF) of the horizontal point (e, n) mapped to the ellipsoid, at height h."""

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""ctest readme.examples: the examples of the README and of docs/ run as written and give the
+"""ctest readme.EXAMPLE (one test per example): the examples of the README and of docs/ run as written and give the
 figures they quote.
 
 The documentation is README.md and every docs/*.md page. Each example below is found by the
@@ -15,6 +15,10 @@ that changes a figure without the code, or the code without the documentation, f
 naming the figure and the file that quotes it.
 
 Usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...]   (no EXAMPLE: all of them)
+       check_readme.py --list                                (the examples' names, one a line)
+
+ctest runs each example as a test of its own, readme.EXAMPLE (test/CMakeLists.txt asks --list at
+configure time), so that ctest -j2 runs them beside the other tests instead of one after another.
 """
 import glob
 import json
@@ -25,13 +29,16 @@ import subprocess
 import sys
 import tempfile
 
-SRC, BUILD = sys.argv[1], sys.argv[2]
-ONLY = sys.argv[3:]
+LIST = sys.argv[1:] == ["--list"]
+if not LIST and len(sys.argv) < 3:
+    raise SystemExit("usage: check_readme.py SOURCE_DIR BUILD_DIR [EXAMPLE...] | --list")
+SRC, BUILD = (None, None) if LIST else (sys.argv[1], sys.argv[2])
+ONLY = [] if LIST else sys.argv[3:]
 # The documentation, file by file: (path relative to SRC, text). Each file is searched on its own,
 # so a block and the prose after it never cross from one file into the next.
-DOCS = [(name, open(os.path.join(SRC, name), encoding="utf-8").read())
-        for name in ["README.md"] + sorted(os.path.relpath(p, SRC)
-                                           for p in glob.glob(os.path.join(SRC, "docs", "*.md")))]
+DOCS = [] if LIST else [(name, open(os.path.join(SRC, name), encoding="utf-8").read())
+                        for name in ["README.md"] + sorted(os.path.relpath(p, SRC)
+                                                           for p in glob.glob(os.path.join(SRC, "docs", "*.md")))]
 WHERE = "the documentation"  # the file the current example was found in (named in messages)
 FAILS = []
 
@@ -355,19 +362,33 @@ def ex_shards(tmp):
         run_ok(c, tmp, "the shards example")
 
 
-def uav_estimator_table(tmp, first_command, what):
-    """A documentation table of UAV estimators: its commands run, every row against the
-    summary.json of the run it names."""
+UAV_TABLE_RUNS = 3  # the commands of each UAV estimator table's block: one ctest test each
+
+
+def uav_estimator_table(tmp, first_command, what, part):
+    """A documentation table of UAV estimators: its block's command number `part` (1-based) runs,
+    and every row naming that command's --out is checked against the summary.json it wrote. The
+    block must hold UAV_TABLE_RUNS commands and every row must name one of their --out folders,
+    so that the parts together run every command and check every row."""
     lines, after = block_after(first_command)
-    for cmd in commands(lines):
-        run_ok(cmd, tmp, what + " example")
+    cmds = commands(lines)
+    if len(cmds) != UAV_TABLE_RUNS:
+        raise SystemExit("check_readme: the %s block in %s has %d commands, not %d; update UAV_TABLE_RUNS in "
+                         "test/check_readme.py" % (what, WHERE, len(cmds), UAV_TABLE_RUNS))
+    outs = [find(r"--out (\S+)", c, "the --out of a %s command" % what).group(1) for c in cmds]
+    run_ok(cmds[part - 1], tmp, "%s example, run %d" % (what, part))
     table = after[after.index("| run (`--out`)"):]
     table = table[:table.index("\n\n")]
     rows = re.findall(r"^\| `(out/[^`]+)` \| `(\w+)` \| ([\d.]+) m \| ([\d.]+) \| ([\d. ]+) \((inside|outside)\) "
                       r"\| (\d+) / (\d+) \|$", table, re.M)
     if len(rows) != table.count("\n") - 1:
         raise SystemExit("check_readme: a row of the %s table in %s does not parse; update test/check_readme.py" % (what, WHERE))
+    for out, *_ in rows:
+        if out not in outs:
+            fail("%s table: %s quotes a row of %s, which none of its commands writes" % (what, WHERE, out))
     for out, name, rmse, ratio, nees, inside, diverged, runs in rows:
+        if out != outs[part - 1]:
+            continue
         e = json.load(open(os.path.join(tmp, out, "summary.json")))["estimators"][name]
         row = "%s table %s %s" % (what, out, name)
         agree(row + " RMSE", rmse, e["rmse_pos_m"])
@@ -379,22 +400,29 @@ def uav_estimator_table(tmp, first_command, what):
             fail(row + ": %s quotes %s / %s diverged, the run gives %d / %d" % (WHERE, diverged, runs, e["diverged"], e["runs"]))
 
 
-def ex_uav_ml(tmp):
-    """The batch estimator's table."""
-    uav_estimator_table(tmp, "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"ekf\"", "UAV ml")
+def uav_table_part(first_command, what, part):
+    """The example checking part `part` of a UAV estimator table (uav_estimator_table)."""
+    return lambda tmp: uav_estimator_table(tmp, first_command, what, part)
 
 
-def ex_uav_pf(tmp):
-    """The particle filter's table."""
-    uav_estimator_table(tmp, "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"rpekf\"", "UAV pf")
+UAV_ML = "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"ekf\""   # the batch estimator's table
+UAV_PF = "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"rpekf\""  # the particle filter's
 
 
 EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnose_csv,
             "diagnose_log": ex_diagnose_log, "autoferry": ex_autoferry,
             "autoferry_pooled": ex_autoferry_pooled,
-            "replay": ex_replay, "python": ex_python, "python_run": ex_python_run, "uav_ml": ex_uav_ml,
-            "uav_pf": ex_uav_pf, "shards": ex_shards}
+            "replay": ex_replay, "python": ex_python, "python_run": ex_python_run, "shards": ex_shards}
+for k in range(1, UAV_TABLE_RUNS + 1):  # a test per run: each is tens of seconds
+    EXAMPLES["uav_ml.%d" % k] = uav_table_part(UAV_ML, "UAV ml", k)
+    EXAMPLES["uav_pf.%d" % k] = uav_table_part(UAV_PF, "UAV pf", k)
 
+if LIST:
+    print("\n".join(EXAMPLES))
+    sys.exit(0)
+unknown = [x for x in ONLY if x not in EXAMPLES]
+if unknown:
+    raise SystemExit("check_readme: unknown example(s) %s; the examples are %s" % (", ".join(unknown), ", ".join(EXAMPLES)))
 for name, f in EXAMPLES.items():
     if ONLY and name not in ONLY:
         continue
