@@ -21,6 +21,21 @@ double median_of(std::vector<double> v) {
   return *mid;
 }
 
+// Distance along the surface [m] (haversine on the WGS84 equatorial radius: enough for a bound).
+double surface_distance_m(double lat1, double lon1, double lat2, double lon2) {
+  constexpr double kR = 6378137.0, kDeg = 3.14159265358979323846 / 180;
+  const double dlat = (lat1 - lat2) * kDeg, dlon = (lon1 - lon2) * kDeg;
+  const double a = std::pow(std::sin(dlat / 2), 2) + std::cos(lat1 * kDeg) * std::cos(lat2 * kDeg) * std::pow(std::sin(dlon / 2), 2);
+  return 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
+}
+
+// The median latitude and longitude [deg] of a file's positions (each coordinate's own median).
+std::array<double, 2> median_position(const NamedPositions& p) {
+  std::vector<double> lat, lon;
+  for (const auto& g : p.g) lat.push_back(g.lat_deg), lon.push_back(g.lon_deg);
+  return {median_of(lat), median_of(lon)};
+}
+
 }  // namespace
 
 void time(const std::string& where, double t_s) {
@@ -58,11 +73,7 @@ void angle(const std::string& where, const std::string& name, double rad) {
 }
 
 void near(const std::string& where, const Geodetic& g, const Geodetic& c, const std::string& centre_name) {
-  constexpr double kR = 6378137.0, kDeg = 3.14159265358979323846 / 180;
-  const double dlat = (g.lat_deg - c.lat_deg) * kDeg, dlon = (g.lon_deg - c.lon_deg) * kDeg;
-  const double a = std::pow(std::sin(dlat / 2), 2) +
-                   std::cos(g.lat_deg * kDeg) * std::cos(c.lat_deg * kDeg) * std::pow(std::sin(dlon / 2), 2);
-  const double d = 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
+  const double d = surface_distance_m(g.lat_deg, g.lon_deg, c.lat_deg, c.lon_deg);
   // degrees columns holding radians put a position within (+-pi/2, +-pi) of (0, 0)
   const bool radians = std::abs(g.lat_deg) <= 1.5708 && std::abs(g.lon_deg) <= 3.1416 &&
                        (std::abs(c.lat_deg) > 1.5708 || std::abs(c.lon_deg) > 3.1416);
@@ -73,24 +84,10 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
                       (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
 }
 
-namespace {
-// Distance along the surface [m] (haversine on the WGS84 equatorial radius: enough for a bound).
-double surface_distance_m(double lat1, double lon1, double lat2, double lon2) {
-  constexpr double kR = 6378137.0, kDeg = 3.14159265358979323846 / 180;
-  const double dlat = (lat1 - lat2) * kDeg, dlon = (lon1 - lon2) * kDeg;
-  const double a = std::pow(std::sin(dlat / 2), 2) + std::cos(lat1 * kDeg) * std::cos(lat2 * kDeg) * std::pow(std::sin(dlon / 2), 2);
-  return 2 * kR * std::asin(std::min(1.0, std::sqrt(a)));
-}
-}  // namespace
 
 void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b, const NamedPositions* third) {
   if (a.g.empty() || b.g.empty()) return;
-  auto med = [](const NamedPositions& p) {
-    std::vector<double> lat, lon;
-    for (const auto& g : p.g) lat.push_back(g.lat_deg), lon.push_back(g.lon_deg);
-    return std::array<double, 2>{median_of(lat), median_of(lon)};
-  };
-  const auto pa = med(a), pb = med(b);
+  const auto pa = median_position(a), pb = median_position(b);
   const double given = surface_distance_m(pa[0], pa[1], pb[0], pb[1]);
   if (!(given > kSwapFarM)) return;
   // either file swapped; each only where its longitude can be a latitude
@@ -104,7 +101,7 @@ void coordinates_not_swapped(const NamedPositions& a, const NamedPositions& b, c
   // which one: the one a third file disagrees with, else the one whose swap alone closes the gap
   int blame = swapped_a <= kSwapNearM && swapped_b <= kSwapNearM ? -1 : swapped_a <= kSwapNearM ? 0 : 1;
   if (third && !third->g.empty()) {
-    const auto pt = med(*third);
+    const auto pt = median_position(*third);
     const bool a_ok = surface_distance_m(pa[0], pa[1], pt[0], pt[1]) <= kSwapNearM;
     const bool b_ok = surface_distance_m(pb[0], pb[1], pt[0], pt[1]) <= kSwapNearM;
     if (a_ok != b_ok) blame = a_ok ? 1 : 0;
@@ -175,17 +172,13 @@ std::vector<Geodetic> positions(const std::vector<GeoSample>& v) {
 
 void coordinates_in_degrees(const NamedPositions& a, const NamedPositions& b) {
   if (a.g.empty() || b.g.empty()) return;
-  auto med = [](const NamedPositions& p, double Geodetic::*field) {
-    std::vector<double> v;
-    for (const auto& g : p.g) v.push_back(g.*field);
-    return median_of(v);
-  };
   // m read as radians lands on the other list's median `other`, within [lo, hi] of a radians column
   auto radians = [](double m, double other, double lo, double hi) {
     return m >= lo && m <= hi && std::abs(m * 180 / kPi - other) <= kRadiansMatchDeg && std::abs(m - other) > kRadiansMatchDeg;
   };
-  const double lat[2] = {med(a, &Geodetic::lat_deg), med(b, &Geodetic::lat_deg)};
-  const double lon[2] = {med(a, &Geodetic::lon_deg), med(b, &Geodetic::lon_deg)};
+  const auto ma = median_position(a), mb = median_position(b);
+  const double lat[2] = {ma[0], mb[0]};
+  const double lon[2] = {ma[1], mb[1]};
   const NamedPositions* p[2] = {&a, &b};
   for (int i = 0; i < 2; ++i) {
     const int o = 1 - i;

@@ -164,12 +164,20 @@ int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& n
   return report_validation(a, name, by_model);
 }
 
+// The nominal landing scenario of flight f on the base scenario (--scenario, else the paper's
+// defaults), its nav track written into work_dir; no radar effects.
+rnav::Scenario nominal_flight_scenario(const Args& a, const rnav::PrlFlightData& f, const std::string& work_dir) {
+  const rnav::Scenario base = a.scenario.empty() ? rnav::Scenario::from_json(nlohmann::json::object()) : rnav::Scenario::load(a.scenario);
+  rnav::Scenario sc = rnav::scenario_of_flight(f, base, work_dir);
+  sc.prl_effects = rnav::PrlEffectsOptions{};
+  return sc;
+}
+
 // A landing flight (site.json, radar.csv, nav.csv): replayed on the base scenario (--scenario,
 // else the paper's defaults), nominal and, with --effects (a landing-radar report), extended.
 int validate_prl(const Args& a, const std::string& dir, const std::string& name) {
   const rnav::PrlFlightData f = rnav::PrlFlightData::read_folder(dir);
   const rnav::SceneStats real = rnav::prl_flight_stats(f);
-  const rnav::Scenario base = a.scenario.empty() ? rnav::Scenario::from_json(nlohmann::json::object()) : rnav::Scenario::load(a.scenario);
   char tmpl[] = "/tmp/rnav_prl_validate_XXXXXX";
   if (!mkdtemp(tmpl)) throw std::runtime_error("cannot create a work folder in /tmp");
   struct Cleanup {
@@ -179,8 +187,7 @@ int validate_prl(const Args& a, const std::string& dir, const std::string& name)
       std::filesystem::remove_all(dir, ec);
     }
   } cleanup{tmpl};
-  rnav::Scenario nominal = rnav::scenario_of_flight(f, base, tmpl);
-  nominal.prl_effects = rnav::PrlEffectsOptions{};
+  const rnav::Scenario nominal = nominal_flight_scenario(a, f, tmpl);
   std::vector<std::pair<std::string, rnav::Scenario>> models{{"nominal", nominal}};
   if (!a.effects.empty()) {
     models.push_back({"extended", rnav::extended_scenario(f, nominal, read_report(a.effects), a.effects)});
@@ -194,10 +201,8 @@ int validate_prl(const Args& a, const std::string& dir, const std::string& name)
 // The landing scenario of a flight (nominal, or extended with --effects) written to --out DIR.
 int scenario_prl(const Args& a, const std::string& dir) {
   const rnav::PrlFlightData f = rnav::PrlFlightData::read_folder(dir);
-  const rnav::Scenario base = a.scenario.empty() ? rnav::Scenario::from_json(nlohmann::json::object()) : rnav::Scenario::load(a.scenario);
   rnav::prepare_output_dir(a.out, a.force);
-  rnav::Scenario sc = rnav::scenario_of_flight(f, base, a.out);
-  sc.prl_effects = rnav::PrlEffectsOptions{};
+  rnav::Scenario sc = nominal_flight_scenario(a, f, a.out);
   if (!a.effects.empty()) sc = rnav::extended_scenario(f, sc, read_report(a.effects), a.effects);
   const std::string file = rnav::write_flight_scenario(sc, a.out);
   std::cout << "scenario " << file << ": the landing flight " << dir << " (" << (a.effects.empty() ? "nominal" : "extended by " + a.effects)
