@@ -6,8 +6,8 @@
 // supplies the joining (process) and what it keeps or writes beyond the statistics.
 #pragma once
 
-#include "atomic_file.hpp"
-#include "lockstep_node.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/node/lockstep_node.hpp"
 
 #include <cstdint>
 #include <stdexcept>

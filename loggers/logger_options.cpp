@@ -1,4 +1,4 @@
-#include "logger_options.hpp"
+#include "loggers/logger_options.hpp"
 
 namespace rnav {
 

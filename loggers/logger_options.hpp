@@ -1,7 +1,7 @@
 // Options of the landing ensemble's statistics (scenario section "logger"), with their keys and checks.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

@@ -1,4 +1,4 @@
-#include "prl_logger_node.hpp"
+#include "loggers/prl_logger_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/prl_bias_batch_t.hpp>

@@ -6,8 +6,8 @@
 // silently over less.
 #pragma once
 
-#include "ensemble_logger_node.hpp"
-#include "prl_stats.hpp"
+#include "loggers/ensemble_logger_node.hpp"
+#include "loggers/prl_stats.hpp"
 
 #include <rnav/prl_bias_estimate_t.hpp>
 #include <rnav/prl_error_t.hpp>

@@ -13,10 +13,10 @@
 // one run of the whole ensemble.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "exact_sum.hpp"
-#include "logger_options.hpp"
-#include "site_context.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/physics/exact_sum.hpp"
+#include "loggers/logger_options.hpp"
+#include "common/node/site_context.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-#include "scene_logger_node.hpp"
+#include "loggers/scene_logger_node.hpp"
 
 #include <rnav/scene_detection_batch_t.hpp>
 #include <rnav/scene_observer_batch_t.hpp>

@@ -7,10 +7,10 @@
 // order, is an error naming the channel.
 #pragma once
 
-#include "ensemble_logger_node.hpp"
-#include "recorded_scene.hpp"
-#include "scene_logger_options.hpp"
-#include "scene_run_stats.hpp"
+#include "loggers/ensemble_logger_node.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "loggers/scene_logger_options.hpp"
+#include "loggers/scene_run_stats.hpp"
 
 #include <functional>
 #include <string>

@@ -1,7 +1,7 @@
 // Options of a recorded scene run's logger (scene scenario section "logger"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

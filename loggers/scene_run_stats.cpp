@@ -1,6 +1,6 @@
-#include "scene_run_stats.hpp"
+#include "loggers/scene_run_stats.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
 #include <nlohmann/json.hpp>
 

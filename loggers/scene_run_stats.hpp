@@ -4,8 +4,8 @@
 // the run's channels (scene_logger_node.hpp).
 #pragma once
 
-#include "frames.hpp"
-#include "scene_sim.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/scene/scene_sim.hpp"
 
 #include <cstdint>
 #include <map>

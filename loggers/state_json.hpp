@@ -2,7 +2,7 @@
 // members that are present and of the right kind or an error naming where in the file.
 #pragma once
 
-#include "exact_sum.hpp"
+#include "common/physics/exact_sum.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
-#include "uav_logger_node.hpp"
+#include "loggers/uav_logger_node.hpp"
 
-#include "atomic_file.hpp"
-#include "tma_models.hpp"
-#include "uav_realizations.hpp"
+#include "common/io/atomic_file.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
+#include "loggers/uav_realizations.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>

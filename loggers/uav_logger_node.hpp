@@ -7,10 +7,10 @@
 // An estimate without truth at its time, or an ensemble short of realizations, is an error.
 #pragma once
 
-#include "atomic_file.hpp"
-#include "ensemble_logger_node.hpp"
-#include "uav_stats.hpp"
-#include "uav_track.hpp"
+#include "common/io/atomic_file.hpp"
+#include "loggers/ensemble_logger_node.hpp"
+#include "loggers/uav_stats.hpp"
+#include "loggers/uav_track.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "uav_logger_options.hpp"
+#include "loggers/uav_logger_options.hpp"
 
 namespace rnav {
 

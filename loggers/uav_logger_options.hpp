@@ -2,7 +2,7 @@
 // keys and checks.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

@@ -1,6 +1,6 @@
-#include "uav_realizations.hpp"
+#include "loggers/uav_realizations.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -10,8 +10,8 @@
 // finite); uav_stats_time.csv's RMSE at a time is the RMS over that time's rows (times on the step grid).
 #pragma once
 
-#include "csv_columns.hpp"
-#include "uav_stats.hpp"
+#include "common/io/csv_columns.hpp"
+#include "loggers/uav_stats.hpp"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
-#include "uav_stats.hpp"
+#include "loggers/uav_stats.hpp"
 
-#include "atomic_file.hpp"
-#include "realization_set.hpp"
-#include "state_json.hpp"
+#include "common/io/atomic_file.hpp"
+#include "loggers/realization_set.hpp"
+#include "loggers/state_json.hpp"
 
 #include <nlohmann/json.hpp>
 

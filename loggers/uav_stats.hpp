@@ -6,12 +6,12 @@
 // order realizations are added or shards (ensemble_state.json) are merged in.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "exact_sum.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/physics/exact_sum.hpp"
 
-#include "tma_pcrb.hpp"
-#include "frames.hpp"
-#include "uav_stats_setup.hpp"
+#include "estimators/uav_tma/tma_pcrb.hpp"
+#include "common/physics/frames.hpp"
+#include "loggers/uav_stats_setup.hpp"
 
 #include <array>
 #include <algorithm>

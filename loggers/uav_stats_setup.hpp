@@ -3,12 +3,12 @@
 // accuracy (uav_nav, sensor) and the estimators' priors (tma), with the shared runner.
 #pragma once
 
-#include "observer_options.hpp"
-#include "runner_options.hpp"
-#include "sensor_options.hpp"
-#include "sim_time.hpp"
-#include "tma_options.hpp"
-#include "uav_logger_options.hpp"
+#include "sim/uav/observer_options.hpp"
+#include "common/node/runner_options.hpp"
+#include "sim/uav/sensor_options.hpp"
+#include "common/physics/sim_time.hpp"
+#include "estimators/uav_tma/tma_options.hpp"
+#include "loggers/uav_logger_options.hpp"
 
 #include <cstdint>
 

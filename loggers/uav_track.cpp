@@ -1,6 +1,6 @@
-#include "uav_track.hpp"
+#include "loggers/uav_track.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
 #include <set>
 #include <stdexcept>

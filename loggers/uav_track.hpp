@@ -1,5 +1,5 @@
 // track.csv of the azimuth-only run: one realization's geometry frame by frame (the one named by
-// logger.track_realization, default 0), for the plan view geometry.png (loggers/plot_uav.py).
+// logger.track_realization, default 0), for the plan view geometry.png (scripts/plot_uav.py).
 // One row per frame of TRUTH_TARGET, in time order:
 //   realization, t_s (run time, 6 decimals: the frame's exact microsecond),
 //   uav_north_m, uav_east_m                      the UAV's true position,
@@ -17,8 +17,8 @@
 // Everything comes from messages, so the file is the same whatever the transport.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "tma_models.hpp"
+#include "common/io/csv_columns.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
 
 #include <Eigen/Dense>
 

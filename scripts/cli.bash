@@ -30,7 +30,7 @@ cli_die() {
 }
 
 # The candidate nearest to WORD by edit distance if it is close enough, nothing otherwise: the
-# Python package's rule (loggers/rnav/cli_args.py `closest`, the same as common/did_you_mean.hpp),
+# Python package's rule (scripts/rnav/cli_args.py `closest`, the same as common/io/did_you_mean.hpp),
 # called rather than written again. python3 without numpy does.
 CLI_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 cli_closest() {

@@ -2,7 +2,7 @@
 """The live view of a run without a display (scripts/spy --text): every LCM channel heard on the
 URL, its message rate, its last decoded values with units, and losses and repeats, refreshed once
 a second. Pure Python (Debian's python3, no LCM C extension): it joins the UDP multicast group
-itself and decodes with the project's generated types (loggers/rnav/lcmlog.py), so every channel
+itself and decodes with the project's generated types (scripts/rnav/lcmlog.py), so every channel
 of the project is shown by field, and a foreign one by its size.
 
   scripts/spy --text [--lcm-url URL] [--netns-pid PID] [--duration S] [--json FILE]

@@ -17,7 +17,7 @@ for each file:
   * rnav.read_run / read_sweep / read_log open the folders and the log;
   * every file a landing-radar, azimuth-only and data-link run writes (plots included) is named
     in the README's table of outputs.
-Usage: PYTHONPATH=SOURCE_DIR/loggers check_csv_kinds.py SOURCE_DIR BUILD_DIR DATA_DIR (ctest sets
+Usage: PYTHONPATH=SOURCE_DIR/scripts check_csv_kinds.py SOURCE_DIR BUILD_DIR DATA_DIR (ctest sets
 PYTHONPATH)
 """
 import glob
@@ -36,7 +36,7 @@ import rnav
 SRC, BUILD, DATA = (os.path.abspath(a) for a in sys.argv[1:4])
 
 BIN = os.path.join(BUILD, "bin")
-ENV = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(SRC, "loggers"))
+ENV = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(SRC, "scripts"))
 
 # The kinds: (path pattern relative to the outputs, what writes it).
 KINDS = [

@@ -14,7 +14,7 @@ scratch directory.
 
 The python3 first on PATH is a virtual environment of Debian's interpreter (a pyvenv.cfg and a
 link: no numpy, no matplotlib, no user site-packages), as a pyenv, conda or venv python3 would
-be; PYTHONPATH names this checkout's loggers/ (scripts/setup's rnav.pth may name another
+be; PYTHONPATH names this checkout's scripts/ (scripts/setup's rnav.pth may name another
 checkout). A command fails the test if it exits non-zero or prints a traceback; fewer than
 MIN_COMMANDS Python commands found means the pattern is out of date.
 
@@ -93,7 +93,7 @@ def numpy_less_python(where):
 def main():
     tmp = tempfile.mkdtemp(prefix="rnav-docs-python-")
     try:
-        env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(SRC, "loggers"),
+        env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(SRC, "scripts"),
                    PATH=numpy_less_python(tmp + "/venv") + os.pathsep + os.environ["PATH"])
         env.pop("PYTHONHOME", None)
         fails, found = [], 0

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """ctest python.effect_labels: the residual plots' legends name each effect the diagnosis named,
-with its estimate (loggers/rnav/effect_labels.py), on a hand-made report: an angle shown in degrees,
+with its estimate (scripts/rnav/effect_labels.py), on a hand-made report: an angle shown in degrees,
 a parameter named by its unit shown after the value, the scope and recording written out, an
 effect only on the panels it acts on, noise findings and nominal parameters left out.
-Usage: PYTHONPATH=SOURCE_DIR/loggers check_effect_labels.py (ctest sets it)"""
+Usage: PYTHONPATH=SOURCE_DIR/scripts check_effect_labels.py (ctest sets it)"""
 import math
 import sys
 

@@ -35,7 +35,7 @@ grep -q "message(s) of another run on this network ignored" "$T/b/logs/clock.log
 "$RNAV_BUILD/bin/rnav_diagnose" prl "$T/b.lcmlog" --injections 0 >"$T/d.out" 2>"$T/d.err"; rc=$?
 ((rc == 2)) && grep -q "b.lcmlog: the log holds the traffic of 2 runs (run ids " "$T/d.err" ||
   fail "diagnosing a log of two runs: exit $rc, expected 2 and the two runs named: $(tail -2 "$T/d.err")"
-PYTHONPATH="$SRC/loggers" /usr/bin/python3 -m rnav show "$T/b.lcmlog" >"$T/p.out" 2>"$T/p.err"; rc=$?
+PYTHONPATH="$SRC/scripts" /usr/bin/python3 -m rnav show "$T/b.lcmlog" >"$T/p.out" 2>"$T/p.err"; rc=$?
 ((rc == 2)) && grep -q "b.lcmlog: the log holds the traffic of 2 runs (run ids " "$T/p.err" ||
   fail "python3 -m rnav show of a log of two runs: exit $rc, expected 2 and the two runs named: $(tail -2 "$T/p.err")"
 echo "check_foreign_run: results byte-identical with another run's traffic replayed; $n foreign messages ignored"

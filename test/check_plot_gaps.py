@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """ctest python.plot_gaps: diagnosis plot lines break at data gaps and nowhere else
-(loggers/plot_gaps.py). Usage: PYTHONPATH=SOURCE_DIR/loggers check_plot_gaps.py (ctest sets it)"""
+(scripts/plot_gaps.py). Usage: PYTHONPATH=SOURCE_DIR/scripts check_plot_gaps.py (ctest sets it)"""
 import math
 import sys
 

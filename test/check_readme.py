@@ -107,7 +107,7 @@ def localize(cmd, tmp):
 
 def run(cmd, tmp, what):
     # the package of this checkout (scripts/setup's rnav.pth names the last checkout set up)
-    env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(os.path.abspath(SRC), "loggers"))
+    env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(os.path.abspath(SRC), "scripts"))
     r = subprocess.run(["bash", "-c", localize(cmd, tmp)], cwd=SRC, env=env,
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     return r

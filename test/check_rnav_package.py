@@ -11,7 +11,7 @@
   * `python3 -m rnav show` lists a folder's tables, exits 2 naming a bad file; with numpy made
     unimportable `import rnav` raises an ImportError naming the interpreter, and `-m rnav`
     prints one line, no traceback.
-Usage: PYTHONPATH=SOURCE_DIR/loggers check_rnav_package.py SOURCE_DIR (ctest sets PYTHONPATH)
+Usage: PYTHONPATH=SOURCE_DIR/scripts check_rnav_package.py SOURCE_DIR (ctest sets PYTHONPATH)
 """
 import os
 import shutil
@@ -80,7 +80,7 @@ try:
             if words not in str(e):
                 bad.append("write_csv: %r lacks %r" % (str(e), words))
 
-    env = dict(os.environ, PYTHONPATH=os.path.join(SRC, "loggers"))
+    env = dict(os.environ, PYTHONPATH=os.path.join(SRC, "scripts"))
     os.makedirs(os.path.join(T, "run"))
     csvio.write_csv(os.path.join(T, "run", "a.csv"), cols, rows)
     out = subprocess.run([sys.executable, "-m", "rnav", "show", os.path.join(T, "run"), "--columns"], env=env,

@@ -34,7 +34,7 @@ in_private_net '
 # --net host: the run warns that its traffic is on the host's network
 grep -q "^run: warning: the run's LCM traffic is on this host's network" "$T/run.log" ||
   { cat "$T/run.log"; fail "--net host gave no warning that other users can see the run"; }
-PYTHONPATH="$SRC/loggers" /usr/bin/python3 - "$T/spy.json" "$T/rec.lcmlog" <<'PY' || { tail -15 "$T/spy.txt"; exit 1; }
+PYTHONPATH="$SRC/scripts" /usr/bin/python3 - "$T/spy.json" "$T/rec.lcmlog" <<'PY' || { tail -15 "$T/spy.txt"; exit 1; }
 import hashlib, json, sys
 from rnav import lcmlog
 d = json.load(open(sys.argv[1]))

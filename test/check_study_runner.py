@@ -1,11 +1,11 @@
 #!/usr/bin/python3
-"""ctest python.study_runner: loggers/rnav/study_runner.py, the runner under scripts/sweep and every
+"""ctest python.study_runner: scripts/rnav/study_runner.py, the runner under scripts/sweep and every
 study, on small shell jobs whose outcome is known: each job's result in its own folder, kept
 results not run again (counted by a file each run appends to), a job of other steps run again,
 exit status 2 kept as 'invalid', any other failure named and rerun, the progress lines (counts,
 an ETA 'unknown' before the first job ends and above 0 until the last, kept jobs neither counted
 nor timed), the same results and progress on 1 and 3 MPI ranks, and a rank killed outright named
-with its jobs. Usage: PYTHONPATH=SOURCE_DIR/loggers check_study_runner.py (ctest sets it)
+with its jobs. Usage: PYTHONPATH=SOURCE_DIR/scripts check_study_runner.py (ctest sets it)
 """
 import json
 import os

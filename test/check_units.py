@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Gross unit checks (estimators/diagnosis/gross_check.hpp, common/plausible.hpp) in every file of
+"""Gross unit checks (estimators/diagnosis/gross_check.hpp, common/io/plausible.hpp) in every file of
 the three CSV formats, on data from the independent generator (scripts/flightgen.py): the same
 data with one column in another unit (kilometres, feet, radians, milliradians) must be refused
 before any diagnosis, exit 2, naming the file's column and the likely unit. The data as written,

@@ -2,7 +2,7 @@
 // and command-line errors (test_config, test_cli, test_datalink_link).
 #pragma once
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <string>
 

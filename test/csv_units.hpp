@@ -1,4 +1,4 @@
-// The description beside a CSV file the project writes (common/csv_columns.hpp), checked the way
+// The description beside a CSV file the project writes (common/io/csv_columns.hpp), checked the way
 // a user reads it: NAME.units.json exists beside NAME.csv, parses as one JSON object whose keys
 // are the CSV header's columns, in the header's order, each {"unit": text, "meaning": non-empty
 // text} and nothing else.

@@ -5,8 +5,8 @@
 // the scene tests (test_scene.cpp, test_scene_run.cpp).
 #pragma once
 
-#include "frames.hpp"
-#include "multi_sensor_data.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
 
 #include <cmath>
 #include <random>

@@ -3,7 +3,7 @@
 // test_support.hpp). RNAV_SOURCE_DIR and RNAV_BINARY_DIR come from CMake.
 #pragma once
 
-#include "test_support.hpp"
+#include "test/test_support.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
 // Tests of the ADS-B importer (sim/trajectory/adsb_*.hpp): a synthetic flight written by the
 // test with known approaches and injected glitches, input errors, and the real Vienna file.
-#include "adsb_approaches.hpp"
-#include "csv_units.hpp"
-#include "replay_trajectory.hpp"
+#include "sim/trajectory/adsb_approaches.hpp"
+#include "test/csv_units.hpp"
+#include "sim/trajectory/replay_trajectory.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

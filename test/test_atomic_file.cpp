@@ -1,7 +1,7 @@
 // Writing results: never through a planted link, never over a user's folder, every byte checked.
-#include "atomic_file.hpp"
-#include "config.hpp"
-#include "test_support.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/config.hpp"
+#include "test/test_support.hpp"
 
 #include <catch2/catch.hpp>
 

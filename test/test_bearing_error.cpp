@@ -3,8 +3,8 @@
 // model's random stream is unchanged by the catalogue being available.
 #include <catch2/catch.hpp>
 
-#include "bearing_error_model.hpp"
-#include "stat_bands.hpp"
+#include "sim/uav/bearing_error_model.hpp"
+#include "test/stat_bands.hpp"
 
 #include <cmath>
 

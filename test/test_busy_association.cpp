@@ -6,11 +6,11 @@
 // stamps; the unit check and the association surviving per-detection stamps; and the common
 // bearing bias recovered without the pull towards zero that gates centred on the unbiased
 // prediction give.
-#include "assignment.hpp"
-#include "multi_association.hpp"
-#include "rotation_scans.hpp"
+#include "estimators/diagnosis/assignment.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/rotation_scans.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,9 +1,9 @@
-// Unit tests of common/did_you_mean.hpp and common/cli.hpp: the edit distance, the nearest-name
+// Unit tests of common/io/did_you_mean.hpp and common/io/cli.hpp: the edit distance, the nearest-name
 // rule, and the option table that both parses and prints --help.
-#include "cli.hpp"
-#include "config_error.hpp"
-#include "decimal.hpp"
-#include "did_you_mean.hpp"
+#include "common/io/cli.hpp"
+#include "test/config_error.hpp"
+#include "common/io/decimal.hpp"
+#include "common/io/did_you_mean.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,10 +1,10 @@
 // The lock-step clock's loss handling, driven in one process (InprocBus) with a scripted wall
 // clock: when it asks for a window again (RESEND), which reports a retry names and when it acts,
 // when it gives up on a silent node, and its heartbeat.
-#include "bus.hpp"
-#include "channels.hpp"
-#include "conductor.hpp"
-#include "lcm_bus.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/channels.hpp"
+#include "sim/clock/conductor.hpp"
+#include "common/node/lcm_bus.hpp"
 
 #include <rnav/sim_window_t.hpp>
 

@@ -1,10 +1,10 @@
-// Unit tests of common/config.hpp and scripts/compose/scenario/scenario.hpp: strict scenario validation with
+// Unit tests of common/io/config.hpp and scripts/compose/scenario/scenario.hpp: strict scenario validation with
 // errors naming the key, overrides, and JSON file loading.
-#include "config.hpp"
-#include "config_error.hpp"
-#include "scenario.hpp"
-#include "site_context.hpp"
-#include "uav_scenario.hpp"
+#include "common/io/config.hpp"
+#include "test/config_error.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "common/node/site_context.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,10 +1,10 @@
-// The column descriptions of the CSV files the project writes (common/csv_columns.hpp): one list
+// The column descriptions of the CSV files the project writes (common/io/csv_columns.hpp): one list
 // gives the header and NAME.units.json, keys in the header's order; a bad list is refused naming
 // the column.
-#include "shell.hpp"
-#include "csv_columns.hpp"
+#include "test/shell.hpp"
+#include "common/io/csv_columns.hpp"
 
-#include "csv_units.hpp"
+#include "test/csv_units.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

@@ -2,11 +2,11 @@
 // Gold correlations against the three-valued theory, the exact Bernoulli-map (AB) codes, the
 // filters' band edges, the band-limited waveform against an independent Fourier series, the
 // peak factor, and the input checks.
-#include "ab_codes.hpp"
-#include "code_metrics.hpp"
-#include "gold.hpp"
-#include "lfsr.hpp"
-#include "waveform.hpp"
+#include "sim/datalink/ab_codes.hpp"
+#include "sim/datalink/code_metrics.hpp"
+#include "sim/datalink/gold.hpp"
+#include "sim/datalink/lfsr.hpp"
+#include "sim/datalink/waveform.hpp"
 
 #include <catch2/catch.hpp>
 

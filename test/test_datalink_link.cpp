@@ -1,13 +1,13 @@
 // Unit tests of the navigation data link's budget (sim/datalink/link_budget.hpp,
 // nav_link.hpp): reference values computed by hand, the equations' scalings, the loss rate
 // drawn against the configured SNR curve (binomial band), and the scenario keys' validation.
-#include "code_family.hpp"
-#include "config.hpp"
-#include "config_error.hpp"
-#include "link_budget.hpp"
-#include "nav_link.hpp"
-#include "random.hpp"
-#include "scenario.hpp"
+#include "sim/datalink/code_family.hpp"
+#include "common/io/config.hpp"
+#include "test/config_error.hpp"
+#include "sim/datalink/link_budget.hpp"
+#include "sim/datalink/nav_link.hpp"
+#include "common/physics/random.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,12 +2,12 @@
 // on is what snsins sent minus the lost messages, the number lost matches the configured
 // p_loss of each message's range, the same seed drops the same messages whatever the windowing,
 // and a link that loses nothing leaves the paper run's results byte-identical.
-#include "csv_units.hpp"
-#include "datalink_node.hpp"
-#include "inproc_ensemble.hpp"
-#include "scenario.hpp"
-#include "trajectory.hpp"
-#include "trajectory_node.hpp"
+#include "test/csv_units.hpp"
+#include "sim/datalink/datalink_node.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 

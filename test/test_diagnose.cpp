@@ -3,14 +3,14 @@
 // must raise no more false alarms than the stated level; bad CSV input names file, line, column.
 #include <catch2/catch.hpp>
 
-#include "coloured_noise.hpp"
-#include "csv_units.hpp"
-#include "config.hpp"
-#include "csv_table.hpp"
-#include "prl_diagnose.hpp"
-#include "prl_export.hpp"
-#include "prl_flight_data.hpp"
-#include "scenario.hpp"
+#include "test/coloured_noise.hpp"
+#include "test/csv_units.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_table.hpp"
+#include "estimators/diagnosis/prl_diagnose.hpp"
+#include "scripts/compose/export/prl_export.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 #include <nlohmann/json.hpp>
 

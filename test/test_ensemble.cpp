@@ -3,10 +3,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "approach_trajectory.hpp"
-#include "csv_units.hpp"
-#include "inproc_ensemble.hpp"
-#include "scenario.hpp"
+#include "sim/trajectory/approach_trajectory.hpp"
+#include "test/csv_units.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 #include <cmath>
 #include <filesystem>

@@ -1,6 +1,6 @@
 // Unit tests of estimators/prl_bias/prl_bias_estimator.hpp: pseudo-measurement, estimation,
 // switch to compensation, nav drop-outs, course wrap-around.
-#include "prl_bias_estimator.hpp"
+#include "estimators/prl_bias/prl_bias_estimator.hpp"
 
 #include <catch2/catch.hpp>
 

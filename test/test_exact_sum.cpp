@@ -1,7 +1,7 @@
-// Unit tests of common/exact_sum.hpp: correctly rounded sums against an exact integer
+// Unit tests of common/physics/exact_sum.hpp: correctly rounded sums against an exact integer
 // reference, independence of order and sharding (the property MPI-sharded ensembles rely on),
 // ties, inf/NaN, overflow and the exact text form.
-#include "exact_sum.hpp"
+#include "common/physics/exact_sum.hpp"
 
 #include <catch2/catch.hpp>
 

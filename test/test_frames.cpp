@@ -1,7 +1,7 @@
-// Unit tests of common/frames.hpp: local-level frames on WGS84, NED velocities, rigid transforms
+// Unit tests of common/physics/frames.hpp: local-level frames on WGS84, NED velocities, rigid transforms
 // between frames, radar polar coordinates and their Jacobian, angle wrapping.
-#include "bearing.hpp"
-#include "frames.hpp"
+#include "common/physics/bearing.hpp"
+#include "common/physics/frames.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/LocalCartesian.hpp>

@@ -4,15 +4,15 @@
 // its inputs come as the lock-step batches of a recorded run or one sample per message in
 // arrival order; and it must name what is wrong with a stream (a gap, a step back, a foreign
 // type). The last test plays a lock-step run's LCM log with lcm-logplayer over LCM.
-#include "bus.hpp"
-#include "channels.hpp"
-#include "lcm_event_reader.hpp"
-#include "lcm_log_export.hpp"
-#include "prl_bias_free_node.hpp"
-#include "scenario.hpp"
-#include "shell.hpp"
-#include "uav_tma_free_node.hpp"
-#include "uav_scenario.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/channels.hpp"
+#include "estimators/diagnosis/io/lcm_event_reader.hpp"
+#include "scripts/compose/export/lcm_log_export.hpp"
+#include "estimators/prl_bias/prl_bias_free_node.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "test/shell.hpp"
+#include "estimators/uav_tma/uav_tma_free_node.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/nav_batch_t.hpp>

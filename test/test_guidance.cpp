@@ -1,9 +1,9 @@
 // The UAV's closed-loop guidance (sim/uav/guidance.hpp): the turn's direction, its limits, the
 // wind correction, the exact kinematics, and the loop closed on a stationary object.
-#include "guidance.hpp"
+#include "sim/uav/guidance.hpp"
 
-#include "frames.hpp"
-#include "observer_options.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/uav/observer_options.hpp"
 
 #include <catch2/catch.hpp>
 

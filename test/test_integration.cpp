@@ -5,7 +5,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
-#include "shell.hpp"
+#include "test/shell.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -388,7 +388,7 @@ TEST_CASE("an LCM log recorded under multicast loss holds every message the node
   }
   const long kept = distinct_per_channel(cut).at("PRL_APOI");
   REQUIRE(kept == published["PRL_APOI"] - published["PRL_APOI"] / 3);
-  const auto c = sh("PYTHONPATH='" + std::string(RNAV_SOURCE_DIR) + "/loggers' /usr/bin/python3 -c 'import sys; from rnav import "
+  const auto c = sh("PYTHONPATH='" + std::string(RNAV_SOURCE_DIR) + "/scripts' /usr/bin/python3 -c 'import sys; from rnav import "
                     "lcmlog; print(\"\\n\".join(lcmlog.recording_warnings(sys.argv[1], sys.argv[2])))' " + cut + " " +
                     (d / "out" / "logs").string());
   INFO(c.output);

@@ -4,19 +4,19 @@
 // naming channel, realization, attempt, window and file.
 #include <catch2/catch.hpp>
 
-#include "batch_decode.hpp"
-#include "channels.hpp"
-#include "config.hpp"
-#include "inproc_ensemble.hpp"
-#include "lcm_log_export.hpp"
-#include "lcm_log_input.hpp"
-#include "lcm_log_streams.hpp"
-#include "prl_diagnose.hpp"
-#include "prl_export.hpp"
-#include "target_node.hpp"
-#include "test_support.hpp"
-#include "uav_diagnose.hpp"
-#include "uav_node.hpp"
+#include "common/node/batch_decode.hpp"
+#include "common/node/channels.hpp"
+#include "common/io/config.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/export/lcm_log_export.hpp"
+#include "estimators/diagnosis/io/lcm_log_input.hpp"
+#include "estimators/diagnosis/io/lcm_log_streams.hpp"
+#include "estimators/diagnosis/prl_diagnose.hpp"
+#include "scripts/compose/export/prl_export.hpp"
+#include "sim/target/target_node.hpp"
+#include "test/test_support.hpp"
+#include "estimators/diagnosis/uav_diagnose.hpp"
+#include "sim/uav/uav_node.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 #include <unistd.h>

@@ -2,9 +2,9 @@
 // toy sink: a resend is ignored, a different second copy is an error, a lost START is replaced
 // by the RESEND, a consumer's WAITING makes the publisher send its batch again, and a silent
 // clock stops a node.
-#include "bus.hpp"
-#include "channels.hpp"
-#include "lockstep_node.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/channels.hpp"
+#include "common/node/lockstep_node.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/node_ack_t.hpp>

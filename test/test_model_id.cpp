@@ -2,13 +2,13 @@
 // of its distribution functions, the innovations form against dense GLS, the noise model's
 // identification, familywise false alarms under coloured noise from a generator that is not a
 // Gauss-Markov process, preference of a physical cause over a scanned one, and outliers.
-#include "effect_search.hpp"
-#include "noise_id.hpp"
-#include "noise_memo.hpp"
-#include "coloured_noise.hpp"
-#include "shown_unit.hpp"
-#include "stats.hpp"
-#include "stat_bands.hpp"
+#include "estimators/model_id/effect_search.hpp"
+#include "estimators/model_id/noise_id.hpp"
+#include "estimators/model_id/noise_memo.hpp"
+#include "test/coloured_noise.hpp"
+#include "estimators/model_id/shown_unit.hpp"
+#include "estimators/model_id/stats.hpp"
+#include "test/stat_bands.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -4,7 +4,7 @@
 // realization range.
 #include <catch2/catch.hpp>
 
-#include "shell.hpp"
+#include "test/shell.hpp"
 
 #include <unistd.h>
 

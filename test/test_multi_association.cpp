@@ -6,12 +6,12 @@
 // position gate; eo 6 deg, beyond the 3 deg gate) must not cost the association its detections,
 // the shifts must be the biases within their standard errors, nominal data must associate
 // exactly as without recentring, and the associated measurements must stay the raw ones.
-#include "multi_association.hpp"
-#include "plane_series.hpp"
-#include "reference_jumps.hpp"
-#include "autoferry_import.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
+#include "estimators/diagnosis/reference_jumps.hpp"
+#include "estimators/diagnosis/io/autoferry_import.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <catch2/catch.hpp>
 

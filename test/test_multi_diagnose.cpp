@@ -3,13 +3,13 @@
 // missed detections and coloured bearing noise (two cascaded low-pass filters, not a
 // Gauss-Markov process). Hidden effects must be named with their scope, within 3 SE, with a
 // positive held-out gain; nominal data must name no mean effect; the turn must be named.
-#include "config.hpp"
-#include "config_error.hpp"
-#include "csv_units.hpp"
-#include "multi_diagnose.hpp"
-#include "scan_stamp.hpp"
-#include "search_json.hpp"
-#include "target_model.hpp"
+#include "common/io/config.hpp"
+#include "test/config_error.hpp"
+#include "test/csv_units.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
+#include "common/physics/scan_stamp.hpp"
+#include "estimators/model_id/search_json.hpp"
+#include "estimators/diagnosis/target_model.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 

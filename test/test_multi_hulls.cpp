@@ -5,9 +5,9 @@
 // then broadside, then end-on: its near-side echo depends on its aspect and is named as such
 // (near_side_echo, half-length and half-beam); a moored ship seen from one place shows one
 // aspect, and its echo is one constant (echo_range_offset).
-#include "config.hpp"
-#include "frames.hpp"
-#include "multi_diagnose.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -5,10 +5,10 @@
 
 #include <sys/stat.h>
 
-#include "config.hpp"
-#include "csv_table.hpp"
-#include "csv_units.hpp"
-#include "multi_sensor_data.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_table.hpp"
+#include "test/csv_units.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>

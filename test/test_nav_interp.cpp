@@ -1,6 +1,6 @@
 // Unit tests of estimators/prl_bias/nav_interpolator.hpp: cubic Hermite interpolation of the
 // navigation solution and the plot-time decision rule of NavBuffer.
-#include "nav_interpolator.hpp"
+#include "estimators/prl_bias/nav_interpolator.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
-// common/plausible.hpp: a coordinate column holding radians is named by file and column, in
+// common/io/plausible.hpp: a coordinate column holding radians is named by file and column, in
 // either of the two position lists; positions in degrees, near the equator and the prime
 // meridian too, pass.
-#include "config.hpp"
-#include "plausible.hpp"
+#include "common/io/config.hpp"
+#include "common/io/plausible.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,8 +1,8 @@
 // Unit tests of sim/prl/prl_error_model.hpp: Table 1 radar errors (constant bias + white
 // fluctuation given as 2 sigma) and the optional Gauss-Markov drift.
-#include "prl_effect_columns.hpp"
-#include "prl_error_model.hpp"
-#include "stat_bands.hpp"
+#include "common/physics/prl_effect_columns.hpp"
+#include "sim/prl/prl_error_model.hpp"
+#include "test/stat_bands.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -129,7 +129,7 @@ TEST_CASE("drift on: systematic part = bias + Gauss-Markov with the configured s
   }
 }
 
-// The catalogue's deterministic effects are written once (common/prl_effect_columns.hpp): the
+// The catalogue's deterministic effects are written once (common/physics/prl_effect_columns.hpp): the
 // simulator injects C(plot) theta and the diagnosis fits theta on the same C. Here the columns
 // against the physics they stand for, by finite differences of the exact polar coordinates, and
 // the simulator's injection against the columns times its parameters.

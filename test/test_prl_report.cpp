@@ -3,9 +3,9 @@
 // key; what the simulation cannot make (a phase, two step times, noise on one channel only,
 // another report kind) is refused naming it; the scenario takes the report and refuses it beside
 // explicit prl_effects keys; the printed scenario holds the values.
-#include "config.hpp"
-#include "prl_report.hpp"
-#include "scenario.hpp"
+#include "common/io/config.hpp"
+#include "scripts/compose/scenario/prl_report.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 #include <catch2/catch.hpp>
 

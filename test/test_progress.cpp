@@ -1,6 +1,6 @@
 // Unit tests of sim/clock/progress.hpp: a bar redrawn in place on a terminal, plain lines per
 // 10 % otherwise.
-#include "progress.hpp"
+#include "sim/clock/progress.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// The Python reader of LCM logs (loggers/rnav/lcmlog.py, through scripts/rnav_log2csv) against
+// The Python reader of LCM logs (scripts/rnav/lcmlog.py, through scripts/rnav_log2csv) against
 // the C++ reader (LcmLogStreams, estimators/diagnosis/io: the checked batches of each realization's last
 // attempt): every value of every sample of every data channel, in order, exactly (full double
 // precision: the CSV holds Python's shortest round-trip text); a sample-wire log gives the same
@@ -6,11 +6,11 @@
 // corrupt log, or one that lost a message, is an error naming where, and writes nothing.
 // ctest names: python.log_reader, python.sample_wire, python.numpy_tables, python.corrupt_log,
 // python.log2csv.
-#include "batch_decode.hpp"
-#include "lcm_event_reader.hpp"
-#include "lcm_log_export.hpp"
-#include "lcm_log_streams.hpp"
-#include "shell.hpp"
+#include "common/node/batch_decode.hpp"
+#include "estimators/diagnosis/io/lcm_event_reader.hpp"
+#include "scripts/compose/export/lcm_log_export.hpp"
+#include "estimators/diagnosis/io/lcm_log_streams.hpp"
+#include "test/shell.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/bearing_batch_t.hpp>
@@ -340,7 +340,7 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
   log2csv(log, d / "csv");
   const fs::path script = d / "check.py";
   std::ofstream(script) << "import csv, sys\n"
-                           "from urllib.parse import unquote  # text cells are percent-encoded (loggers/rnav/csvio.py)\n"
+                           "from urllib.parse import unquote  # text cells are percent-encoded (scripts/rnav/csvio.py)\n"
                            "sys.modules['lcm'] = None  # the generated types must not need LCM's module\n"
                            "from rnav import lcmlog as rnav_lcmlog\n"
                            "t = rnav_lcmlog.tables(sys.argv[1])\n"
@@ -362,7 +362,7 @@ TEST_CASE("numpy_tables", "[python][lcm_log]") {
                            "print(t['UAV_TMA']['P_3_3'].dtype, t['UAV_TMA']['updated'].dtype, "
                            "t['UAV_TMA']['utime'].dtype, n)\n";
   // the checkout's own package, as ctest gives the python tests (PYTHONPATH)
-  const auto [st, out] = sh("PYTHONPATH=" + std::string(RNAV_SOURCE_DIR) + "/loggers /usr/bin/python3 " + script.string() +
+  const auto [st, out] = sh("PYTHONPATH=" + std::string(RNAV_SOURCE_DIR) + "/scripts /usr/bin/python3 " + script.string() +
                             " " + log + " " + (d / "csv").string());
   INFO(out);
   REQUIRE(st == 0);

@@ -1,6 +1,6 @@
-// Unit tests of common/random.hpp: reproducible streams and the first-order Gauss-Markov process.
-#include "random.hpp"
-#include "stat_bands.hpp"
+// Unit tests of common/physics/random.hpp: reproducible streams and the first-order Gauss-Markov process.
+#include "common/physics/random.hpp"
+#include "test/stat_bands.hpp"
 
 #include <catch2/catch.hpp>
 

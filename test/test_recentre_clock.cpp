@@ -5,7 +5,7 @@
 // "ir" (bearing every 0.1 s) whose bearings carry a bias of 6.7 deg (beyond its 3 deg gate) and
 // whose stamps run tau = -1.8 s off (Autoferry scenario 5's IR camera as diagnosed), white
 // noise, missed detections and clutter in every scan. The camera's clock is made as the
-// diagnosis and the scene simulation model it (sensor_clock in common/multi_effect_columns.hpp,
+// diagnosis and the scene simulation model it (sensor_clock in common/physics/multi_effect_columns.hpp,
 // first order): a detection stamped t has the bearing
 //   b_meas = beta(t) + b - beta_dot(t) tau + noise.
 // A median constant shift takes b - median(beta_dot) tau: the gates sit off the data wherever a
@@ -17,9 +17,9 @@
 // 66 of the boats' detections fewer were associated, and the least-squares fit on the associated
 // pairs came out at 6.789 deg and -1.637 s (4.6 and 7.5 SE off). With the fit of bias and clock:
 // 6.714 deg and -1.788 s recentred, 6.714 deg and -1.790 s fitted on the associated pairs.
-#include "multi_association.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <catch2/catch.hpp>
 

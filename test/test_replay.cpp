@@ -1,8 +1,8 @@
 // Tests of ReplayTrajectory (sim/trajectory/replay_trajectory.hpp) and of the replay scenario
 // through the whole chain in one process.
-#include "approach_trajectory.hpp"
-#include "inproc_ensemble.hpp"
-#include "replay_trajectory.hpp"
+#include "sim/trajectory/approach_trajectory.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "sim/trajectory/replay_trajectory.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

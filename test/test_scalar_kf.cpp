@@ -1,8 +1,8 @@
 // Unit tests of estimators/prl_bias/scalar_gm_kalman.hpp: the scalar Gauss-Markov bias filter
 // (docs/method.md section 1, equation (11) corrected).
-#include "random.hpp"
-#include "scalar_gm_kalman.hpp"
-#include "stat_bands.hpp"
+#include "common/physics/random.hpp"
+#include "estimators/prl_bias/scalar_gm_kalman.hpp"
+#include "test/stat_bands.hpp"
 
 #include <catch2/catch.hpp>
 

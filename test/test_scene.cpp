@@ -4,14 +4,14 @@
 // named; and the loop the tool exists for: an effect hidden in a recording (a generator of
 // this file's own), diagnosed, its extended scene simulated, and the recording inside the
 // simulated band with the effect and outside it without.
-#include "config.hpp"
-#include "multi_diagnose.hpp"
-#include "scene_effects_json.hpp"
-#include "scene_from_recording.hpp"
-#include "scene_geometry.hpp"
-#include "scene_sim.hpp"
-#include "scene_validation.hpp"
-#include "scene_recording_gen.hpp"
+#include "common/io/config.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
+#include "scripts/compose/scene/scene_effects_json.hpp"
+#include "scripts/compose/scene/scene_from_recording.hpp"
+#include "sim/scene/scene_geometry.hpp"
+#include "sim/scene/scene_sim.hpp"
+#include "scripts/compose/scene/scene_validation.hpp"
+#include "test/scene_recording_gen.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -12,9 +12,9 @@
 //   - bad input named: no recording, a sensor the recording lacks, --effects on a UAV scenario;
 //   - a landing flight's scenario (rnav_scene scenario): run over LCM as in one process, with
 //     its report's range bias.
-#include "multi_diagnose.hpp"
-#include "scene_recording_gen.hpp"
-#include "shell.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
+#include "test/scene_recording_gen.hpp"
+#include "test/shell.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

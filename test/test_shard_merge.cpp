@@ -4,13 +4,13 @@
 // naming the culprit.
 #include <catch2/catch.hpp>
 
-#include "csv_units.hpp"
-#include "inproc_ensemble.hpp"
-#include "scenario.hpp"
-#include "folder_pack.hpp"
-#include "shard_merge.hpp"
-#include "test_support.hpp"
-#include "uav_scenario.hpp"
+#include "test/csv_units.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "scripts/compose/merge/folder_pack.hpp"
+#include "scripts/compose/merge/shard_merge.hpp"
+#include "test/test_support.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <filesystem>
 #include <fstream>

@@ -1,6 +1,6 @@
 // Unit tests of sim/snsins/snsins_error_model.hpp: SNS/INS position and velocity errors.
-#include "snsins_error_model.hpp"
-#include "stat_bands.hpp"
+#include "sim/snsins/snsins_error_model.hpp"
+#include "test/stat_bands.hpp"
 
 #include <catch2/catch.hpp>
 

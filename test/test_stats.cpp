@@ -1,10 +1,10 @@
 // Unit tests of loggers/prl_stats.hpp: running moments, Table 2 ensemble statistics and the
 // files written.
-#include "prl_stats.hpp"
-#include "scenario.hpp"
-#include "random.hpp"
+#include "loggers/prl_stats.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "common/physics/random.hpp"
 
-#include "csv_units.hpp"
+#include "test/csv_units.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>

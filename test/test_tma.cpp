@@ -1,11 +1,11 @@
 // Azimuth-only models, Kalman core, estimators and PCRB (estimators/uav_tma).
 #include <catch2/catch.hpp>
 
-#include "frames.hpp"
-#include "kalman_core.hpp"
-#include "tma_estimators.hpp"
-#include "tma_models.hpp"
-#include "tma_pcrb.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/uav_tma/kalman_core.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
+#include "estimators/uav_tma/tma_pcrb.hpp"
 
 #include <cmath>
 

@@ -4,14 +4,14 @@
 // from scenario files.
 #include <catch2/catch.hpp>
 
-#include "frames.hpp"
-#include "random.hpp"
-#include "tma_batch_ml.hpp"
-#include "tma_estimators.hpp"
-#include "tma_flight.hpp"
-#include "tma_models.hpp"
-#include "tma_pcrb.hpp"
-#include "uav_scenario.hpp"
+#include "common/physics/frames.hpp"
+#include "common/physics/random.hpp"
+#include "estimators/uav_tma/tma_batch_ml.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
+#include "test/tma_flight.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
+#include "estimators/uav_tma/tma_pcrb.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <chrono>
 #include <cmath>

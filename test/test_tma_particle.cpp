@@ -4,9 +4,9 @@
 // test/tma_flight.hpp (not by the scenario's own simulator).
 #include <catch2/catch.hpp>
 
-#include "tma_flight.hpp"
-#include "tma_particle.hpp"
-#include "uav_scenario.hpp"
+#include "test/tma_flight.hpp"
+#include "estimators/uav_tma/tma_particle.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <cmath>
 #include <numeric>

@@ -1,6 +1,6 @@
 // Unit tests of sim/trajectory/approach_trajectory.hpp with the default TrajectoryOptions
 // (the paper's start point and glide angle plus our documented choices).
-#include "approach_trajectory.hpp"
+#include "sim/trajectory/approach_trajectory.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,15 +2,15 @@
 // camera data shows its excess, correlated noise; bad CSV input names file and line.
 #include <catch2/catch.hpp>
 
-#include "azimuth_data.hpp"
-#include "bearing_error_model.hpp"
-#include "config.hpp"
-#include "csv_units.hpp"
-#include "random.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
+#include "sim/uav/bearing_error_model.hpp"
+#include "common/io/config.hpp"
+#include "test/csv_units.hpp"
+#include "common/physics/random.hpp"
 
 #include <cmath>
-#include "uav_diagnose.hpp"
-#include "uav_track_fit.hpp"
+#include "estimators/diagnosis/uav_diagnose.hpp"
+#include "estimators/diagnosis/uav_track_fit.hpp"
 
 #include <filesystem>
 #include <functional>
@@ -155,7 +155,7 @@ TEST_CASE("uav diagnose on the real Autoferry EO bearings: noise far above nomin
 
 TEST_CASE("uav diagnose: each sensor entry the simulator injects is named with its size", "[diagnose][uav]") {
   // One model in one place: the simulator's SystematicBearingError and the diagnosis's catalogue
-  // share their columns (common/bearing_effect_columns.hpp). Each entry is hidden alone, through
+  // share their columns (common/physics/bearing_effect_columns.hpp). Each entry is hidden alone, through
   // the simulator's error model, at 10-12 standard errors of this geometry (200 s of 5 Hz
   // bearings, sigma 0.5 deg), and must be named with its estimate within 3 SE of the size hidden:
   // the periodic's period (reported first, a grid value: 4 * 1.05^20 s is on the grid) and its

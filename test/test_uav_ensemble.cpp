@@ -3,10 +3,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "csv_units.hpp"
-#include "inproc_ensemble.hpp"
-#include "stat_bands.hpp"
-#include "uav_scenario.hpp"
+#include "test/csv_units.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "test/stat_bands.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <filesystem>
 #include <fstream>

@@ -4,12 +4,12 @@
 // mean NEES, and the flight's PCRB at its end.
 #pragma once
 
-#include "frames.hpp"
-#include "random.hpp"
-#include "tma_batch_ml.hpp"
-#include "tma_estimators.hpp"
-#include "tma_models.hpp"
-#include "tma_pcrb.hpp"
+#include "common/physics/frames.hpp"
+#include "common/physics/random.hpp"
+#include "estimators/uav_tma/tma_batch_ml.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
+#include "estimators/uav_tma/tma_pcrb.hpp"
 
 #include <cmath>
 #include <string>

@@ -1,8 +1,8 @@
-#include "applied_effects.hpp"
+#include "estimators/diagnosis/applied_effects.hpp"
 
-#include "config.hpp"
-#include "frames.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

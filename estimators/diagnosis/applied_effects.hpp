@@ -8,8 +8,8 @@
 // a pair's figure is the RMS over its detections.
 #pragma once
 
-#include "multi_association.hpp"
-#include "multi_problem.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/multi_problem.hpp"
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-#include "assignment.hpp"
+#include "estimators/diagnosis/assignment.hpp"
 
 #include <cmath>
 #include <limits>

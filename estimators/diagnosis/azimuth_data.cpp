@@ -1,11 +1,11 @@
-#include "azimuth_data.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
 
-#include "atomic_file.hpp"
-#include "csv_columns.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/csv_columns.hpp"
 
-#include "config.hpp"
-#include "csv_table.hpp"
-#include "plausible.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_table.hpp"
+#include "common/io/plausible.hpp"
 
 #include <cstdio>
 #include <filesystem>

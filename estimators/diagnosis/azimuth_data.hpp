@@ -7,8 +7,8 @@
 // Header required, extra columns ignored, rows in time order (bearings: non-decreasing).
 #pragma once
 
-#include "frames.hpp"
-#include "prl_flight_data.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
 
 #include <string>
 #include <vector>
@@ -27,7 +27,7 @@ struct AzimuthData {
 
   static AzimuthData read_folder(const std::string& dir);
   /// Every value within its physical range and every position near the observer's first one
-  /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
+  /// (common/io/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
   /// and LCM-log readers both call it.
   void validate(const std::string& source) const;
   /// Write the folder (created if needed): observer.csv, bearings.csv and truth.csv (with

@@ -1,7 +1,7 @@
-#include "carry_rule.hpp"
+#include "estimators/diagnosis/carry_rule.hpp"
 
-#include "config.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <cmath>
 #include <sstream>

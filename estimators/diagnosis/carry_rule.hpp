@@ -14,7 +14,7 @@
 // carried) always qualifies, so the rule never fails.
 #pragma once
 
-#include "applied_effects.hpp"
+#include "estimators/diagnosis/applied_effects.hpp"
 
 #include <string>
 #include <vector>

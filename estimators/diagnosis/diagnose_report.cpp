@@ -1,12 +1,12 @@
-#include "diagnose_report.hpp"
+#include "estimators/diagnosis/diagnose_report.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
-#include "config.hpp"
-#include "injected_limits.hpp"
-#include "search_json.hpp"
-#include "shown_unit.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "estimators/model_id/injected_limits.hpp"
+#include "estimators/model_id/search_json.hpp"
+#include "estimators/model_id/shown_unit.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <cmath>
 #include <cstdio>

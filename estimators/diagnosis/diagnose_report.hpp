@@ -4,8 +4,8 @@
 // what is sensor-specific (nominal parameters, the gain against truth, plot rows) is theirs.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "effect_search.hpp"
+#include "common/io/csv_columns.hpp"
+#include "estimators/model_id/effect_search.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
-#include "gross_check.hpp"
+#include "estimators/diagnosis/gross_check.hpp"
 
-#include "config.hpp"
-#include "frames.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -26,7 +26,7 @@
 // height ratio near a length unit's factor, nav heights in that unit.
 #pragma once
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <cmath>
 #include <cstddef>

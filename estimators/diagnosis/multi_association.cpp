@@ -1,11 +1,11 @@
-#include "multi_association.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
 
-#include "assignment.hpp"
-#include "config.hpp"
-#include "gross_check.hpp"
-#include "plane_series.hpp"
-#include "rotation_scans.hpp"
-#include "stats.hpp"
+#include "estimators/diagnosis/assignment.hpp"
+#include "common/io/config.hpp"
+#include "estimators/diagnosis/gross_check.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
+#include "estimators/diagnosis/rotation_scans.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

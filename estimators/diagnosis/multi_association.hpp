@@ -64,10 +64,10 @@
 // detection's prediction is taken at its own time.
 #pragma once
 
-#include "multi_sensor_data.hpp"
-#include "reference_jumps.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
+#include "estimators/diagnosis/reference_jumps.hpp"
 
-#include "bearing.hpp"
+#include "common/physics/bearing.hpp"
 #include <Eigen/Dense>
 
 #include <map>

@@ -1,15 +1,15 @@
-#include "multi_diagnose.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
-#include "config.hpp"
-#include "did_you_mean.hpp"
-#include "diagnose_report.hpp"
-#include "multi_problem.hpp"
-#include "parallel_for.hpp"
-#include "search_json.hpp"
-#include "stats.hpp"
-#include "target_model.hpp"
+#include "common/io/config.hpp"
+#include "common/io/did_you_mean.hpp"
+#include "estimators/diagnosis/diagnose_report.hpp"
+#include "estimators/diagnosis/multi_problem.hpp"
+#include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/search_json.hpp"
+#include "estimators/model_id/stats.hpp"
+#include "estimators/diagnosis/target_model.hpp"
 
 #include <algorithm>
 #include <cmath>

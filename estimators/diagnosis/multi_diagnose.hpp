@@ -39,13 +39,13 @@
 // sensors: bearing error [deg].
 #pragma once
 
-#include "carry_rule.hpp"
+#include "estimators/diagnosis/carry_rule.hpp"
 
-#include "applied_effects.hpp"
-#include "csv_columns.hpp"
-#include "effect_search.hpp"
-#include "multi_association.hpp"
-#include "multi_sensor_data.hpp"
+#include "estimators/diagnosis/applied_effects.hpp"
+#include "common/io/csv_columns.hpp"
+#include "estimators/model_id/effect_search.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,8 +1,8 @@
-#include "multi_problem.hpp"
+#include "estimators/diagnosis/multi_problem.hpp"
 
-#include "config.hpp"
-#include "multi_effect_columns.hpp"
-#include "scan_stamp.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/multi_effect_columns.hpp"
+#include "common/physics/scan_stamp.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +21,7 @@ namespace {
 // 35 m beam, and a 12 s reference clock (the echo's place along a long hull) stand.
 constexpr double kHullBoundSe = 0;
 
-// Per observation: the geometry the columns need (common/multi_effect_columns.hpp) and its
+// Per observation: the geometry the columns need (common/physics/multi_effect_columns.hpp) and its
 // channel's recording, sensor and target.
 struct ObsGeom : multi_effect::Geometry {
   int rec = 0;                    ///< recording index

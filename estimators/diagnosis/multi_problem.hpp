@@ -3,8 +3,8 @@
 // for one recording or several diagnosed together.
 #pragma once
 
-#include "effect_search.hpp"
-#include "multi_association.hpp"
+#include "estimators/model_id/effect_search.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
 
 #include <map>
 #include <string>

@@ -1,11 +1,11 @@
-#include "multi_sensor_data.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
-#include "config.hpp"
-#include "csv_table.hpp"
-#include "gross_check.hpp"
-#include "plausible.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_table.hpp"
+#include "estimators/diagnosis/gross_check.hpp"
+#include "common/io/plausible.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -21,8 +21,8 @@
 // extra columns ignored; every violation is a ConfigError naming file:line and the column.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "frames.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/physics/frames.hpp"
 
 #include <cmath>
 #include <map>
@@ -65,7 +65,7 @@ struct MultiSensorData {
   /// Read and validate a folder (see the file comment); ConfigError naming file:line:column for
   /// a cell the format forbids, then validate(dir).
   static MultiSensorData read_folder(const std::string& dir);
-  /// The shared plausibility layer (common/plausible.hpp) over the data, whatever its source:
+  /// The shared plausibility layer (common/io/plausible.hpp) over the data, whatever its source:
   /// times finite and within +-1e10 s; observer positions in range with a plausible height and
   /// within 2000 km of the first one; truth positions in range (height where known) and within
   /// 2000 km of the observer's first position; ranges in (0, 1e6] m, angles finite. ConfigError

@@ -1,4 +1,4 @@
-#include "plane_series.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
 
 #include <algorithm>
 #include <cmath>

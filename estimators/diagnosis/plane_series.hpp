@@ -2,7 +2,7 @@
 // plane: 2-D vectors (north, east) [m], linearly interpolated in time.
 #pragma once
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,10 +1,10 @@
-#include "prl_diagnose.hpp"
+#include "estimators/diagnosis/prl_diagnose.hpp"
 
-#include "gross_check.hpp"
+#include "estimators/diagnosis/gross_check.hpp"
 
-#include "config.hpp"
-#include "prl_effect_columns.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/prl_effect_columns.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -149,7 +149,7 @@ Problem prl_problem(const Plots& P, const PrlFlightData& data, const DiagnoseOpt
       pb.nuisance(c * n + k, c) = 1;
     }
   const double t_lo = pl.front().t, t_hi = pl.back().t, span = t_hi - t_lo;
-  // The deterministic entries' columns are the simulator's own (common/prl_effect_columns.hpp).
+  // The deterministic entries' columns are the simulator's own (common/physics/prl_effect_columns.hpp).
   namespace fx = prl_effect;
   const Eigen::Matrix3d R_R_ENU = fx::R_R_ENU(data.azimuth_reference_deg);
   using V = std::size_t;

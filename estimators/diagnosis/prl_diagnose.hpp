@@ -22,8 +22,8 @@
 // compensated plot's position error against truth ("truth_position_m").
 #pragma once
 
-#include "diagnose_report.hpp"
-#include "prl_flight_data.hpp"
+#include "estimators/diagnosis/diagnose_report.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
 
 namespace rnav {
 

@@ -1,10 +1,10 @@
-#include "prl_flight_data.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
 
-#include "config.hpp"
-#include "atomic_file.hpp"
-#include "csv_columns.hpp"
-#include "csv_table.hpp"
-#include "plausible.hpp"
+#include "common/io/config.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/io/csv_table.hpp"
+#include "common/io/plausible.hpp"
 
 #include <algorithm>
 #include <cmath>

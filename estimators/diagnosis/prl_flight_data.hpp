@@ -10,8 +10,8 @@
 // naming file, line and column.
 #pragma once
 
-#include "csv_columns.hpp"
-#include "frames.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/physics/frames.hpp"
 
 #include <string>
 #include <vector>
@@ -30,7 +30,7 @@ struct PrlFlightData {
 
   static PrlFlightData read_folder(const std::string& dir);
   /// Every value within its physical range and every position near the radar site
-  /// (common/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
+  /// (common/io/plausible.hpp); throws ConfigError naming `source`, the sample and the value. The CSV
   /// and LCM-log readers both call it.
   void validate(const std::string& source) const;
   /// Write the folder (created if needed): site.json, radar.csv, nav.csv and truth.csv (with

@@ -1,7 +1,7 @@
-#include "reference_jumps.hpp"
+#include "estimators/diagnosis/reference_jumps.hpp"
 
-#include "config.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <Eigen/Dense>
 

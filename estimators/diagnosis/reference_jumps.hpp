@@ -22,7 +22,7 @@
 
 #pragma once
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <string>
 #include <vector>

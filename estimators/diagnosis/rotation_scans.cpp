@@ -1,6 +1,6 @@
-#include "rotation_scans.hpp"
+#include "estimators/diagnosis/rotation_scans.hpp"
 
-#include "stats.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <cmath>
 

@@ -1,10 +1,10 @@
-#include "target_model.hpp"
+#include "estimators/diagnosis/target_model.hpp"
 
-#include "parallel_for.hpp"
+#include "estimators/model_id/parallel_for.hpp"
 
-#include "config.hpp"
-#include "plane_series.hpp"
-#include "stats.hpp"
+#include "common/io/config.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <cmath>
 #include <memory>

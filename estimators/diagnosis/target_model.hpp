@@ -6,8 +6,8 @@
 // max_maneuvers per target), selected by the effect-search engine under the identified noise.
 #pragma once
 
-#include "effect_search.hpp"
-#include "frames.hpp"
+#include "estimators/model_id/effect_search.hpp"
+#include "common/physics/frames.hpp"
 
 #include <map>
 #include <string>

@@ -1,13 +1,13 @@
-#include "uav_diagnose.hpp"
+#include "estimators/diagnosis/uav_diagnose.hpp"
 
-#include "bearing.hpp"
-#include "bearing_effect_columns.hpp"
-#include "config.hpp"
-#include "gross_check.hpp"
-#include "plane_series.hpp"
-#include "stats.hpp"
-#include "target_model.hpp"
-#include "uav_track_fit.hpp"
+#include "common/physics/bearing.hpp"
+#include "common/physics/bearing_effect_columns.hpp"
+#include "common/io/config.hpp"
+#include "estimators/diagnosis/gross_check.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
+#include "estimators/model_id/stats.hpp"
+#include "estimators/diagnosis/target_model.hpp"
+#include "estimators/diagnosis/uav_track_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -200,7 +200,7 @@ Problem uav_problem(const Obs& obs, const UavDiagnoseOptions& o, bool with_truth
   }
   if (!with_truth) pb.nuisance_names = {"object p0_north_m", "object p0_east_m", "object v_north_mps", "object v_east_mps"};
   using V = std::size_t;
-  // The sensor's entries are the simulator's own columns (common/bearing_effect_columns.hpp).
+  // The sensor's entries are the simulator's own columns (common/physics/bearing_effect_columns.hpp).
   namespace fx = bearing_effect;
   pb.catalogue.push_back({"bearing_bias", {}, {"rad"}, "a constant on the bearings", "", {},
                           columns(obs, 1, [](const Ob& x, V) { return fx::bias(x.geometry()); })});

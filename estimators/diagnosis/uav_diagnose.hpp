@@ -23,8 +23,8 @@
 // present, the extrapolated track's position error against truth ("truth_position_m").
 #pragma once
 
-#include "azimuth_data.hpp"
-#include "diagnose_report.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
+#include "estimators/diagnosis/diagnose_report.hpp"
 
 #include <cstdint>
 

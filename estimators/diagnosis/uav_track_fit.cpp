@@ -1,8 +1,8 @@
-#include "uav_track_fit.hpp"
+#include "estimators/diagnosis/uav_track_fit.hpp"
 
-#include "bearing.hpp"
-#include "config.hpp"
-#include "stats.hpp"
+#include "common/physics/bearing.hpp"
+#include "common/io/config.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -17,8 +17,8 @@
 // stable.
 #pragma once
 
-#include "azimuth_data.hpp"
-#include "plane_series.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
+#include "estimators/diagnosis/plane_series.hpp"
 
 #include <Eigen/Dense>
 

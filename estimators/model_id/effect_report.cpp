@@ -1,9 +1,9 @@
-#include "effect_report.hpp"
-#include "entry_tests.hpp"
-#include "replication.hpp"
+#include "estimators/model_id/effect_report.hpp"
+#include "estimators/model_id/entry_tests.hpp"
+#include "estimators/model_id/replication.hpp"
 
-#include "parallel_for.hpp"
-#include "stats.hpp"
+#include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

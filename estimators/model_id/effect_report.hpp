@@ -3,7 +3,7 @@
 // structure, scope answers).
 #pragma once
 
-#include "search_design.hpp"
+#include "estimators/model_id/search_design.hpp"
 
 namespace rnav::search_detail {
 

@@ -1,14 +1,14 @@
 // Noise first, then forward selection under the identified noise, re-identified until the
 // choice settles (effect_search.hpp). The reporting steps are in effect_report.cpp.
-#include "effect_search.hpp"
+#include "estimators/model_id/effect_search.hpp"
 
-#include "effect_report.hpp"
-#include "entry_tests.hpp"
-#include "parallel_for.hpp"
-#include "replication.hpp"
-#include "injected_limits.hpp"
-#include "search_design.hpp"
-#include "stats.hpp"
+#include "estimators/model_id/effect_report.hpp"
+#include "estimators/model_id/entry_tests.hpp"
+#include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/replication.hpp"
+#include "estimators/model_id/injected_limits.hpp"
+#include "estimators/model_id/search_design.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -30,7 +30,7 @@
 //      answers to scope questions (which of several explanations the likelihood supports).
 #pragma once
 
-#include "noise_id.hpp"
+#include "estimators/model_id/noise_id.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,7 +1,7 @@
 // The tests of one catalogue entry (entry_tests.hpp) and the noise identified under the null.
-#include "entry_tests.hpp"
+#include "estimators/model_id/entry_tests.hpp"
 
-#include "parallel_for.hpp"
+#include "estimators/model_id/parallel_for.hpp"
 
 #include <cmath>
 #include <limits>

@@ -2,7 +2,7 @@
 // test, and the tests of one catalogue entry against the model chosen so far.
 #pragma once
 
-#include "search_design.hpp"
+#include "estimators/model_id/search_design.hpp"
 
 #include <utility>
 #include <vector>

@@ -1,10 +1,10 @@
 // Limits measured by injection (injected_limits.hpp).
-#include "injected_limits.hpp"
+#include "estimators/model_id/injected_limits.hpp"
 
-#include "parallel_for.hpp"
+#include "estimators/model_id/parallel_for.hpp"
 
-#include "search_design.hpp"
-#include "stats.hpp"
+#include "estimators/model_id/search_design.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -23,7 +23,7 @@
 // whatever the number of threads.
 #pragma once
 
-#include "effect_search.hpp"
+#include "estimators/model_id/effect_search.hpp"
 
 #include <string>
 #include <vector>

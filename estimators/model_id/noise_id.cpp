@@ -1,6 +1,6 @@
-#include "noise_id.hpp"
+#include "estimators/model_id/noise_id.hpp"
 
-#include "stats.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

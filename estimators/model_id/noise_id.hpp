@@ -16,7 +16,7 @@
 
 #include <stdexcept>
 
-#include "noise_model.hpp"
+#include "estimators/model_id/noise_model.hpp"
 
 #include <Eigen/Dense>
 

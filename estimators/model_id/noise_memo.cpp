@@ -1,4 +1,4 @@
-#include "noise_memo.hpp"
+#include "estimators/model_id/noise_memo.hpp"
 
 #include <cstring>
 

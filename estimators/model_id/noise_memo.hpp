@@ -2,7 +2,7 @@
 // columns and outlier flags, remembered for the rest of one search.
 #pragma once
 
-#include "noise_id.hpp"
+#include "estimators/model_id/noise_id.hpp"
 
 #include <Eigen/Dense>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "noise_model.hpp"
+#include "estimators/model_id/noise_model.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -24,7 +24,7 @@
 // log-likelihood is -1/2 sum (nu^2 / S + log(2 pi S)).
 #pragma once
 
-#include "noise_process.hpp"
+#include "common/physics/noise_process.hpp"
 
 #include <Eigen/Dense>
 

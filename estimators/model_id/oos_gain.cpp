@@ -4,7 +4,7 @@
 // residual RMS, and the one-step-ahead predictive log-likelihood (every frame conditions the
 // later ones; only held-out frames are summed). The outlier mixture is kept for a channel only
 // if it raises that held-out likelihood.
-#include "effect_report.hpp"
+#include "estimators/model_id/effect_report.hpp"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
-#include "replication.hpp"
+#include "estimators/model_id/replication.hpp"
 
-#include "stats.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -9,8 +9,8 @@
 // R the replicates with data; DerSimonian-Laird between-replicate variance in the weights).
 #pragma once
 
-#include "entry_tests.hpp"
-#include "search_design.hpp"
+#include "estimators/model_id/entry_tests.hpp"
+#include "estimators/model_id/search_design.hpp"
 
 namespace rnav::search_detail {
 

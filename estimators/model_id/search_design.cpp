@@ -1,6 +1,6 @@
-#include "search_design.hpp"
+#include "estimators/model_id/search_design.hpp"
 
-#include "stats.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,8 +2,8 @@
 // models (one whitening per noise model), and least squares on whitened columns.
 #pragma once
 
-#include "effect_search.hpp"
-#include "noise_memo.hpp"
+#include "estimators/model_id/effect_search.hpp"
+#include "estimators/model_id/noise_memo.hpp"
 
 #include <memory>
 

@@ -1,7 +1,7 @@
-#include "search_json.hpp"
+#include "estimators/model_id/search_json.hpp"
 
-#include "shown_unit.hpp"
-#include "stats.hpp"
+#include "estimators/model_id/shown_unit.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -92,7 +92,7 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        {"outlier_frames_beyond_noise_set", n.outliers_beyond_set},
                                        {"noise_scale", n.noise_scale},
                                        {"frames", n.fit.n},
-                                       // what a simulation needs to draw the same noise (common/noise_process.hpp)
+                                       // what a simulation needs to draw the same noise (common/physics/noise_process.hpp)
                                        {"outlier_sd", std::sqrt(n.fit.params.s_out2)},
                                        {"nominal_share", n.fit.params.nom_share}};
     // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a

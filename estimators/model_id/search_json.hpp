@@ -1,7 +1,7 @@
 // The effect search's result as JSON and as text lines (sensor-agnostic parts of a report).
 #pragma once
 
-#include "effect_search.hpp"
+#include "estimators/model_id/effect_search.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-#include "shown_unit.hpp"
+#include "estimators/model_id/shown_unit.hpp"
 
 #include <cmath>
 

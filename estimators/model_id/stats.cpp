@@ -1,4 +1,4 @@
-#include "stats.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "nav_interpolator.hpp"
+#include "estimators/prl_bias/nav_interpolator.hpp"
 
 #include <stdexcept>
 

@@ -2,7 +2,7 @@
 // time of validity (cubic Hermite on position and velocity).
 #pragma once
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <rnav/nav_solution_t.hpp>
 

@@ -1,4 +1,4 @@
-#include "prl_bias_estimator.hpp"
+#include "estimators/prl_bias/prl_bias_estimator.hpp"
 
 #include <cmath>
 

@@ -6,10 +6,10 @@
 //   after it, and on nav drop-outs: compensate with the last estimate, zeta_comp = zeta_meas - eta_hat.
 #pragma once
 
-#include "nav_interpolator.hpp"
-#include "scalar_gm_kalman.hpp"
-#include "prl_bias_options.hpp"
-#include "sim_time.hpp"
+#include "estimators/prl_bias/nav_interpolator.hpp"
+#include "estimators/prl_bias/scalar_gm_kalman.hpp"
+#include "estimators/prl_bias/prl_bias_options.hpp"
+#include "common/physics/sim_time.hpp"
 
 #include <rnav/prl_bias_estimate_t.hpp>
 #include <rnav/prl_plot_t.hpp>

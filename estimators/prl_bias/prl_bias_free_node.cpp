@@ -1,6 +1,6 @@
-#include "prl_bias_free_node.hpp"
+#include "estimators/prl_bias/prl_bias_free_node.hpp"
 
-#include "channels.hpp"
+#include "common/node/channels.hpp"
 
 #include <rnav/prl_bias_batch_t.hpp>
 

@@ -14,9 +14,9 @@
 //    (a step back is an error naming the channel: restart the node for a new flight).
 #pragma once
 
-#include "bus.hpp"
-#include "paired_free_node.hpp"
-#include "prl_bias_stream.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/paired_free_node.hpp"
+#include "estimators/prl_bias/prl_bias_stream.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 #include <rnav/prl_plot_batch_t.hpp>

@@ -1,4 +1,4 @@
-#include "prl_bias_node.hpp"
+#include "estimators/prl_bias/prl_bias_node.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 #include <rnav/prl_bias_batch_t.hpp>

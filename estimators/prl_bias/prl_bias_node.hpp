@@ -3,8 +3,8 @@
 // window's output batches hold the plots decided in that window, in plot order.
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "prl_bias_stream.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "estimators/prl_bias/prl_bias_stream.hpp"
 
 namespace rnav {
 

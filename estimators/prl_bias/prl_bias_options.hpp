@@ -1,7 +1,7 @@
 // Options of the radar systematic-error estimator (scenario section "prl_bias"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

@@ -1,4 +1,4 @@
-#include "prl_bias_stream.hpp"
+#include "estimators/prl_bias/prl_bias_stream.hpp"
 
 namespace rnav {
 

@@ -4,8 +4,8 @@
 // free-running node (prl_bias_free_node), so both give the same estimates for the same inputs.
 #pragma once
 
-#include "prl_bias_estimator.hpp"
-#include "site_context.hpp"
+#include "estimators/prl_bias/prl_bias_estimator.hpp"
+#include "common/node/site_context.hpp"
 
 #include <rnav/nav_solution_t.hpp>
 

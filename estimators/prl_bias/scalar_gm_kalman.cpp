@@ -1,4 +1,4 @@
-#include "scalar_gm_kalman.hpp"
+#include "estimators/prl_bias/scalar_gm_kalman.hpp"
 
 #include <cmath>
 #include <stdexcept>

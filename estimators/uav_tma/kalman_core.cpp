@@ -1,4 +1,4 @@
-#include "kalman_core.hpp"
+#include "estimators/uav_tma/kalman_core.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -2,7 +2,7 @@
 // in Joseph form, P kept symmetric.
 #pragma once
 
-#include "tma_models.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
 
 namespace rnav::tma {
 

@@ -1,4 +1,4 @@
-#include "tma_batch_ml.hpp"
+#include "estimators/uav_tma/tma_batch_ml.hpp"
 
 #include <algorithm>
 #include <cmath>

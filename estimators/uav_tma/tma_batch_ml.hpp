@@ -57,7 +57,7 @@
 // leave the band after a turn. It is meant for the constant-velocity case.
 #pragma once
 
-#include "tma_estimators.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
 
 #include <vector>
 

@@ -1,8 +1,8 @@
-#include "tma_estimators.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
 
-#include "frames.hpp"
-#include "tma_batch_ml.hpp"
-#include "tma_particle.hpp"
+#include "common/physics/frames.hpp"
+#include "estimators/uav_tma/tma_batch_ml.hpp"
+#include "estimators/uav_tma/tma_particle.hpp"
 
 #include <cmath>
 #include <stdexcept>

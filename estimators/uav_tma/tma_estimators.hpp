@@ -14,8 +14,8 @@
 //    as weighted samples; random, from the realization's own stream).
 #pragma once
 
-#include "kalman_core.hpp"
-#include "tma_options.hpp"
+#include "estimators/uav_tma/kalman_core.hpp"
+#include "estimators/uav_tma/tma_options.hpp"
 
 #include <cstdint>
 #include <memory>

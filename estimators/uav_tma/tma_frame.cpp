@@ -1,4 +1,4 @@
-#include "tma_frame.hpp"
+#include "estimators/uav_tma/tma_frame.hpp"
 
 namespace rnav {
 

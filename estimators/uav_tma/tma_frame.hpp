@@ -3,7 +3,7 @@
 // lock-step node (uav_tma_node) and the free-running node (uav_tma_free_node).
 #pragma once
 
-#include "tma_estimators.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
 
 #include <rnav/bearing_t.hpp>
 #include <rnav/observer_state_t.hpp>

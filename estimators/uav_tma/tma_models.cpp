@@ -1,6 +1,6 @@
-#include "tma_models.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
 
-#include "bearing.hpp"
+#include "common/physics/bearing.hpp"
 #include <cmath>
 
 namespace rnav::tma {

@@ -1,4 +1,4 @@
-#include "tma_options.hpp"
+#include "estimators/uav_tma/tma_options.hpp"
 
 namespace rnav {
 

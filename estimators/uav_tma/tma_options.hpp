@@ -1,8 +1,8 @@
 // Options of the azimuth-only estimators (UAV scenario section "tma"), with their keys and checks.
 #pragma once
 
-#include "options_io.hpp"
-#include "tma_estimator_names.hpp"
+#include "common/io/options_io.hpp"
+#include "common/io/tma_estimator_names.hpp"
 
 namespace rnav {
 

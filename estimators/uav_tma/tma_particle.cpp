@@ -1,7 +1,7 @@
-#include "tma_particle.hpp"
+#include "estimators/uav_tma/tma_particle.hpp"
 
-#include "bearing.hpp"
-#include "frames.hpp"
+#include "common/physics/bearing.hpp"
+#include "common/physics/frames.hpp"
 
 #include <algorithm>
 #include <cmath>

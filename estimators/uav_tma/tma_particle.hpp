@@ -39,8 +39,8 @@
 // default UAV run.
 #pragma once
 
-#include "random.hpp"
-#include "tma_estimators.hpp"
+#include "common/physics/random.hpp"
+#include "estimators/uav_tma/tma_estimators.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "tma_pcrb.hpp"
+#include "estimators/uav_tma/tma_pcrb.hpp"
 
 #include <cmath>
 

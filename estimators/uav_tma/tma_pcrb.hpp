@@ -5,7 +5,7 @@
 // J(0) = P0^-1, the estimators' prior at the first bearing.
 #pragma once
 
-#include "tma_models.hpp"
+#include "estimators/uav_tma/tma_models.hpp"
 
 namespace rnav::tma {
 

@@ -1,6 +1,6 @@
-#include "uav_tma_free_node.hpp"
+#include "estimators/uav_tma/uav_tma_free_node.hpp"
 
-#include "channels.hpp"
+#include "common/node/channels.hpp"
 
 #include <rnav/tma_batch_t.hpp>
 

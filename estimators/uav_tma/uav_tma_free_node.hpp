@@ -13,9 +13,9 @@
 //    is an error naming it.
 #pragma once
 
-#include "bus.hpp"
-#include "paired_free_node.hpp"
-#include "uav_tma_node.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/paired_free_node.hpp"
+#include "estimators/uav_tma/uav_tma_node.hpp"
 
 #include <deque>
 #include <map>

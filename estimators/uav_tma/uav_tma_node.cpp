@@ -1,4 +1,4 @@
-#include "uav_tma_node.hpp"
+#include "estimators/uav_tma/uav_tma_node.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>

@@ -2,9 +2,9 @@
 // publishes every estimator's estimate with covariance at every sensor frame (UAV_TMA).
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "tma_frame.hpp"
-#include "uav_context.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "estimators/uav_tma/tma_frame.hpp"
+#include "common/node/uav_context.hpp"
 
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>

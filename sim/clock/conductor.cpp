@@ -1,7 +1,7 @@
-#include "conductor.hpp"
+#include "sim/clock/conductor.hpp"
 
-#include "channels.hpp"
-#include "lockstep_node.hpp"
+#include "common/node/channels.hpp"
+#include "common/node/lockstep_node.hpp"
 
 #include <rnav/sim_scenario_t.hpp>
 #include <rnav/sim_window_t.hpp>

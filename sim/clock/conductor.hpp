@@ -8,9 +8,9 @@
 // multi-process run over LCM and the single-process ensemble.
 #pragma once
 
-#include "bus.hpp"
-#include "runner_options.hpp"
-#include "sim_time.hpp"
+#include "common/node/bus.hpp"
+#include "common/node/runner_options.hpp"
+#include "common/physics/sim_time.hpp"
 
 #include <rnav/node_ack_t.hpp>
 

@@ -1,4 +1,4 @@
-#include "progress.hpp"
+#include "sim/clock/progress.hpp"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "ab_codes.hpp"
+#include "sim/datalink/ab_codes.hpp"
 
 #include <cmath>
 #include <complex>

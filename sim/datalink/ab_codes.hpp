@@ -37,7 +37,7 @@
 // (for tests and known orbits).
 #pragma once
 
-#include "signal.hpp"
+#include "sim/datalink/signal.hpp"
 
 #include <cstdint>
 #include <string>

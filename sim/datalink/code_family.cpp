@@ -1,8 +1,8 @@
-#include "code_family.hpp"
+#include "sim/datalink/code_family.hpp"
 
-#include "ab_codes.hpp"
-#include "code_metrics.hpp"
-#include "gold.hpp"
+#include "sim/datalink/ab_codes.hpp"
+#include "sim/datalink/code_metrics.hpp"
+#include "sim/datalink/gold.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -6,8 +6,8 @@
 // so the link's peak factor is the study's number for the same family, length and filter.
 #pragma once
 
-#include "signal.hpp"
-#include "waveform.hpp"
+#include "sim/datalink/signal.hpp"
+#include "sim/datalink/waveform.hpp"
 
 #include <cstdint>
 #include <string>

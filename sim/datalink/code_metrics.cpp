@@ -1,6 +1,6 @@
-#include "code_metrics.hpp"
+#include "sim/datalink/code_metrics.hpp"
 
-#include "fft.hpp"
+#include "sim/datalink/fft.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // cross-correlation, the power spectrum. Every sequence is one period of a periodic signal.
 #pragma once
 
-#include "signal.hpp"
+#include "sim/datalink/signal.hpp"
 
 #include <vector>
 

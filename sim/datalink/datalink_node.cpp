@@ -1,7 +1,7 @@
-#include "datalink_node.hpp"
+#include "sim/datalink/datalink_node.hpp"
 
-#include "atomic_file.hpp"
-#include "config.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/config.hpp"
 
 #include <rnav/nav_batch_t.hpp>
 

@@ -8,10 +8,10 @@
 // messages sent and lost, `realization,sent,lost`, and datalink.units.json beside it (csv_columns()).
 #pragma once
 
-#include "csv_columns.hpp"
-#include "lockstep_node.hpp"
-#include "nav_link.hpp"
-#include "random.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "sim/datalink/nav_link.hpp"
+#include "common/physics/random.hpp"
 
 #include <optional>
 #include <string>

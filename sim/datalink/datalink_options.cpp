@@ -1,4 +1,4 @@
-#include "datalink_options.hpp"
+#include "sim/datalink/datalink_options.hpp"
 
 namespace rnav {
 

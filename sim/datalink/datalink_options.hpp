@@ -1,7 +1,7 @@
 // Options of the navigation data link (scenario section "datalink"), with their keys and checks.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

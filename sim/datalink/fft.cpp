@@ -1,4 +1,4 @@
-#include "fft.hpp"
+#include "sim/datalink/fft.hpp"
 
 #include <stdexcept>
 #include <unsupported/Eigen/FFT>

@@ -5,7 +5,7 @@
 // Plans are cached per thread (one Eigen::FFT object per thread), so repeated lengths are cheap.
 #pragma once
 
-#include "signal.hpp"
+#include "sim/datalink/signal.hpp"
 
 namespace rnav::datalink {
 

@@ -1,7 +1,7 @@
-#include "gold.hpp"
+#include "sim/datalink/gold.hpp"
 
-#include "code_metrics.hpp"
-#include "lfsr.hpp"
+#include "sim/datalink/code_metrics.hpp"
+#include "sim/datalink/lfsr.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "lfsr.hpp"
+#include "sim/datalink/lfsr.hpp"
 
 #include <algorithm>
 #include <cstdint>

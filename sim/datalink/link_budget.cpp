@@ -1,6 +1,6 @@
-#include "link_budget.hpp"
+#include "sim/datalink/link_budget.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -26,7 +26,7 @@
 // receiver noise k T0 F only (no antenna temperature).
 #pragma once
 
-#include "datalink_options.hpp"
+#include "sim/datalink/datalink_options.hpp"
 
 #include <string>
 

@@ -1,7 +1,7 @@
-#include "nav_link.hpp"
+#include "sim/datalink/nav_link.hpp"
 
-#include "code_family.hpp"
-#include "config.hpp"
+#include "sim/datalink/code_family.hpp"
+#include "common/io/config.hpp"
 
 #include <stdexcept>
 

@@ -3,10 +3,10 @@
 // receiver at the radar antenna, and each message's fate from one uniform draw.
 #pragma once
 
-#include "frames.hpp"
-#include "link_budget.hpp"
-#include "site_context.hpp"
-#include "waveform.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/datalink/link_budget.hpp"
+#include "common/node/site_context.hpp"
+#include "sim/datalink/waveform.hpp"
 
 #include <rnav/nav_solution_t.hpp>
 

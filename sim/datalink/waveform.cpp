@@ -1,6 +1,6 @@
-#include "waveform.hpp"
+#include "sim/datalink/waveform.hpp"
 
-#include "fft.hpp"
+#include "sim/datalink/fft.hpp"
 
 #include <cmath>
 #include <cstdlib>

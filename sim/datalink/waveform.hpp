@@ -7,7 +7,7 @@
 // product with H(f_m): periodic, no edge effects, no truncated impulse response.
 #pragma once
 
-#include "signal.hpp"
+#include "sim/datalink/signal.hpp"
 
 #include <string>
 

@@ -1,6 +1,6 @@
-#include "prl_error_model.hpp"
+#include "sim/prl/prl_error_model.hpp"
 
-#include "prl_effect_columns.hpp"
+#include "common/physics/prl_effect_columns.hpp"
 
 #include <cmath>
 

@@ -4,9 +4,9 @@
 // Open for further effects: derive from PrlErrorEffect and add it in PrlErrorModel's constructor.
 #pragma once
 
-#include "frames.hpp"
-#include "random.hpp"
-#include "prl_options.hpp"
+#include "common/physics/frames.hpp"
+#include "common/physics/random.hpp"
+#include "sim/prl/prl_options.hpp"
 
 #include <memory>
 #include <string>
@@ -99,7 +99,7 @@ class Outliers : public PrlErrorEffect {
 /// Deterministic systematic effects of the diagnosis catalogue (see PrlEffectsOptions):
 /// range_gain, time_offset, elevation_refraction, azimuth_elevation_coupling, site_offset,
 /// bias_drift, bias_step, periodic: C(plot) theta with the columns the diagnosis fits
-/// (common/prl_effect_columns.hpp, where each term's equation is written).
+/// (common/physics/prl_effect_columns.hpp, where each term's equation is written).
 class GeometricEffects : public PrlErrorEffect {
  public:
   GeometricEffects(const PrlEffectsOptions& fx, double azimuth_reference_deg);

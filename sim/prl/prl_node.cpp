@@ -1,4 +1,4 @@
-#include "prl_node.hpp"
+#include "sim/prl/prl_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/prl_error_batch_t.hpp>

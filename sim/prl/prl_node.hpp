@@ -3,9 +3,9 @@
 // simulation truth, the injected errors (TRUTH_PRL_ERROR).
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "prl_error_model.hpp"
-#include "site_context.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "sim/prl/prl_error_model.hpp"
+#include "common/node/site_context.hpp"
 
 #include <optional>
 

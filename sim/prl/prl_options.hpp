@@ -1,7 +1,7 @@
 // Options of the landing radar (scenario sections "prl" and "prl_effects"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

@@ -1,4 +1,4 @@
-#include "recorded_scene.hpp"
+#include "sim/scene/recorded_scene.hpp"
 
 #include <algorithm>
 #include <cmath>

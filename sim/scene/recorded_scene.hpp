@@ -6,7 +6,7 @@
 // simulates them with the errors of scene_errors.hpp.
 #pragma once
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <cstdint>
 #include <map>

@@ -1,6 +1,6 @@
-#include "scene_errors.hpp"
+#include "sim/scene/scene_errors.hpp"
 
-#include "multi_effect_columns.hpp"
+#include "common/physics/multi_effect_columns.hpp"
 
 #include <algorithm>
 #include <cmath>

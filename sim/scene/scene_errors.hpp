@@ -1,11 +1,11 @@
 // The errors a simulated scene's sensors make: named effects (the multi-sensor catalogue's,
-// injected through the columns the diagnosis fits: common/multi_effect_columns.hpp) and each
-// channel's noise (common/noise_process.hpp). A diagnosis report becomes one of these in the
+// injected through the columns the diagnosis fits: common/physics/multi_effect_columns.hpp) and each
+// channel's noise (common/physics/noise_process.hpp). A diagnosis report becomes one of these in the
 // composition root (scripts/compose/scene/scene_effects_json.hpp); the nominal model is white
 // noise at the nominal sigmas and no effect.
 #pragma once
 
-#include "noise_process.hpp"
+#include "common/physics/noise_process.hpp"
 
 #include <map>
 #include <string>

@@ -1,4 +1,4 @@
-#include "scene_geometry.hpp"
+#include "sim/scene/scene_geometry.hpp"
 
 #include <GeographicLib/LocalCartesian.hpp>
 

@@ -1,11 +1,11 @@
 // The line of sight from the observer to a target of a recorded scene at one time, and the
-// geometry the effect columns need (common/multi_effect_columns.hpp), in the tangent plane at
+// geometry the effect columns need (common/physics/multi_effect_columns.hpp), in the tangent plane at
 // the observer's position then (GeographicLib::LocalCartesian; the target taken at the
 // observer's height: the multi-sensor picture is 2-D), axes (east, north).
 #pragma once
 
-#include "frames.hpp"
-#include "multi_effect_columns.hpp"
+#include "common/physics/frames.hpp"
+#include "common/physics/multi_effect_columns.hpp"
 
 #include <vector>
 

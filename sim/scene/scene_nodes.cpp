@@ -1,4 +1,4 @@
-#include "scene_nodes.hpp"
+#include "sim/scene/scene_nodes.hpp"
 
 #include <rnav/scene_detection_batch_t.hpp>
 #include <rnav/scene_observer_batch_t.hpp>

@@ -11,10 +11,10 @@
 // Times: SceneTime (recorded_scene.hpp) maps the recording's times to the run's utimes.
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "recorded_scene.hpp"
-#include "scene_errors.hpp"
-#include "scene_sim.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "sim/scene/scene_errors.hpp"
+#include "sim/scene/scene_sim.hpp"
 
 #include <string>
 #include <vector>

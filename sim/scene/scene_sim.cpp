@@ -1,8 +1,8 @@
-#include "scene_sim.hpp"
+#include "sim/scene/scene_sim.hpp"
 
-#include "frames.hpp"
-#include "multi_effect_columns.hpp"
-#include "scene_geometry.hpp"
+#include "common/physics/frames.hpp"
+#include "common/physics/multi_effect_columns.hpp"
+#include "sim/scene/scene_geometry.hpp"
 
 #include <cmath>
 #include <map>

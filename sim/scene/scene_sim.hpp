@@ -9,8 +9,8 @@
 // whatever else the scene holds.
 #pragma once
 
-#include "recorded_scene.hpp"
-#include "scene_errors.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "sim/scene/scene_errors.hpp"
 
 #include <cstdint>
 #include <string>

@@ -1,4 +1,4 @@
-#include "snsins_error_model.hpp"
+#include "sim/snsins/snsins_error_model.hpp"
 
 #include <cmath>
 #include <limits>

@@ -8,8 +8,8 @@
 // Velocity error: white, vel_sigma_mps per axis.
 #pragma once
 
-#include "random.hpp"
-#include "snsins_options.hpp"
+#include "common/physics/random.hpp"
+#include "sim/snsins/snsins_options.hpp"
 
 #include <Eigen/Dense>
 

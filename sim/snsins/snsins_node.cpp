@@ -1,4 +1,4 @@
-#include "snsins_node.hpp"
+#include "sim/snsins/snsins_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/nav_batch_t.hpp>

@@ -6,9 +6,9 @@
 // "datalink" passes on what survives the link).
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "site_context.hpp"
-#include "snsins_error_model.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "common/node/site_context.hpp"
+#include "sim/snsins/snsins_error_model.hpp"
 
 #include <rnav/nav_solution_t.hpp>
 

@@ -1,7 +1,7 @@
 // Options of the SNS/INS navigation solution (scenario section "snsins"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

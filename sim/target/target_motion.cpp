@@ -1,4 +1,4 @@
-#include "target_motion.hpp"
+#include "sim/target/target_motion.hpp"
 
 #include <algorithm>
 #include <cmath>

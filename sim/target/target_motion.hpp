@@ -2,8 +2,8 @@
 // with scripted manoeuvres (turn rate and acceleration over an interval). Deterministic.
 #pragma once
 
-#include "frames.hpp"
-#include "target_options.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/target/target_options.hpp"
 
 #include <Eigen/Dense>
 

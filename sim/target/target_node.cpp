@@ -1,4 +1,4 @@
-#include "target_node.hpp"
+#include "sim/target/target_node.hpp"
 
 #include <rnav/target_truth_batch_t.hpp>
 

@@ -1,9 +1,9 @@
 // Node "target": publishes the object's true state (TRUTH_TARGET) on the sensor's frame grid.
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "target_motion.hpp"
-#include "uav_context.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "sim/target/target_motion.hpp"
+#include "common/node/uav_context.hpp"
 
 namespace rnav {
 

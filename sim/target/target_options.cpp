@@ -1,4 +1,4 @@
-#include "target_options.hpp"
+#include "sim/target/target_options.hpp"
 
 namespace rnav {
 

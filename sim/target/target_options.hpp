@@ -1,7 +1,7 @@
 // Options of the surface object's motion (UAV scenario section "target"), with their keys and checks.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

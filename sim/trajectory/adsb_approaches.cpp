@@ -1,6 +1,6 @@
-#include "adsb_approaches.hpp"
+#include "sim/trajectory/adsb_approaches.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 

@@ -19,9 +19,9 @@
 // The offset is a height shift: it cannot change the glide angle b, which is reported.
 #pragma once
 
-#include "adsb_glitches.hpp"
-#include "csv_columns.hpp"
-#include "frames.hpp"
+#include "sim/trajectory/adsb_glitches.hpp"
+#include "common/io/csv_columns.hpp"
+#include "common/physics/frames.hpp"
 
 #include <limits>
 #include <optional>

@@ -1,4 +1,4 @@
-#include "adsb_glitches.hpp"
+#include "sim/trajectory/adsb_glitches.hpp"
 
 #include <GeographicLib/Geodesic.hpp>
 

@@ -15,7 +15,7 @@
 // K itself is probably the glitch: that is an error naming K (not a silent re-anchoring).
 #pragma once
 
-#include "adsb_records.hpp"
+#include "sim/trajectory/adsb_records.hpp"
 
 #include <map>
 #include <string>

@@ -1,4 +1,4 @@
-#include "adsb_records.hpp"
+#include "sim/trajectory/adsb_records.hpp"
 
 #include <nlohmann/json.hpp>
 #include <zlib.h>

@@ -8,7 +8,7 @@
 // files, and every direction used here is computed from the positions.
 #pragma once
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <optional>
 #include <string>

@@ -1,4 +1,4 @@
-#include "approach_trajectory.hpp"
+#include "sim/trajectory/approach_trajectory.hpp"
 
 #include <cmath>
 

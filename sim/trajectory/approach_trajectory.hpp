@@ -1,7 +1,7 @@
 // The aircraft's approach path in the landing frame L (see TrajectoryOptions for the geometry).
 #pragma once
 
-#include "trajectory.hpp"
+#include "sim/trajectory/trajectory.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,6 +1,6 @@
-#include "replay_trajectory.hpp"
+#include "sim/trajectory/replay_trajectory.hpp"
 
-#include "csv_table.hpp"
+#include "common/io/csv_table.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -22,8 +22,8 @@
 // Outside [0, duration_s()] the state is clamped to the nearest end (as ApproachTrajectory).
 #pragma once
 
-#include "frames.hpp"
-#include "trajectory.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/trajectory/trajectory.hpp"
 
 #include <string>
 #include <vector>

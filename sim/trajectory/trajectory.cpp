@@ -1,7 +1,7 @@
-#include "trajectory.hpp"
+#include "sim/trajectory/trajectory.hpp"
 
-#include "approach_trajectory.hpp"
-#include "replay_trajectory.hpp"
+#include "sim/trajectory/approach_trajectory.hpp"
+#include "sim/trajectory/replay_trajectory.hpp"
 
 namespace rnav {
 

@@ -6,8 +6,8 @@
 // the run's duration.
 #pragma once
 
-#include "site_context.hpp"
-#include "trajectory_options.hpp"
+#include "common/node/site_context.hpp"
+#include "sim/trajectory/trajectory_options.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "trajectory_node.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 

@@ -2,8 +2,8 @@
 // t = i * trajectory.step_s, in L and on WGS84.
 #pragma once
 
-#include "trajectory.hpp"
-#include "lockstep_node.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "common/node/lockstep_node.hpp"
 
 #include <memory>
 

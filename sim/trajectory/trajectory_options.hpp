@@ -1,7 +1,7 @@
 // Options of the aircraft's true path (scenario section "trajectory"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

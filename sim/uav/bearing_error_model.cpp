@@ -1,6 +1,6 @@
-#include "bearing_error_model.hpp"
+#include "sim/uav/bearing_error_model.hpp"
 
-#include "bearing_effect_columns.hpp"
+#include "common/physics/bearing_effect_columns.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -15,7 +15,7 @@ double CorrelatedBearingNoise::error(const BearingTruth& truth, Rng& rng) {
   return dt > 0 ? gm_.step(dt, rng) : gm_.value();
 }
 
-// The catalogue's columns (common/bearing_effect_columns.hpp) times this sensor's parameters.
+// The catalogue's columns (common/physics/bearing_effect_columns.hpp) times this sensor's parameters.
 double SystematicBearingError::error(const BearingTruth& truth, Rng&) {
   namespace fx = bearing_effect;
   const fx::FrameGeometry f{truth.t_s, truth.bearing_rate_radps};

@@ -5,9 +5,9 @@
 // effects: derive from BearingErrorEffect and add them in BearingErrorModel's constructor.
 #pragma once
 
-#include "random.hpp"
-#include "frames.hpp"
-#include "sensor_options.hpp"
+#include "common/physics/random.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/uav/sensor_options.hpp"
 
 #include <memory>
 #include <string>

@@ -1,6 +1,6 @@
-#include "guidance.hpp"
+#include "sim/uav/guidance.hpp"
 
-#include "frames.hpp"
+#include "common/physics/frames.hpp"
 
 #include <algorithm>
 #include <cmath>

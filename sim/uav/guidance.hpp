@@ -20,8 +20,8 @@
 //    (straight-line limit V_a dt (cos psi, sin psi) + w dt as omega -> 0).
 #pragma once
 
-#include "frames.hpp"
-#include "observer_options.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/uav/observer_options.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "observer_options.hpp"
+#include "sim/uav/observer_options.hpp"
 
 #include <cmath>
 

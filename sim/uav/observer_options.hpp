@@ -2,8 +2,8 @@
 // "uav_nav"), with their keys.
 #pragma once
 
-#include "options_io.hpp"
-#include "tma_estimator_names.hpp"
+#include "common/io/options_io.hpp"
+#include "common/io/tma_estimator_names.hpp"
 
 namespace rnav {
 

@@ -1,4 +1,4 @@
-#include "observer_path.hpp"
+#include "sim/uav/observer_path.hpp"
 
 #include <cmath>
 

@@ -5,8 +5,8 @@
 //   straight: p = c_pass + V (t - T/2) (cos psi, sin psi), closest to the centre at T/2.
 #pragma once
 
-#include "frames.hpp"
-#include "observer_options.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/uav/observer_options.hpp"
 
 #include <Eigen/Dense>
 

@@ -2,7 +2,7 @@
 // with their keys.
 #pragma once
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 namespace rnav {
 

@@ -1,6 +1,6 @@
-#include "uav_node.hpp"
+#include "sim/uav/uav_node.hpp"
 
-#include "bearing.hpp"
+#include "common/physics/bearing.hpp"
 #include <rnav/bearing_batch_t.hpp>
 #include <rnav/observer_batch_t.hpp>
 #include <rnav/target_truth_batch_t.hpp>

@@ -9,13 +9,13 @@
 // uav.guidance_estimator that is uav.estimate_latency_s old and its own navigation solution.
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "bearing_error_model.hpp"
-#include "guidance.hpp"
-#include "observer_path.hpp"
-#include "random.hpp"
-#include "sensor_options.hpp"
-#include "uav_context.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "sim/uav/bearing_error_model.hpp"
+#include "sim/uav/guidance.hpp"
+#include "sim/uav/observer_path.hpp"
+#include "common/physics/random.hpp"
+#include "sim/uav/sensor_options.hpp"
+#include "common/node/uav_context.hpp"
 
 #include <array>
 #include <optional>

@@ -1,9 +1,9 @@
 // The Autoferry importer (estimators/diagnosis/io/autoferry_import.hpp): the input is a scenario's
 // detections JSON and ground-truth JSON separated by a NUL byte; both importer modes run on it
 // (multi-sensor, and the azimuth-only mode for each camera and target).
-#include "autoferry_import.hpp"
-#include "config.hpp"
-#include "fuzz_target.hpp"
+#include "estimators/diagnosis/io/autoferry_import.hpp"
+#include "common/io/config.hpp"
+#include "test/fuzz/fuzz_target.hpp"
 
 #include <string>
 

@@ -1,5 +1,5 @@
-#include "fuzz_folder.hpp"
-#include "fuzz_target.hpp"
+#include "test/fuzz/fuzz_folder.hpp"
+#include "test/fuzz/fuzz_target.hpp"
 
 #include <unistd.h>
 

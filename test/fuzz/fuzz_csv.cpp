@@ -1,6 +1,6 @@
 // The CSV reader (common/csv_table): numbers, empty cells, text and optional columns.
-#include "csv_table.hpp"
-#include "fuzz_target.hpp"
+#include "common/io/csv_table.hpp"
+#include "test/fuzz/fuzz_target.hpp"
 
 void rnav::fuzz::run_one(const std::uint8_t* data, std::size_t size) {
   const std::string f = write_scratch("table.csv", data, size);

@@ -2,7 +2,7 @@
 // separated by NUL bytes (missing parts are empty files; a part beyond the names is ignored).
 #pragma once
 
-#include "fuzz_target.hpp"
+#include "test/fuzz/fuzz_target.hpp"
 
 #include <string>
 #include <vector>

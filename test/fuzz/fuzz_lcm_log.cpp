@@ -1,6 +1,6 @@
 // The LCM event-log readers of the diagnosis (landing radar and azimuth-only).
-#include "fuzz_target.hpp"
-#include "lcm_log_input.hpp"
+#include "test/fuzz/fuzz_target.hpp"
+#include "estimators/diagnosis/io/lcm_log_input.hpp"
 
 #include <exception>
 

@@ -1,9 +1,9 @@
-#include "autoferry_import.hpp"
+#include "estimators/diagnosis/io/autoferry_import.hpp"
 
-#include "atomic_file.hpp"
-#include "bearing.hpp"
-#include "config.hpp"
-#include "frames.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/physics/bearing.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/frames.hpp"
 
 #include <array>
 #include <cmath>

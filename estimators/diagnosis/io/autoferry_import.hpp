@@ -8,8 +8,8 @@
 // is a ConfigError naming the file, the record and the key.
 #pragma once
 
-#include "azimuth_data.hpp"
-#include "multi_sensor_data.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
 
 #include <nlohmann/json.hpp>
 

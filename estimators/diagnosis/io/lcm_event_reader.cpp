@@ -1,6 +1,6 @@
-#include "lcm_event_reader.hpp"
+#include "estimators/diagnosis/io/lcm_event_reader.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <filesystem>
 

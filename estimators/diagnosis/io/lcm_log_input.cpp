@@ -1,9 +1,9 @@
-#include "lcm_log_input.hpp"
+#include "estimators/diagnosis/io/lcm_log_input.hpp"
 
-#include "channels.hpp"
-#include "config.hpp"
-#include "lcm_log_streams.hpp"
-#include "site_context.hpp"
+#include "common/node/channels.hpp"
+#include "common/io/config.hpp"
+#include "estimators/diagnosis/io/lcm_log_streams.hpp"
+#include "common/node/site_context.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/bearing_batch_t.hpp>

@@ -13,8 +13,8 @@
 // realization); --set overrides apply to either. Neither available: an error saying so.
 #pragma once
 
-#include "azimuth_data.hpp"
-#include "prl_flight_data.hpp"
+#include "estimators/diagnosis/azimuth_data.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
-#include "lcm_log_streams.hpp"
+#include "estimators/diagnosis/io/lcm_log_streams.hpp"
 
-#include "channels.hpp"
-#include "lcm_event_reader.hpp"
-#include "lockstep_node.hpp"
+#include "common/node/channels.hpp"
+#include "estimators/diagnosis/io/lcm_event_reader.hpp"
+#include "common/node/lockstep_node.hpp"
 
 
 #include <filesystem>

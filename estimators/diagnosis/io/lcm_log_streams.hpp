@@ -12,8 +12,8 @@
 //   * events on other channels are counted (summary()), not read.
 #pragma once
 
-#include "batch_decode.hpp"
-#include "config.hpp"
+#include "common/node/batch_decode.hpp"
+#include "common/io/config.hpp"
 
 #include <rnav/batch_header_t.hpp>
 #include <rnav/sim_scenario_t.hpp>

@@ -1,19 +1,19 @@
-#include "inproc_ensemble.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
 
-#include "scene_logger_node.hpp"
-#include "scene_nodes.hpp"
+#include "loggers/scene_logger_node.hpp"
+#include "sim/scene/scene_nodes.hpp"
 
-#include "trajectory.hpp"
-#include "datalink_node.hpp"
-#include "prl_bias_node.hpp"
-#include "prl_logger_node.hpp"
-#include "prl_node.hpp"
-#include "snsins_node.hpp"
-#include "trajectory_node.hpp"
-#include "target_node.hpp"
-#include "uav_logger_node.hpp"
-#include "uav_node.hpp"
-#include "uav_tma_node.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "sim/datalink/datalink_node.hpp"
+#include "estimators/prl_bias/prl_bias_node.hpp"
+#include "loggers/prl_logger_node.hpp"
+#include "sim/prl/prl_node.hpp"
+#include "sim/snsins/snsins_node.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
+#include "sim/target/target_node.hpp"
+#include "loggers/uav_logger_node.hpp"
+#include "sim/uav/uav_node.hpp"
+#include "estimators/uav_tma/uav_tma_node.hpp"
 
 #include <memory>
 

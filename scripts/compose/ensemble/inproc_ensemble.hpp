@@ -3,13 +3,13 @@
 // the determinism test (its outputs must equal the multi-process run's byte for byte).
 #pragma once
 
-#include "conductor.hpp"
-#include "lockstep_node.hpp"
+#include "sim/clock/conductor.hpp"
+#include "common/node/lockstep_node.hpp"
 
 #include <memory>
-#include "scenario.hpp"
-#include "scene_scenario.hpp"
-#include "uav_scenario.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "scripts/compose/scenario/scene_scenario.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
 #include <string>
 

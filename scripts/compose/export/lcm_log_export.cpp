@@ -1,15 +1,15 @@
-#include "lcm_log_export.hpp"
+#include "scripts/compose/export/lcm_log_export.hpp"
 
-#include "trajectory.hpp"
-#include "config.hpp"
-#include "inproc_ensemble.hpp"
-#include "prl_bias_node.hpp"
-#include "prl_node.hpp"
-#include "snsins_node.hpp"
-#include "target_node.hpp"
-#include "trajectory_node.hpp"
-#include "uav_node.hpp"
-#include "uav_tma_node.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "common/io/config.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "estimators/prl_bias/prl_bias_node.hpp"
+#include "sim/prl/prl_node.hpp"
+#include "sim/snsins/snsins_node.hpp"
+#include "sim/target/target_node.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
+#include "sim/uav/uav_node.hpp"
+#include "estimators/uav_tma/uav_tma_node.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 

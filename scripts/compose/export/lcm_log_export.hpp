@@ -2,7 +2,7 @@
 // multi-process run, without a network (tests, and data with a known hidden effect).
 #pragma once
 
-#include "bus.hpp"
+#include "common/node/bus.hpp"
 
 #include <cstdint>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "prl_csv_recorder_node.hpp"
+#include "scripts/compose/export/prl_csv_recorder_node.hpp"
 
 #include <rnav/aircraft_truth_batch_t.hpp>
 #include <rnav/nav_batch_t.hpp>

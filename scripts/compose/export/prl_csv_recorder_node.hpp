@@ -3,9 +3,9 @@
 // a known hidden effect goes through exactly the same reader as measured data.
 #pragma once
 
-#include "lockstep_node.hpp"
-#include "prl_flight_data.hpp"
-#include "scenario.hpp"
+#include "common/node/lockstep_node.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 namespace rnav {
 

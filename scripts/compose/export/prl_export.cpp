@@ -1,11 +1,11 @@
-#include "prl_export.hpp"
+#include "scripts/compose/export/prl_export.hpp"
 
-#include "trajectory.hpp"
-#include "inproc_ensemble.hpp"
-#include "prl_csv_recorder_node.hpp"
-#include "prl_node.hpp"
-#include "snsins_node.hpp"
-#include "trajectory_node.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/export/prl_csv_recorder_node.hpp"
+#include "sim/prl/prl_node.hpp"
+#include "sim/snsins/snsins_node.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
 
 namespace rnav {
 

@@ -2,7 +2,7 @@
 // and write it as a flight-test CSV folder: data with a known hidden effect for diagnose.
 #pragma once
 
-#include "scenario.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
 #include <string>
 

@@ -1,6 +1,6 @@
-#include "folder_pack.hpp"
+#include "scripts/compose/merge/folder_pack.hpp"
 
-#include "atomic_file.hpp"
+#include "common/io/atomic_file.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,16 +1,16 @@
-#include "shard_merge.hpp"
+#include "scripts/compose/merge/shard_merge.hpp"
 
-#include "atomic_file.hpp"
-#include "config.hpp"
-#include "csv_columns.hpp"
-#include "datalink_node.hpp"
-#include "prl_stats.hpp"
-#include "realization_set.hpp"
-#include "scenario.hpp"
-#include "uav_scenario.hpp"
-#include "uav_realizations.hpp"
-#include "uav_stats.hpp"
-#include "uav_track.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_columns.hpp"
+#include "sim/datalink/datalink_node.hpp"
+#include "loggers/prl_stats.hpp"
+#include "loggers/realization_set.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
+#include "loggers/uav_realizations.hpp"
+#include "loggers/uav_stats.hpp"
+#include "loggers/uav_track.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,6 @@
-#include "prl_report.hpp"
+#include "scripts/compose/scenario/prl_report.hpp"
 
-#include "config.hpp"
+#include "common/io/config.hpp"
 
 #include <cmath>
 #include <map>

@@ -1,6 +1,6 @@
 // A landing-radar diagnosis report (rnav_diagnose prl --json) as the landing radar's errors in
 // a simulation (the scenario's prl_effects): the report's named effects through the same
-// columns the diagnosis fits (common/prl_effect_columns.hpp). Each entry maps to its keys:
+// columns the diagnosis fits (common/physics/prl_effect_columns.hpp). Each entry maps to its keys:
 //   range_gain                  g            -> range_gain
 //   time_offset                 tau_s        -> time_offset_s
 //   elevation_refraction        k_rad        -> elevation_refraction_rad
@@ -20,7 +20,7 @@
 // An effect the simulation cannot make is a ConfigError naming it and why, never dropped.
 #pragma once
 
-#include "prl_options.hpp"
+#include "sim/prl/prl_options.hpp"
 
 #include <nlohmann/json.hpp>
 

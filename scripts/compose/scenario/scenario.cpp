@@ -1,8 +1,8 @@
-#include "scenario.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
 
-#include "options_io.hpp"
-#include "prl_report.hpp"
-#include "scenario_paths.hpp"
+#include "common/io/options_io.hpp"
+#include "scripts/compose/scenario/prl_report.hpp"
+#include "scripts/compose/scenario/scenario_paths.hpp"
 
 #include <fstream>
 

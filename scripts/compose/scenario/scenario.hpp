@@ -9,15 +9,15 @@
 // choices for what the paper leaves open (speed, lateral path, radar site, airfield).
 #pragma once
 
-#include "datalink_options.hpp"
-#include "logger_options.hpp"
-#include "prl_bias_options.hpp"
-#include "prl_options.hpp"
-#include "runner_options.hpp"
-#include "site_context.hpp"
-#include "site_options.hpp"
-#include "snsins_options.hpp"
-#include "trajectory_options.hpp"
+#include "sim/datalink/datalink_options.hpp"
+#include "loggers/logger_options.hpp"
+#include "estimators/prl_bias/prl_bias_options.hpp"
+#include "sim/prl/prl_options.hpp"
+#include "common/node/runner_options.hpp"
+#include "common/node/site_context.hpp"
+#include "common/io/site_options.hpp"
+#include "sim/snsins/snsins_options.hpp"
+#include "sim/trajectory/trajectory_options.hpp"
 
 #include <cstdint>
 #include <ostream>

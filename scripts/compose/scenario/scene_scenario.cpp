@@ -1,11 +1,11 @@
-#include "scene_scenario.hpp"
+#include "scripts/compose/scenario/scene_scenario.hpp"
 
-#include "multi_sensor_data.hpp"
-#include "options_io.hpp"
-#include "scene_effects_json.hpp"
-#include "scene_from_recording.hpp"
-#include "scene_nodes.hpp"
-#include "scenario_paths.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
+#include "common/io/options_io.hpp"
+#include "scripts/compose/scene/scene_effects_json.hpp"
+#include "scripts/compose/scene/scene_from_recording.hpp"
+#include "sim/scene/scene_nodes.hpp"
+#include "scripts/compose/scenario/scenario_paths.hpp"
 
 #include <cmath>
 #include <filesystem>

@@ -5,11 +5,11 @@
 // builds the scene once; every process of a run builds the same (deterministic).
 #pragma once
 
-#include "recorded_scene.hpp"
-#include "runner_options.hpp"
-#include "scene_errors.hpp"
-#include "scene_logger_options.hpp"
-#include "scene_run_stats.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "common/node/runner_options.hpp"
+#include "sim/scene/scene_errors.hpp"
+#include "loggers/scene_logger_options.hpp"
+#include "loggers/scene_run_stats.hpp"
 
 #include <memory>
 #include <ostream>

@@ -1,6 +1,6 @@
-#include "uav_scenario.hpp"
+#include "scripts/compose/scenario/uav_scenario.hpp"
 
-#include "options_io.hpp"
+#include "common/io/options_io.hpp"
 
 #include <algorithm>
 #include <cmath>

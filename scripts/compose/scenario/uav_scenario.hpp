@@ -5,14 +5,14 @@
 // z east, y up; bearings atan2(east, north), clockwise from north.
 #pragma once
 
-#include "observer_options.hpp"
-#include "runner_options.hpp"
-#include "sensor_options.hpp"
-#include "target_options.hpp"
-#include "tma_options.hpp"
-#include "uav_context.hpp"
-#include "uav_logger_options.hpp"
-#include "uav_stats_setup.hpp"
+#include "sim/uav/observer_options.hpp"
+#include "common/node/runner_options.hpp"
+#include "sim/uav/sensor_options.hpp"
+#include "sim/target/target_options.hpp"
+#include "estimators/uav_tma/tma_options.hpp"
+#include "common/node/uav_context.hpp"
+#include "loggers/uav_logger_options.hpp"
+#include "loggers/uav_stats_setup.hpp"
 
 #include <ostream>
 #include <string>

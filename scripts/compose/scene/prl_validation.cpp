@@ -1,14 +1,14 @@
-#include "prl_validation.hpp"
+#include "scripts/compose/scene/prl_validation.hpp"
 
-#include "atomic_file.hpp"
-#include "config.hpp"
-#include "csv_columns.hpp"
-#include "inproc_ensemble.hpp"
-#include "prl_csv_recorder_node.hpp"
-#include "prl_node.hpp"
-#include "prl_report.hpp"
-#include "trajectory.hpp"
-#include "trajectory_node.hpp"
+#include "common/io/atomic_file.hpp"
+#include "common/io/config.hpp"
+#include "common/io/csv_columns.hpp"
+#include "scripts/compose/ensemble/inproc_ensemble.hpp"
+#include "scripts/compose/export/prl_csv_recorder_node.hpp"
+#include "sim/prl/prl_node.hpp"
+#include "scripts/compose/scenario/prl_report.hpp"
+#include "sim/trajectory/trajectory.hpp"
+#include "sim/trajectory/trajectory_node.hpp"
 
 #include <algorithm>
 #include <cmath>

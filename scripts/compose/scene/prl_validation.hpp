@@ -13,9 +13,9 @@
 // Pair name "radar:aircraft"; quantities range, azimuth, elevation.
 #pragma once
 
-#include "prl_flight_data.hpp"
-#include "scenario.hpp"
-#include "scene_validation.hpp"
+#include "estimators/diagnosis/prl_flight_data.hpp"
+#include "scripts/compose/scenario/scenario.hpp"
+#include "scripts/compose/scene/scene_validation.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
-#include "scene_closure.hpp"
+#include "scripts/compose/scene/scene_closure.hpp"
 
-#include "scene_from_recording.hpp"
-#include "scene_sim.hpp"
+#include "scripts/compose/scene/scene_from_recording.hpp"
+#include "sim/scene/scene_sim.hpp"
 
 #include <cmath>
 

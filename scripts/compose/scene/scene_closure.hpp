@@ -5,9 +5,9 @@
 // named estimates against the injected values.
 #pragma once
 
-#include "multi_diagnose.hpp"
-#include "recorded_scene.hpp"
-#include "scene_errors.hpp"
+#include "estimators/diagnosis/multi_diagnose.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "sim/scene/scene_errors.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,7 @@
-#include "scene_effects_json.hpp"
+#include "scripts/compose/scene/scene_effects_json.hpp"
 
-#include "config.hpp"
-#include "multi_effect_columns.hpp"
+#include "common/io/config.hpp"
+#include "common/physics/multi_effect_columns.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -7,7 +7,7 @@
 // noise and the replayed reference, not as effects.
 #pragma once
 
-#include "scene_errors.hpp"
+#include "sim/scene/scene_errors.hpp"
 
 #include <nlohmann/json.hpp>
 

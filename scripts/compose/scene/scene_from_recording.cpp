@@ -1,9 +1,9 @@
-#include "scene_from_recording.hpp"
+#include "scripts/compose/scene/scene_from_recording.hpp"
 
 #include <filesystem>
 
-#include "frames.hpp"
-#include "scene_geometry.hpp"
+#include "common/physics/frames.hpp"
+#include "sim/scene/scene_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>

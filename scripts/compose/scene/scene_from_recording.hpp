@@ -22,10 +22,10 @@
 // count as clutter.
 #pragma once
 
-#include "multi_association.hpp"
-#include "multi_sensor_data.hpp"
-#include "recorded_scene.hpp"
-#include "scene_sim.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "sim/scene/scene_sim.hpp"
 
 #include <string>
 

@@ -1,8 +1,8 @@
-#include "scene_validation.hpp"
+#include "scripts/compose/scene/scene_validation.hpp"
 
-#include "frames.hpp"
-#include "scene_from_recording.hpp"
-#include "scene_sim.hpp"
+#include "common/physics/frames.hpp"
+#include "scripts/compose/scene/scene_from_recording.hpp"
+#include "sim/scene/scene_sim.hpp"
 
 #include <algorithm>
 #include <cmath>

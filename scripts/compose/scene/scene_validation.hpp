@@ -13,10 +13,10 @@
 // the statistic (a pair they rarely detect) the band is undefined and the value not inside.
 #pragma once
 
-#include "multi_association.hpp"
-#include "multi_sensor_data.hpp"
-#include "recorded_scene.hpp"
-#include "scene_errors.hpp"
+#include "estimators/diagnosis/multi_association.hpp"
+#include "estimators/diagnosis/multi_sensor_data.hpp"
+#include "sim/scene/recorded_scene.hpp"
+#include "sim/scene/scene_errors.hpp"
 
 #include <nlohmann/json.hpp>
 
