@@ -4,6 +4,11 @@ prl: measured minus nav per channel (range, course, glide); nominal = constant b
 uav: bearing minus the reference (truth or fitted track); nominal = zero mean.
 With the diagnosis's JSON report, the extended model's legend names each effect with its estimate.
 Usage: /usr/bin/python3 scripts/plot_diagnose.py prl|uav residuals.csv out.png [report.json]"""
+import sys as _sys
+
+from rnav.cli_args import doc_help
+
+doc_help(__doc__, _sys.argv)  # before matplotlib: the help needs neither it nor numpy
 import csv
 import json
 import math

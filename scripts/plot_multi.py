@@ -1,10 +1,15 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Residual plot of a multi-sensor diagnosis: one panel per sensor:target, bearing residual
 (measured minus reference) [deg] against time with the extended model's fit, the estimation /
 held-out split marked. Recordings diagnosed together (a non-empty recording column): one figure
 per recording, OUT with _<recording> before its extension. With --report (the diagnosis's JSON),
 each panel's legend names the effects acting on its sensor:target with their estimates.
 Usage: plot_multi.py RESIDUALS.csv OUT.png [TITLE] [--report REPORT.json]"""
+import sys as _sys
+
+from rnav.cli_args import doc_help
+
+doc_help(__doc__, _sys.argv)  # before matplotlib: the help needs neither it nor numpy
 import os
 import csv
 import json

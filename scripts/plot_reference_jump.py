@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Where a target's reference track jumped (a multi-sensor diagnosis's `reference_jumps`): a map
 of the reference (north, east [m] from its position at the jump) within --window seconds of the
 jump, the stretch the diagnosis used drawn solid and the rest dashed, with every range sensor's
@@ -11,6 +11,11 @@ Usage: plot_reference_jump.py REPORT.json OUT_PREFIX FOLDER [FOLDER...] [--windo
   several: each named by its folder, as the diagnosis names them). One figure per jump:
   OUT_PREFIX_<target>.png (one recording) or OUT_PREFIX_<recording>_<target>.png; none when the
   report names no jump."""
+import sys as _sys
+
+from rnav.cli_args import doc_help
+
+doc_help(__doc__, _sys.argv)  # before matplotlib: the help needs neither it nor numpy
 import csv
 import json
 import math

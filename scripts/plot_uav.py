@@ -22,6 +22,11 @@ Needs Debian's python3 with python3-numpy and python3-matplotlib (Agg backend, n
 Exit code 2 with a message naming the file, line and column when an input is missing or
 malformed.
 """
+import sys as _sys
+
+from rnav.cli_args import doc_help
+
+doc_help(__doc__, _sys.argv)  # before matplotlib: the help needs neither it nor numpy
 
 import csv
 import json

@@ -1,10 +1,15 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Draw a scene validation (rnav_scene validate --json): per sensor:target pair a row of panels,
 one per statistic, each the simulations' 5-95 % band per model (nominal grey, extended blue) and
 the recording's value (a red dot where it lies outside the extended band, else black).
 
 usage: plot_validate.py VALIDATION.json OUT.png
 """
+import sys as _sys
+
+from rnav.cli_args import doc_help
+
+doc_help(__doc__, _sys.argv)  # before matplotlib: the help needs neither it nor numpy
 import json
 import math
 import sys

@@ -21,6 +21,7 @@
 import json
 import math
 import os
+import re
 import sys
 import tempfile
 
@@ -76,7 +77,9 @@ def main():
         check(rep["detection_limits"]["time_offset"]["tau_s"] == lim["detected"]["size"]
               and rep["fisher_limits"]["time_offset"]["tau_s"] == lim["fisher"],
               "detection_limits is the injected detected size; fisher_limits keeps the Fisher size")
-        check("limit by injection: time_offset" in err, "progress on stderr names the entry")
+        check(re.search(r"limit by injection: 1 parameter\(s\) to measure", err) is not None
+              and re.search(r"limit by injection: 1 of 1, \d+ s, about 0 s left: time_offset", err) is not None,
+              "progress on stderr: the count first, then each entry with the time left")
     r = run(DIAG, "prl", tmp + "/nom", "--limits-for", "time_ofset")
     check(r.returncode == 2 and "time_ofset" in r.stderr, "an unknown entry is named: %s" % r.stderr.strip())
     # 3. Gauss-Markov bearing noise alone

@@ -7,6 +7,8 @@
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -295,6 +297,12 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
     if (!n.outliers_named) q.p_out = 0, q.s_out2 = 0;  // heavy tails only where the report names them
     b.noise.push_back(q);
   }
+  // The (entry, parameter, Fisher limit) measured, in catalogue order.
+  struct Job {
+    std::size_t e, j;
+    double fisher;
+  };
+  std::vector<Job> jobs;
   for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
     const Candidate& c = pb.catalogue[e];
     if (c.scope_only) continue;
@@ -302,13 +310,29 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
       if (!injection_selects(io.entries, c, c.params[j])) continue;
       const double fisher = fisher_limit(d, o, res.family_size, e, c.variants() / 2, j);
       if (!std::isfinite(fisher) || !(fisher > 0)) continue;  // inside the nuisance: no size is ever seen
-      InjectedLimit& L = out[c.name + "@" + c.scope.label()][c.params[j]];
-      L = measure_one(b, o, io, e, j, fisher);
-      if (io.progress)
-        io.progress(c.name + "@" + c.scope.label() + " " + c.params[j] + ": named at " + short_num(L.named.size) + " (" +
-                    std::to_string(L.named.hits) + "/" + std::to_string(L.named.n) + "), detected at " +
-                    short_num(L.detected.size) + " (" + std::to_string(L.detected.hits) + "/" + std::to_string(L.detected.n) +
-                    "), Fisher " + short_num(L.fisher));
+      jobs.push_back({e, j, fisher});
+    }
+  }
+  // Progress: a line before the first parameter, and one per parameter with the time left at
+  // the mean time per parameter so far (the lines go to the caller; no result depends on them).
+  const auto start = std::chrono::steady_clock::now();
+  if (io.progress && !jobs.empty())
+    io.progress(std::to_string(jobs.size()) + " parameter(s) to measure, " + std::to_string(io.ladder_injections) +
+                " injections per ladder size and " + std::to_string(io.injections) + " per check");
+  for (std::size_t k = 0; k < jobs.size(); ++k) {
+    const Job& jb = jobs[k];
+    const Candidate& c = pb.catalogue[jb.e];
+    InjectedLimit& L = out[c.name + "@" + c.scope.label()][c.params[jb.j]];
+    L = measure_one(b, o, io, jb.e, jb.j, jb.fisher);
+    if (io.progress) {
+      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double left = spent / static_cast<double>(k + 1) * static_cast<double>(jobs.size() - k - 1);
+      char clock[128];
+      std::snprintf(clock, sizeof clock, "%zu of %zu, %.0f s, about %.0f s left: ", k + 1, jobs.size(), spent, left);
+      io.progress(clock + c.name + "@" + c.scope.label() + " " + c.params[jb.j] + ": named at " + short_num(L.named.size) +
+                  " (" + std::to_string(L.named.hits) + "/" + std::to_string(L.named.n) + "), detected at " +
+                  short_num(L.detected.size) + " (" + std::to_string(L.detected.hits) + "/" + std::to_string(L.detected.n) +
+                  "), Fisher " + short_num(L.fisher));
     }
   }
   return out;

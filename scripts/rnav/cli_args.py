@@ -34,6 +34,22 @@ def progress(prog, msg):
         log(prog, msg)
 
 
+def doc_help(doc, argv):
+    """For the figure programs, whose help is their docstring: with -h or --help among argv[1:],
+    print the docstring on stdout with its "Usage:" line first, and exit 0. Called before
+    matplotlib is imported, so the help needs neither it nor numpy."""
+    if not any(a in ("-h", "--help") for a in argv[1:]):
+        return
+    lines = doc.strip().splitlines()
+    usage = next((i for i, l in enumerate(lines) if l.lower().startswith("usage:")), None)
+    if usage is not None:
+        head = "Usage: " + lines[usage].split(":", 1)[1].strip()
+        rest = lines[:usage] + lines[usage + 1:]
+        lines = [head, ""] + [l for l in rest]
+    sys.stdout.write("\n".join(lines).rstrip() + "\n")
+    sys.exit(0)
+
+
 def edit_distance(a, b):
     """Fewest insertions, deletions, substitutions and swaps of adjacent characters from a to b."""
     d = [[0] * (len(b) + 1) for _ in range(len(a) + 1)]
