@@ -15,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -530,4 +531,42 @@ TEST_CASE("reference jumps: on the nine Autoferry recordings one track jumps, an
     std::cout << "reference jump of " << J << " m injected into the 17 clean Autoferry tracks: found in " << found[J]
               << " of " << clean * kInjections << "\n";
   CHECK(found[1.25] >= 153);
+}
+
+TEST_CASE("multi association: a reference that ends mid-recording moves no gate beyond what its sensor can be off by",
+          "[multisensor][autoferry][real][input]") {
+  // Autoferry scenario 4 with Havfruen's (target 1's) reference cut at the middle of its span
+  // while its echoes go on: the lidar's first-pass pairs then take those echoes for the Gunnerus,
+  // and their fit moved the lidar's gates by about 40 deg and -60 m (and the report named a 144 m
+  // range bias and an 11.5 deg bearing bias). Such a shift is beyond what a range sensor can be
+  // off by (10 deg, 100 m, 5 s: multi_association.cpp's shift_bounds) and must be refused, named,
+  // and leave the gates on the prediction; with the whole reference no shift is refused.
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
+  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
+  MultiSensorData d = autoferry_to_multi(load_autoferry(data));
+  const AssociationOptions o;
+  std::map<std::string, SensorAssociation> whole;
+  associate(d, o, whole);
+  for (const auto& [sensor, st] : whole) {
+    INFO("whole reference, sensor " << sensor << ": " << st.shift_refused);
+    CHECK(st.shift_refused.empty());
+  }
+  REQUIRE(d.truth.count("1") == 1);
+  std::vector<GeoSample>& ref = d.truth["1"];
+  const double mid = 0.5 * (ref.front().t_s + ref.back().t_s);
+  ref.erase(std::remove_if(ref.begin(), ref.end(), [mid](const GeoSample& s) { return s.t_s > mid; }), ref.end());
+  std::map<std::string, SensorAssociation> cut;
+  associate(d, o, cut);
+  REQUIRE(cut.count("lidar") == 1);
+  const SensorAssociation& lidar = cut.at("lidar");
+  INFO("lidar: " << lidar.shift_refused);
+  CHECK(lidar.shift_refused.find("beyond what a range sensor can be off by") != std::string::npos);
+  CHECK(lidar.gate_shift_bearing_rad == 0);
+  CHECK(lidar.gate_shift_range_m == 0);
+  CHECK(lidar.gate_shift_clock_s == 0);
+  for (const auto& [sensor, st] : cut) {
+    INFO("sensor " << sensor);
+    CHECK(std::abs(st.gate_shift_bearing_rad) <= 15 * M_PI / 180);
+    CHECK(std::abs(st.gate_shift_range_m) <= 100);
+  }
 }

@@ -228,7 +228,44 @@ struct SensorShift {
   bool iterate = false;  // re-estimated from each pass's pairs (across targets, or a fit on pairs applied)
   std::string clock_refused;  // a significant pooled clock left out, and why (clock_disagreement); "" otherwise
   double clock_fitted_s = 0;  // [s] that refused clock's value
+  std::string refused;        // a fitted shift beyond what the sensor can be off by (shift_bounds); "" otherwise
 };
+
+// What a sensor can physically be off by, per kind (the format tells range sensors from
+// bearing-only ones). A fitted gate shift beyond it is refused - the gates stay on the prediction
+// - and named: it comes from pairs that are not the targets' (a reference that ends while the
+// target's echoes go on, taken for another target's; clutter), not from the sensor.
+//   bearing-only sensors (cameras): bearing 15 deg (a camera's mount yaw plus the heading
+//     reference's offset; the largest measured here, Autoferry scenario 5's IR, is 6.1-6.7 deg)
+//   range sensors (radar, lidar): bearing 10 deg (a radar's heading-line alignment, a lidar's
+//     mount yaw), range 100 m (a radar's zero-range delay of 0.67 us; a lidar's is centimetres)
+//   both: clock 5 s (a scan stamped at its start or end, a few seconds' rotation; the largest
+//     measured here is 1.8 s)
+struct ShiftBounds {
+  double bearing_rad, range_m, clock_s;
+  const char* kind;
+};
+ShiftBounds shift_bounds(bool ranged) {
+  if (ranged) return {10 * kDegToRad, 100, 5, "a range sensor"};
+  return {15 * kDegToRad, INFINITY, 5, "a bearing-only sensor"};
+}
+
+// "" when the shifts are within the bounds; else what is beyond them, for the report.
+std::string beyond_bounds(const SensorShift& sh, bool ranged) {
+  const ShiftBounds b = shift_bounds(ranged);
+  if (std::abs(sh.bearing.value) <= b.bearing_rad && std::abs(sh.range.value) <= b.range_m &&
+      std::abs(sh.clock.value) <= b.clock_s)
+    return "";
+  std::ostringstream why;
+  why << "the fitted shift (" << short_num(sh.bearing.value / kDegToRad) << " deg";
+  if (ranged) why << ", " << short_num(sh.range.value) << " m";
+  if (sh.clock.value != 0) why << ", a clock of " << short_num(sh.clock.value) << " s";
+  why << ") is beyond what " << b.kind << " can be off by (" << short_num(b.bearing_rad / kDegToRad) << " deg";
+  if (ranged) why << ", " << short_num(b.range_m) << " m";
+  why << ", " << short_num(b.clock_s) << " s): its pairs are not its targets' (a reference that ends while the target's "
+      << "echoes go on, clutter)";
+  return why.str();
+}
 using Shifts = std::map<std::string, SensorShift>;
 
 // Huber's M-estimate with its scale per group of rows (bearings, ranges): the rows'
@@ -439,6 +476,8 @@ SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bo
       const std::vector<double> mr = target_medians(w, &PairResidual::range_m);
       if (static_cast<int>(mr.size()) >= kMinCommonTargets) sh.range = shift_across_targets(mr);
     }
+    sh.refused = beyond_bounds(sh, w.ranged);
+    if (!sh.refused.empty()) sh.bearing.value = sh.range.value = 0, sh.iterate = false;
     return sh;
   }
   if (static_cast<int>(w.pairs.size()) < o.recentre_min_pairs) return sh;
@@ -453,6 +492,11 @@ SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bo
     }
   }
   sh.iterate = sh.bearing.value != 0 || sh.range.value != 0 || sh.clock.value != 0;
+  sh.refused = beyond_bounds(sh, w.ranged);
+  if (!sh.refused.empty()) {  // refused: the gates stay on the prediction
+    sh.bearing.value = sh.range.value = sh.clock.value = 0;
+    sh.iterate = false;
+  }
   return sh;
 }
 
@@ -730,6 +774,7 @@ void record_shift(SensorAssociation& st, const SensorShift& sh, int wide_pairs) 
   st.gate_shift_clock_se_s = sh.clock.se;
   st.clock_refused = sh.clock_refused;
   st.clock_refused_s = sh.clock_fitted_s;
+  st.shift_refused = sh.refused;
   st.wide_pairs = wide_pairs;
   st.shift_rule = sh.across_targets ? "targets" : "pairs";
   st.shift_targets = sh.targets;
@@ -792,8 +837,9 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       auto it = shift.find(sensor);
       if (it == shift.end() || !it->second.iterate) continue;
       const SensorShift next = sensor_shift(w, o, false);
-      // too few targets left for the rule across them, or too few pairs for a fit: keep the shifts
-      if (next.across_targets != it->second.across_targets || !next.iterate) continue;
+      // too few targets left for the rule across them, too few pairs for a fit, or a shift beyond
+      // the sensor's bounds: keep the shifts
+      if (next.across_targets != it->second.across_targets || !next.iterate || !next.refused.empty()) continue;
       any_moved |= moved(it->second.bearing, next.bearing) || moved(it->second.range, next.range) ||
                    moved(it->second.clock, next.clock);
       it->second = next;

@@ -415,7 +415,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
                            {"gate_shift_range_m", st.gate_shift_range_m}, {"gate_shift_bearing_se_rad", st.gate_shift_bearing_se_rad},
                            {"gate_shift_range_se_m", st.gate_shift_range_se_m}, {"gate_shift_clock_s", st.gate_shift_clock_s},
                            {"gate_shift_clock_se_s", st.gate_shift_clock_se_s}, {"clock_refused", st.clock_refused},
-                           {"clock_refused_s", st.clock_refused_s}, {"shift_rule", st.shift_rule},
+                           {"clock_refused_s", st.clock_refused_s}, {"shift_refused", st.shift_refused}, {"shift_rule", st.shift_rule},
                            {"shift_targets", st.shift_targets}, {"passes", st.passes}, {"rotation_period_s", st.rotation_period_s}};
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
   j["dropped_channels"] = dropped_channels;
@@ -481,6 +481,8 @@ std::string MultiReport::text() const {
           << st.passes << " pass" << (st.passes == 1 ? "" : "es") << ")";
       if (!st.clock_refused.empty())
         o << "; a clock of " << short_num(st.clock_refused_s) << " s on the pooled pairs left out of the gates: " << st.clock_refused;
+    } else if (!st.shift_refused.empty()) {
+      o << ", gates left on the prediction: " << st.shift_refused;
     } else if (st.shift_rule == "targets") {
       o << ", gates centred on the prediction (no common offset over " << st.shift_targets << " targets)";
     }
