@@ -787,6 +787,61 @@ bool moved(const ShiftEstimate& a, const ShiftEstimate& b) {
   return std::abs(a.value - b.value) > kConvergedSe * std::max(b.se, 1e-300);
 }
 
+// A target whose reference covers only part of the detections' span is still there where it
+// does not: its echoes would be taken for another target's or for clutter, and a gate fitted on
+// such pairs moves off (Autoferry scenario 4 with Havfruen's reference cut at mid-span moved the
+// lidar's gates by 40 deg). So every scan inside a stretch some target's reference does not cover
+// (it starts late, ends early, or has a gap beyond reference_max_gap_s), longer than that gap, is
+// left out for every target, and the stretch is named in the report (`reference`). Stretches of
+// the raw reference count (a jump's cut stretch is the reference jump check's; the target was
+// referenced there).
+std::vector<Scan> leave_out_uncovered(std::vector<Scan> scans, const MultiSensorData& data, const AssociationOptions& o,
+                                      std::map<std::string, ReferenceIntegrity>* reference) {
+  double t0 = INFINITY, t1 = -INFINITY;
+  for (const Detection& x : data.detections)
+    if (!x.empty_scan()) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
+  if (!(t1 > t0)) return scans;
+  const double gap = o.reference_max_gap_s;
+  std::map<std::string, std::vector<std::pair<double, double>>> uncovered;
+  for (const auto& [name, v] : data.truth) {
+    std::vector<std::pair<double, double>> u;
+    double covered_to = t0;  // the detections' span is covered up to here
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const double t = v[i].t_s;
+      if (i == 0 ? t - t0 > gap : t - v[i - 1].t_s > gap) {
+        const double from = std::max(t0, i == 0 ? t0 : v[i - 1].t_s), to = std::min(t1, t);
+        if (to - from > gap) u.push_back({from, to});
+      }
+      covered_to = t;
+    }
+    if (v.empty() || t1 - covered_to > gap) u.push_back({v.empty() ? t0 : std::max(t0, covered_to), t1});
+    if (!u.empty()) uncovered[name] = u;
+  }
+  if (uncovered.empty()) return scans;
+  std::vector<Scan> kept;
+  std::map<std::string, std::pair<std::size_t, std::size_t>> left;  // per target: scans, detections
+  for (Scan& sc : scans) {
+    bool out = false;
+    for (const auto& [name, u] : uncovered)
+      for (const auto& [a, b] : u)
+        if (sc.t >= a && sc.t <= b) {
+          out = true;
+          ++left[name].first, left[name].second += sc.rows.size();
+          break;
+        }
+    if (!out) kept.push_back(std::move(sc));
+  }
+  if (reference)
+    for (const auto& [name, u] : uncovered) {
+      ReferenceIntegrity& ri = (*reference)[name];
+      if (ri.jumps.empty()) ri.first_s = data.truth.at(name).empty() ? t0 : data.truth.at(name).front().t_s;
+      ri.uncovered = u;
+      ri.scans_left_out = left[name].first, ri.detections_left_out = left[name].second;
+      ri.detections_from_s = t0, ri.detections_to_s = t1;
+    }
+  return kept;
+}
+
 }  // namespace
 
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
@@ -812,7 +867,7 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
   const Context c{data.detections, o, observer, truth};
   const std::map<std::string, double> rotating = rotating_sensors(data.detections);
-  const std::vector<Scan> scans = make_scans(c, F, rotating);
+  const std::vector<Scan> scans = leave_out_uncovered(make_scans(c, F, rotating), data, o, reference);
 
   check_units(scans, data.detections);
 

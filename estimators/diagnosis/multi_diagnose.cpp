@@ -82,6 +82,18 @@ std::map<std::string, double> scan_periods(const std::vector<const MultiSensorDa
 std::string reference_jumps_text(const std::map<std::string, ReferenceIntegrity>& jumps) {
   std::ostringstream o;
   for (const auto& [key, ri] : jumps) {
+    if (!ri.uncovered.empty()) {
+      o << "  reference " << key << ": does not cover";
+      double span = 0;
+      for (const auto& [a, b] : ri.uncovered) {
+        o << " " << short_num(a - ri.detections_from_s) << "-" << short_num(b - ri.detections_from_s) << " s";
+        span += b - a;
+      }
+      o << " of the detections' " << short_num(ri.detections_to_s - ri.detections_from_s) << " s (times from the first detection): "
+        << ri.scans_left_out << " scans with " << ri.detections_left_out << " detections there left out for every target ("
+        << short_num(span) << " s; the target's echoes there would be taken for another target's or for clutter)\n";
+    }
+    if (ri.jumps.empty()) continue;
     o << "  reference " << key << ": jumps";
     for (const auto& x : ri.jumps)
       o << " " << short_num(x.deviation_m) << " m off its path at t = " << short_num(x.t_s) << " s (" << short_num(x.t_s - ri.first_s)
@@ -104,6 +116,22 @@ nlohmann::ordered_json reference_jumps_json(const std::map<std::string, Referenc
       j.push_back({{"recording", recording}, {"target", target}, {"t_s", x.t_s}, {"deviation_m", x.deviation_m}, {"bound_m", x.bound_m},
                    {"used_from_s", ri.used_from_s}, {"used_to_s", ri.used_to_s}, {"samples", ri.samples},
                    {"samples_used", ri.samples_used}});
+  }
+  return j;
+}
+
+// The references' uncovered stretches as JSON: one object per target with any (recording "" for
+// one recording alone).
+nlohmann::ordered_json reference_coverage_json(const std::map<std::string, ReferenceIntegrity>& refs) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::array();
+  for (const auto& [key, ri] : refs) {
+    if (ri.uncovered.empty()) continue;
+    const std::size_t slash = key.find('/');
+    nlohmann::ordered_json u = nlohmann::ordered_json::array();
+    for (const auto& [a, b] : ri.uncovered) u.push_back({a, b});
+    j.push_back({{"recording", slash == std::string::npos ? "" : key.substr(0, slash)},
+                 {"target", slash == std::string::npos ? key : key.substr(slash + 1)}, {"uncovered_s", u},
+                 {"scans_left_out", ri.scans_left_out}, {"detections_left_out", ri.detections_left_out}});
   }
   return j;
 }
@@ -322,6 +350,7 @@ nlohmann::ordered_json CalibrationReport::to_json() const {
   j["not_applied_findings"] = findings;
   j["not_applied_absent"] = absent;
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
+  j["reference_coverage"] = reference_coverage_json(reference_jumps);
   j["rows"] = nlohmann::ordered_json::array();
   for (const auto& x : rows)
     j["rows"].push_back({{"recording", x.recording}, {"pair", x.pair}, {"n", x.n}, {"nominal_rms", x.nominal_rms},
@@ -418,6 +447,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
                            {"clock_refused_s", st.clock_refused_s}, {"shift_refused", st.shift_refused}, {"shift_rule", st.shift_rule},
                            {"shift_targets", st.shift_targets}, {"passes", st.passes}, {"rotation_period_s", st.rotation_period_s}};
   j["reference_jumps"] = reference_jumps_json(reference_jumps);
+  j["reference_coverage"] = reference_coverage_json(reference_jumps);
   j["dropped_channels"] = dropped_channels;
   const nlohmann::ordered_json core = search_json(problem, result);
   j["effects"] = core["effects"];

@@ -56,6 +56,12 @@ struct ReferenceIntegrity {
   double used_from_s = 0, used_to_s = 0;  ///< [s] the stretch of the reference used (the whole track without jumps)
   std::size_t samples = 0, samples_used = 0;
   double first_s = 0;  ///< [s] the track's first sample (the report gives times from it)
+  /// [s] stretches of the detections' span the reference does not cover (it starts late, ends
+  /// early, or has a gap beyond AssociationOptions::reference_max_gap_s), each longer than that
+  /// gap; every scan inside one is left out for every target (multi_association.hpp)
+  std::vector<std::pair<double, double>> uncovered;
+  std::size_t scans_left_out = 0, detections_left_out = 0;  ///< what those stretches left out, all sensors
+  double detections_from_s = 0, detections_to_s = 0;         ///< [s] the detections' span
 };
 
 /// The jump check of a track (samples in time order, frame F with x north, z east). Throws
