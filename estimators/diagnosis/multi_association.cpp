@@ -238,21 +238,27 @@ struct SensorShift {
 //   bearing-only sensors (cameras): bearing 15 deg (a camera's mount yaw plus the heading
 //     reference's offset; the largest measured here, Autoferry scenario 5's IR, is 6.1-6.7 deg)
 //   range sensors (radar, lidar): bearing 10 deg (a radar's heading-line alignment, a lidar's
-//     mount yaw), range 100 m (a radar's zero-range delay of 0.67 us; a lidar's is centimetres)
+//     mount yaw), range 100 m (a radar's zero-range delay of 0.67 us; a lidar's is centimetres) or
+//     a quarter of the pairs' median range where that is more (a range gain shows in the
+//     constant shift as gain times range; beyond 25 % the unit check refuses the ranges)
 //   both: clock 5 s (a scan stamped at its start or end, a few seconds' rotation; the largest
 //     measured here is 1.8 s)
 struct ShiftBounds {
   double bearing_rad, range_m, clock_s;
   const char* kind;
 };
-ShiftBounds shift_bounds(bool ranged) {
-  if (ranged) return {10 * kDegToRad, 100, 5, "a range sensor"};
+constexpr double kShiftRangeM = 100, kShiftRangeShare = 0.25;
+ShiftBounds shift_bounds(bool ranged, double median_range_m) {
+  if (ranged) return {10 * kDegToRad, std::max(kShiftRangeM, kShiftRangeShare * median_range_m), 5, "a range sensor"};
   return {15 * kDegToRad, INFINITY, 5, "a bearing-only sensor"};
 }
 
 // "" when the shifts are within the bounds; else what is beyond them, for the report.
-std::string beyond_bounds(const SensorShift& sh, bool ranged) {
-  const ShiftBounds b = shift_bounds(ranged);
+std::string beyond_bounds(const SensorShift& sh, const WideResiduals& w) {
+  const bool ranged = w.ranged;
+  std::vector<double> ranges;
+  for (const PairResidual& q : w.pairs) ranges.push_back(q.pred_range_m);
+  const ShiftBounds b = shift_bounds(ranged, ranges.empty() ? 0.0 : median(ranges));
   if (std::abs(sh.bearing.value) <= b.bearing_rad && std::abs(sh.range.value) <= b.range_m &&
       std::abs(sh.clock.value) <= b.clock_s)
     return "";
@@ -476,7 +482,7 @@ SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bo
       const std::vector<double> mr = target_medians(w, &PairResidual::range_m);
       if (static_cast<int>(mr.size()) >= kMinCommonTargets) sh.range = shift_across_targets(mr);
     }
-    sh.refused = beyond_bounds(sh, w.ranged);
+    sh.refused = beyond_bounds(sh, w);
     if (!sh.refused.empty()) sh.bearing.value = sh.range.value = 0, sh.iterate = false;
     return sh;
   }
@@ -492,7 +498,7 @@ SensorShift sensor_shift(const WideResiduals& w, const AssociationOptions& o, bo
     }
   }
   sh.iterate = sh.bearing.value != 0 || sh.range.value != 0 || sh.clock.value != 0;
-  sh.refused = beyond_bounds(sh, w.ranged);
+  sh.refused = beyond_bounds(sh, w);
   if (!sh.refused.empty()) {  // refused: the gates stay on the prediction
     sh.bearing.value = sh.range.value = sh.clock.value = 0;
     sh.iterate = false;

@@ -172,7 +172,8 @@ struct SensorAssociation {
   std::string clock_refused;
   double clock_refused_s = 0;            ///< [s] that clock's pooled value (0 when none refused)
   /// A fitted shift beyond what the sensor's kind can be off by (bearing-only: 15 deg, 5 s; range
-  /// sensors: 10 deg, 100 m, 5 s), refused - the gates stay on the prediction - and why; "" otherwise
+  /// sensors: 10 deg, 100 m or a quarter of the pairs' median range, 5 s), refused - the gates stay
+  /// on the prediction - and why; "" otherwise
   std::string shift_refused;
   int passes = 1;                     ///< association passes run (the last one's pairs are used)
   /// [s] > 0: the sensor stamps each detection at its own time and was read as scans of one
