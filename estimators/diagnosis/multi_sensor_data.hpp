@@ -54,6 +54,12 @@ struct MultiSensorData {
   std::vector<Detection> detections;         ///< file order: per sensor non-decreasing t_s
   std::map<std::string, std::vector<GeoSample>> truth;  ///< per target name, t_s strictly increasing; h_m NaN where unknown; empty without truth.csv
   std::map<std::string, HullSize> hull;  ///< per target name with a targets.csv row; empty without targets.csv
+  /// The detections are a simulation's (sim/scene), held in memory: their units are ours, so the
+  /// association's unit check (a file's ranges or bearings in a wrong unit) is not run on them. A
+  /// simulation's slow wander (a Gauss-Markov error with a correlation time near the recording's
+  /// span) can take a realization's median range 25 % off at close range, which that check would
+  /// refuse as a wrong unit. Not written by write_folder: a folder read back is checked as any.
+  bool simulated = false;
 
   /// The sensor names of `detections`, sorted and distinct.
   std::vector<std::string> sensors() const;

@@ -271,6 +271,18 @@ struct FoundEffect {
 
 struct ChannelNoise {
   NoiseFit fit;                 ///< identified on the final model's residuals (all frames)
+  /// The noise a simulation of this channel draws: identified by maximum likelihood on the
+  /// residuals with the final model's fit subtracted, no trend added and correlation times up to
+  /// four times the series' span, where a correlated part beats the nominal noise by
+  /// use_correlated_lr (else fit) (fit keeps a quadratic trend and tau <= span / 4 so that a slow mean
+  /// effect is not taken for noise; what no named effect explains is error all the same, and a
+  /// simulation without it is too quiet). Its outlier flags are fit's. `drawn_ok` is false where
+  /// the series allowed no such fit (drawn = fit then).
+  NoiseFit drawn;
+  bool drawn_ok = false;
+  /// drawn has a correlated part slower than fit may hold (tau > span / tau_span_divisor) that
+  /// raises its sigma over fit's by more than 10 %: a slow wander no named effect explains.
+  bool slow_wander = false;
   double noise_scale = 1, noise_scale_se = 0;  ///< fitted sigma / nominal sigma
   double log10_p_scale = 0;     ///< adjusted p of noise_scale != 1
   bool scale_named = false, correlated_named = false, outliers_named = false;

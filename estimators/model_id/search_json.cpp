@@ -95,6 +95,15 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
                                        // what a simulation needs to draw the same noise (common/physics/noise_process.hpp)
                                        {"outlier_sd", std::sqrt(n.fit.params.s_out2)},
                                        {"nominal_share", n.fit.params.nom_share}};
+    // what a simulation of the channel draws (ChannelNoise::drawn): the identified noise with the
+    // slow wander no named effect explains (none above when slow_wander is false)
+    if (n.drawn_ok)
+      j["noise"][pb.channels[c].name]["simulated"] = {
+          {"model", n.drawn.params.kind()},
+          {"sigma", std::sqrt(n.drawn.params.s2)},
+          {"tau_s", n.drawn.correlated ? nlohmann::ordered_json(n.drawn.params.tau_s) : nlohmann::ordered_json(nullptr)},
+          {"correlated_share", n.drawn.params.lambda},
+          {"slow_wander", n.slow_wander}};
     // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a
     // reference's interpolation), where the channel has one
     if (pb.channels[c].nominal_corr_sigma > 0) {
@@ -244,6 +253,9 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
       << short_num(u.factor * std::sqrt(n.fit.params.s2)) << " " << u.name << " (" << short_num(n.noise_scale) << "x nominal" << (n.scale_named ? ", named" : "") << ")";
     if (n.fit.correlated) o << ", tau " << short_num(n.fit.params.tau_s) << " +- " << short_num(n.fit.se_tau_s) << " s";
     if (n.outliers_named) o << ", outliers " << short_num(100 * n.fit.params.p_out) << " %";
+    if (n.slow_wander)
+      o << "; slow wander no named effect explains: sigma " << short_num(u.factor * std::sqrt(n.drawn.params.s2)) << " " << u.name
+        << ", tau " << short_num(n.drawn.params.tau_s) << " s (a simulation draws it)";
     o << "\n";
   }
   for (const auto& s : r.scopes) o << "  scope    " << s.question << " -> " << s.supported << "\n";

@@ -39,6 +39,7 @@ struct Args {
   double sigma_deg = 0.5, sigma_range_m = 1.0;
   bool force = false;
   std::string clutter = "replay";
+  std::string noise = "simulated";  ///< each channel's noise from the report: "simulated" or "identified"
   rnav::AssociationOptions assoc;
 };
 
@@ -148,7 +149,7 @@ int validate(const Args& a, const rnav::MultiSensorData& d, const std::string& n
   const double sb = a.sigma_deg * M_PI / 180;
   std::vector<std::pair<std::string, rnav::scene::SceneErrors>> models;
   if (!a.effects.empty()) {
-    const auto ext = rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
+    const auto ext = rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m, a.noise == "simulated");
     models.push_back({"nominal", rnav::nominal_errors(ext.nominal_bearing_sigma_rad, ext.nominal_range_sigma_m)});
     models.push_back({"extended", ext});
   } else {
@@ -232,7 +233,7 @@ int scenario_scene(const Args& a, const std::string& dir, const std::string& nam
 
 int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& name) {
   if (a.effects.empty()) throw rnav::ConfigError("closure: --effects REPORT.json is required (the effects to inject and re-find)");
-  const auto err = rnav::errors_from_report(read_report(a.effects), a.effects, name, a.sigma_deg * M_PI / 180, a.sigma_range_m);
+  const auto err = rnav::errors_from_report(read_report(a.effects), a.effects, name, a.sigma_deg * M_PI / 180, a.sigma_range_m, a.noise == "simulated");
   auto sc = scene_of(a, d, name);
   rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
   rnav::MultiDiagnoseOptions mo;
@@ -316,6 +317,16 @@ int main(int argc, char** argv) {
                    throw rnav::ConfigError("--clutter must be replay or draw, not '" + v + "'" + rnav::did_you_mean(v, {"replay", "draw"}));
                  a.clutter = v;
                })
+        .value("--noise", "simulated|identified",
+               "with --effects, each channel's noise: the report's simulated noise (its identified noise with the slow wander no "
+               "named effect explains), or the identified noise findings alone (fitted with a trend, correlation times up to a "
+               "quarter of the series)",
+               "simulated", [&a](const std::string& v) {
+                 if (v != "simulated" && v != "identified")
+                   throw rnav::ConfigError("--noise must be simulated or identified, not '" + v + "'" +
+                                           rnav::did_you_mean(v, {"simulated", "identified"}));
+                 a.noise = v;
+               })
         .value("--scenario", "FILE",
                "validate and scenario of a landing flight (a folder with site.json): the landing scenario whose radar and navigation "
                "models the flight is replayed on (its site, trajectory and radar timing are the flight's)",
@@ -360,7 +371,7 @@ int main(int argc, char** argv) {
     if (a.out.empty()) throw rnav::ConfigError("simulate: --out DIR is required");
     const double sb = a.sigma_deg * M_PI / 180;
     const auto err = a.effects.empty() ? rnav::nominal_errors(sb, a.sigma_range_m)
-                                       : rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m);
+                                       : rnav::errors_from_report(read_report(a.effects), a.effects, name, sb, a.sigma_range_m, a.noise == "simulated");
     auto sc = scene_of(a, d, name);
     rnav::calibrate_detection(sc, d, err, a.assoc, a.seed);
     const auto det = rnav::scene::simulate(sc, err, a.seed, a.realization);

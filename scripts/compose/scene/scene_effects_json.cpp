@@ -41,7 +41,7 @@ scene::SceneErrors nominal_errors(double sb, double sr) {
 }
 
 scene::SceneErrors errors_from_report(const nlohmann::json& j, const std::string& source, const std::string& recording, double sb,
-                                      double sr) {
+                                      double sr, bool use_simulated) {
   if (!j.is_object() || text_or_empty(j, "kind") != "multi")
     throw ConfigError(source + ": not a multi-sensor diagnosis report (its \"kind\" is not \"multi\")");
   scene::SceneErrors e = nominal_errors(sb, sr);
@@ -103,6 +103,16 @@ scene::SceneErrors errors_from_report(const nlohmann::json& j, const std::string
       p.p_out = number_at(n, "outlier_fraction", where, 0, false);
       const double so = number_at(n, "outlier_sd", where, NAN, p.p_out > 0);
       p.s_out2 = std::isfinite(so) ? so * so : 0;
+      // the noise the report says a simulation draws, where it says (its "simulated" model:
+      // the identified noise with the slow wander no named effect explains)
+      if (use_simulated && n.contains("simulated") && n["simulated"].is_object()) {
+        const auto& m = n["simulated"];
+        const std::string mw = where + ".simulated";
+        const double ms = number_at(m, "sigma", mw, 0, true);
+        p.s2 = ms * ms;
+        p.lambda = number_at(m, "correlated_share", mw, 0, false);
+        p.tau_s = number_at(m, "tau_s", mw, 1, false);
+      }
       p.nom_share = number_at(n, "nominal_share", where, 0, false);
       p.nom_tau_s = number_at(n, "nominal_correlated_tau_s", where, 1, false);
       try {

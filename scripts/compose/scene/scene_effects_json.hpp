@@ -19,9 +19,13 @@ namespace rnav {
 /// nominal sigmas are the report's (each channel's sigma over its noise_scale) where it has
 /// channels of that quantity, else nominal_bearing_sigma_rad / nominal_range_sigma_m. Throws
 /// ConfigError naming source and the entry for a report of another kind, an unknown effect, a
-/// value of the wrong shape, or a recording the pooled report does not hold.
+/// value of the wrong shape, or a recording the pooled report does not hold. Each channel's noise
+/// is the one the report says a simulation draws (its "simulated" model: the identified noise
+/// with the slow wander no named effect explains), or with use_simulated false (or a report
+/// without it) the identified noise findings themselves (fitted with a trend, correlation times
+/// up to a quarter of the series).
 scene::SceneErrors errors_from_report(const nlohmann::json& j, const std::string& source, const std::string& recording,
-                                      double nominal_bearing_sigma_rad, double nominal_range_sigma_m);
+                                      double nominal_bearing_sigma_rad, double nominal_range_sigma_m, bool use_simulated = true);
 
 /// The nominal model: no effect, white noise at the nominal sigmas.
 scene::SceneErrors nominal_errors(double nominal_bearing_sigma_rad, double nominal_range_sigma_m);

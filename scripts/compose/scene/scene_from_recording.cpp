@@ -143,6 +143,7 @@ MultiSensorData recording_of(const MultiSensorData& real, const std::vector<scen
   d.observer_heading_deg = real.observer_heading_deg;
   d.truth = real.truth;
   d.hull = real.hull;
+  d.simulated = true;
   d.detections.reserve(det.size());
   for (const auto& x : det) d.detections.push_back({x.t_s, x.sensor, x.range_m, x.bearing_rad, NAN});
   // file order: per sensor non-decreasing t_s (simulate() gives sensor by sensor, each in time order)

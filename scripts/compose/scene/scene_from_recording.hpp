@@ -47,7 +47,8 @@ void calibrate_detection(scene::RecordedScene& scene, const MultiSensorData& rea
 /// A recording's name from its folder: the folder's own name ("a/b/sc5/" -> "sc5").
 std::string recording_folder_name(const std::string& dir);
 
-/// The simulated detections as a recording: the scene's observer and truth with `det`.
+/// The simulated detections as a recording: the scene's observer and truth with `det`, marked
+/// simulated (MultiSensorData::simulated: the unit check is not run on it).
 MultiSensorData recording_of(const MultiSensorData& real, const std::vector<scene::SceneDetection>& det);
 
 }  // namespace rnav
