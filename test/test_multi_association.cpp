@@ -621,3 +621,46 @@ TEST_CASE("multi diagnosis: a reference that ends mid-recording: the uncovered p
                                         << b->estimate[0] << " +- " << b->stderr_[0]);
   CHECK(std::abs(a->estimate[0] - b->estimate[0]) < 2 * std::hypot(a->stderr_[0], b->stderr_[0]));
 }
+
+TEST_CASE("multi association: references stamped late against the detections are named with the shift",
+          "[multisensor][autoferry][real][input]") {
+  // Autoferry scenario 4 with every reference sample stamped 20 s (and 30 s) late: the lidar's
+  // ranges then miss the geometry (median ratio 0.69) and the unit check refuses the recording.
+  // The error must say that a time shift explains it and give its size. The lidar stamps its
+  // scans late by its own clock (0.76 s in the pooled diagnosis of the nine recordings), so the
+  // shift that aligns its ranges is the stamping minus that clock: each found shift lies within
+  // 1 s of the stamping, and the two differ by the 10 s between them to within 0.2 s (twice the
+  // search's fine step of 0.1 s; the lidar's clock cancels). Stamped 0.7 s late, the check passes.
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
+  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
+  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  auto shifted = [&](double late_s) {
+    MultiSensorData d = whole;
+    for (auto& [name, v] : d.truth)
+      for (GeoSample& g : v) g.t_s += late_s;
+    return d;
+  };
+  const AssociationOptions o;
+  std::map<std::string, SensorAssociation> st;
+  const std::string lead = "a time shift explains it: with truth.csv's times moved by ";
+  auto found_shift = [&](double late_s) {
+    std::string what;
+    try {
+      associate(shifted(late_s), o, st);
+    } catch (const ConfigError& e) {
+      what = e.what();
+    }
+    INFO(what);
+    REQUIRE(what.find("does not match the reference geometry") != std::string::npos);
+    const auto at = what.find(lead);
+    REQUIRE(at != std::string::npos);
+    CHECK(what.find("late against detections.csv") != std::string::npos);
+    return -std::stod(what.substr(at + lead.size()));
+  };
+  const double s20 = found_shift(20), s30 = found_shift(30);
+  INFO("found " << s20 << " s and " << s30 << " s");
+  CHECK(std::abs(s20 - 20) < 1);
+  CHECK(std::abs(s30 - 30) < 1);
+  CHECK(std::abs((s30 - s20) - 10) < 0.2);
+  CHECK_NOTHROW(associate(shifted(0.7), o, st));
+}

@@ -105,6 +105,29 @@ double separation(const Scan& s, const Eigen::Vector2d& da, const Eigen::Vector2
 namespace {
 
 constexpr double kUnitsBearingDeg = 10;  // [deg] a detection compared with the target this near in bearing
+// Per range sensor: per scan and target, the ratio r / |d| nearest 1 of the detections within
+// kUnitsBearingDeg of the target's predicted bearing (clutter at other ranges on its bearing, a
+// shore or a wake, does not count).
+std::map<std::string, std::vector<double>> range_ratios(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
+  std::map<std::string, std::vector<double>> out;
+  for (const Scan& s : scans) {
+    if (s.preds.empty() || s.rows.empty() || !s.ranged) continue;
+    for (const auto& pr : s.preds) {
+      if ((pr.p - s.po).norm() < kMinPredRange) continue;
+      double best = INFINITY, q = 0;
+      for (std::size_t i = 0; i < s.rows.size(); ++i) {
+        const auto k = s.rows[i];
+        const Eigen::Vector2d d = rel(s, i, pr);
+        if (std::abs(wrap_pi(det[k].bearing_rad + s.gamma - bearing_rad(d))) > kUnitsBearingDeg * kDegToRad) continue;
+        const double r = det[k].range_m / d.norm();
+        if (r > 0 && std::abs(std::log(r)) < best) best = std::abs(std::log(r)), q = r;
+      }
+      if (q > 0) out[s.sensor].push_back(q);
+    }
+  }
+  return out;
+}
+
 void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
   struct Acc {
     int bearings = 0, inside = 0, preds_outside = 0, preds = 0;
@@ -122,22 +145,8 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
       ++a.bearings;
       if (std::abs(det[k].bearing_rad) <= kRadiansAsDegreesRad) ++a.inside;
     }
-    if (!s.ranged) continue;
-    // per target: of the detections within kUnitsBearingDeg of its bearing, the ratio nearest 1
-    // (clutter at other ranges on its bearing, a shore or a wake, does not count)
-    for (const auto& pr : s.preds) {
-      if ((pr.p - s.po).norm() < kMinPredRange) continue;
-      double best = INFINITY, q = 0;
-      for (std::size_t i = 0; i < s.rows.size(); ++i) {
-        const auto k = s.rows[i];
-        const Eigen::Vector2d d = rel(s, i, pr);
-        if (std::abs(wrap_pi(det[k].bearing_rad + s.gamma - bearing_rad(d))) > kUnitsBearingDeg * kDegToRad) continue;
-        const double r = det[k].range_m / d.norm();
-        if (r > 0 && std::abs(std::log(r)) < best) best = std::abs(std::log(r)), q = r;
-      }
-      if (q > 0) a.ratio.push_back(q);
-    }
   }
+  for (auto& [sensor, r] : range_ratios(scans, det)) acc[sensor].ratio = std::move(r);
   for (auto& [sensor, a] : acc) {
     if (bearings_look_like_radians(a.bearings, a.inside, a.preds, a.preds_outside))
       throw ConfigError("detections.csv bearing_deg of sensor " + sensor + " looks like radians: all " +
@@ -848,6 +857,74 @@ std::vector<Scan> leave_out_uncovered(std::vector<Scan> scans, const MultiSensor
   return kept;
 }
 
+// The references' time shift that best explains the range sensors' geometry, as a clause for the
+// unit check's error ("" when none does). Shift delta: the references' stamps are delta late,
+// their samples moved to t - delta. Scored by the target scans whose range ratio (range_ratios)
+// lies within kShiftRatioTol of 1, over a grid of delta within +-kShiftSpanShare of the detections'
+// span (at most kShiftSteps steps, at least 1 s), then refined tenfold around the best by the
+// truncated log-ratio cost (Score::cost).
+constexpr double kShiftRatioTol = 0.05, kShiftSpanShare = 0.75;
+constexpr int kShiftSteps = 300;
+std::string reference_time_shift_hint(const MultiSensorData& data, const std::map<std::string, std::vector<GeoSample>>& level,
+                                      const LocalLevelFrame& F, const AssociationOptions& o,
+                                      const std::map<std::string, double>& rotating) {
+  double t0 = INFINITY, t1 = -INFINITY;
+  for (const Detection& x : data.detections)
+    if (!x.empty_scan()) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
+  if (!(t1 > t0)) return "";
+  const PlaneSeries observer(data.observer, F);
+  struct Score {
+    int good = 0, n = 0;
+    double median = 0;
+    double cost = 0;  ///< mean over the target scans of min(|log q|, log(1 + tol)): smooth where good is flat
+  };
+  auto score = [&](double delta) {
+    // the shifted samples outlive the series over them (a PlaneSeries keeps a reference)
+    std::map<std::string, std::vector<GeoSample>> moved = level;
+    std::map<std::string, PlaneSeries> truth;
+    for (auto& [name, w] : moved) {
+      for (GeoSample& g : w) g.t_s -= delta;
+      truth.emplace(name, PlaneSeries(w, F, o.reference_max_gap_s));
+    }
+    const Context c{data.detections, o, observer, truth};
+    Score sc;
+    std::vector<double> all;
+    for (const auto& [sensor, r] : range_ratios(make_scans(c, F, rotating), data.detections))
+      for (double q : r) {
+        all.push_back(q);
+        sc.good += std::abs(q - 1) <= kShiftRatioTol;
+        sc.cost += std::min(std::abs(std::log(q)), std::log1p(kShiftRatioTol));
+      }
+    sc.n = static_cast<int>(all.size());
+    sc.median = all.empty() ? 0 : median(all);
+    sc.cost = all.empty() ? INFINITY : sc.cost / static_cast<double>(all.size());
+    return sc;
+  };
+  const double half = kShiftSpanShare * (t1 - t0), step = std::max(1.0, 2 * half / kShiftSteps);
+  double best = 0;
+  Score best_score = score(0);
+  const Score at_zero = best_score;
+  for (double d = -half; d <= half; d += step) {
+    const Score sc = score(d);
+    if (sc.good > best_score.good) best = d, best_score = sc;
+  }
+  // refined tenfold around the best: within a ratio tolerance the count is flat over a second or
+  // so, the truncated cost is not; among shifts keeping 90 % of the best count, the least cost
+  const Score coarse = best_score;
+  for (double d = best - step; d <= best + step; d += step / 10) {
+    const Score sc = score(d);
+    if (sc.good >= 0.9 * coarse.good && sc.cost < best_score.cost) best = d, best_score = sc;
+  }
+  if (best == 0 || best_score.good < kMinUnitSamples || best_score.good < 2 * at_zero.good ||
+      std::abs(best_score.median - 1) > kShiftRatioTol)
+    return "";
+  return "; a time shift explains it: with truth.csv's times moved by " + short_num(-best) + " s (the references " +
+         short_num(std::abs(best)) + " s " + (best > 0 ? "late" : "early") + " against detections.csv), the range sensors' " +
+         "median ratio is " + short_num(best_score.median) + ", " + std::to_string(best_score.good) + " of " +
+         std::to_string(best_score.n) + " target scans within " + short_num(100 * kShiftRatioTol) + " % of 1 (" +
+         std::to_string(at_zero.good) + " of " + std::to_string(at_zero.n) + " as stamped)";
+}
+
 }  // namespace
 
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
@@ -875,7 +952,14 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   const std::map<std::string, double> rotating = rotating_sensors(data.detections);
   const std::vector<Scan> scans = leave_out_uncovered(make_scans(c, F, rotating), data, o, reference);
 
-  if (!data.simulated) check_units(scans, data.detections);
+  try {
+    if (!data.simulated) check_units(scans, data.detections);
+  } catch (const ConfigError& e) {
+    // A reference late or early against the detections moves every target along its track: the
+    // ranges then miss the geometry though nothing is wrong with them. Say so where a shift of the
+    // references' times makes the range sensors' ratios 1.
+    throw ConfigError(e.what() + reference_time_shift_hint(data, level, F, o, rotating));
+  }
 
   // first pass (recentre_gates): unambiguous pairs inside the wide gates, and each sensor's shifts
   Shifts shift;
