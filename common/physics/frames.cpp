@@ -70,6 +70,10 @@ Eigen::Vector3d LocalLevelFrame::to_ned(const Geodetic& at, const Eigen::Vector3
 }
 
 double wrap_pi(double a) {
+  // Already in (-pi, pi]: remainder would return it unchanged (n = round(a / 2 pi) is 0, the tie
+  // at a = pi rounding to even), so the call is skipped: bit for bit the same, and most angles
+  // wrapped (innovations, residuals) are small.
+  if (a > -M_PI && a <= M_PI) return a;
   a = std::remainder(a, 2 * M_PI);  // in [-pi, pi]
   return a <= -M_PI ? a + 2 * M_PI : a;
 }
