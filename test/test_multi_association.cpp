@@ -664,3 +664,37 @@ TEST_CASE("multi association: references stamped late against the detections are
   CHECK(std::abs((s30 - s20) - 10) < 0.2);
   CHECK_NOTHROW(associate(shifted(0.7), o, st));
 }
+
+TEST_CASE("multi association: references of another place are named as far from the observer, not as a range unit",
+          "[multisensor][autoferry][real][input]") {
+  // Autoferry scenario 4 with the observer's track moved 100 km north (0.9 deg of latitude):
+  // every target's reference lies 100 km away while the radar and lidar see nothing beyond 0.5
+  // km (the diagnosis said only "no detection associated to any target"). The error must say that
+  // the references lie far from the observer, with the nearest target's distance (100 km to
+  // within 5 km: the boats move a few hundred metres about the ferry), and must not name a unit.
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
+  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
+  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  auto moved = [&](double north_deg) {
+    MultiSensorData d = whole;
+    for (GeoSample& g : d.observer) g.g.lat_deg += north_deg;
+    return d;
+  };
+  const AssociationOptions o;
+  std::map<std::string, SensorAssociation> st;
+  std::string what;
+  try {
+    associate(moved(0.9), o, st);
+  } catch (const ConfigError& e) {
+    what = e.what();
+  }
+  INFO(what);
+  CHECK(what.find("looks like") == std::string::npos);
+  const std::string lead = "the references lie far from the observer: the nearest target (";
+  const auto at = what.find(lead);
+  REQUIRE(at != std::string::npos);
+  const auto km_at = what.find(") at a median ", at);
+  REQUIRE(km_at != std::string::npos);
+  const double km = std::stod(what.substr(km_at + std::string(") at a median ").size()));
+  CHECK(std::abs(km - 100) < 5);
+}

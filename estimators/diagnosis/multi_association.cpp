@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -128,7 +129,10 @@ std::map<std::string, std::vector<double>> range_ratios(const std::vector<Scan>&
   return out;
 }
 
-void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
+// explain_mismatch: called where the ranges match no unit, its text appended to the error (what
+// else explains the mismatch: a time shift, references far from the observer; "" for nothing).
+void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& det,
+                 const std::function<std::string()>& explain_mismatch) {
   struct Acc {
     int bearings = 0, inside = 0, preds_outside = 0, preds = 0;
     std::vector<double> ratio;
@@ -159,7 +163,8 @@ void check_units(const std::vector<Scan>& scans, const std::vector<Detection>& d
     throw ConfigError("detections.csv range_m of sensor " + sensor + " " +
                       (unit.empty() ? std::string("does not match the reference geometry") : "looks like " + unit) +
                       ": median ratio to the range of a target on its bearing " + short_num(q) + " over " +
-                      std::to_string(a.ratio.size()) + " target scans (expected 1; a range off by more than 25 % is no sensor effect)");
+                      std::to_string(a.ratio.size()) + " target scans (expected 1; a range off by more than 25 % is no sensor effect)" +
+                      (unit.empty() ? explain_mismatch() : std::string()));
   }
 }
 
@@ -925,6 +930,33 @@ std::string reference_time_shift_hint(const MultiSensorData& data, const std::ma
          std::to_string(at_zero.good) + " of " + std::to_string(at_zero.n) + " as stamped)";
 }
 
+// References far from the observer, as a clause for the unit check's error ("" when they are
+// not): every target's median predicted range over the scans (the nearest target's) beyond
+// kFarRangeFactor times the farthest range any range sensor detects, clutter included (land
+// returns reach a radar's instrumented range). A unit by 1000 or 1852 is named by the unit check
+// before this; a camera may see a boat beyond a short-range lidar, but not twenty times beyond
+// every echo of every range sensor.
+constexpr double kFarRangeFactor = 20;
+std::string reference_distance_hint(const std::vector<Scan>& scans, const std::vector<Detection>& det) {
+  double farthest = 0;
+  for (const Detection& x : det)
+    if (!x.empty_scan() && std::isfinite(x.range_m)) farthest = std::max(farthest, x.range_m);
+  std::map<std::string, std::vector<double>> pred;
+  for (const Scan& s : scans)
+    for (const auto& pr : s.preds) pred[pr.target].push_back((pr.p - s.po).norm());
+  if (!(farthest > 0) || pred.empty()) return "";
+  std::string nearest;
+  double nearest_m = INFINITY;
+  for (auto& [target, r] : pred) {
+    const double m = median(r);
+    if (m < nearest_m) nearest_m = m, nearest = target;
+  }
+  if (!(nearest_m > kFarRangeFactor * farthest)) return "";
+  return "; the references lie far from the observer: the nearest target (" + nearest + ") at a median " +
+         short_num(nearest_m / 1000) + " km, while no range sensor detects anything beyond " + short_num(farthest / 1000) +
+         " km: observer.csv and truth.csv may be of different places, or one file's positions shifted";
+}
+
 }  // namespace
 
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
@@ -952,13 +984,21 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   const std::map<std::string, double> rotating = rotating_sensors(data.detections);
   const std::vector<Scan> scans = leave_out_uncovered(make_scans(c, F, rotating), data, o, reference);
 
-  try {
-    if (!data.simulated) check_units(scans, data.detections);
-  } catch (const ConfigError& e) {
-    // A reference late or early against the detections moves every target along its track: the
-    // ranges then miss the geometry though nothing is wrong with them. Say so where a shift of the
-    // references' times makes the range sensors' ratios 1.
-    throw ConfigError(e.what() + reference_time_shift_hint(data, level, F, o, rotating));
+  // Ranges that match no unit: a reference late or early against the detections moves every
+  // target along its track, and references of another place put every target far from the
+  // observer; the ranges then miss the geometry though nothing is wrong with them. Say which.
+  if (!data.simulated)
+    check_units(scans, data.detections, [&] {
+      const std::string shift = reference_time_shift_hint(data, level, F, o, rotating);
+      return shift.empty() ? reference_distance_hint(scans, data.detections) : shift;
+    });
+  // ... and where too few target scans had a detection near a target's bearing for the unit
+  // check to judge (seen from far away every target lies in one direction), the distance alone
+  if (!data.simulated) {
+    const std::string far = reference_distance_hint(scans, data.detections);
+    if (!far.empty())
+      throw ConfigError("truth.csv and observer.csv: no detection can be associated" + far +
+                        " (the diagnosis would say only that no detection is associated to any target)");
   }
 
   // first pass (recentre_gates): unambiguous pairs inside the wide gates, and each sensor's shifts
