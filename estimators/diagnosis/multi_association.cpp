@@ -807,6 +807,14 @@ bool moved(const ShiftEstimate& a, const ShiftEstimate& b) {
   return std::abs(a.value - b.value) > kConvergedSe * std::max(b.se, 1e-300);
 }
 
+// [s] The first and last time of a detection (empty scans' rows left out); (inf, -inf) for none.
+std::pair<double, double> detections_span(const std::vector<Detection>& det) {
+  double t0 = INFINITY, t1 = -INFINITY;
+  for (const Detection& x : det)
+    if (!x.empty_scan()) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
+  return {t0, t1};
+}
+
 // A target whose reference covers only part of the detections' span is still there where it
 // does not: its echoes would be taken for another target's or for clutter, and a gate fitted on
 // such pairs moves off (Autoferry scenario 4 with Havfruen's reference cut at mid-span moved the
@@ -817,9 +825,7 @@ bool moved(const ShiftEstimate& a, const ShiftEstimate& b) {
 // referenced there).
 std::vector<Scan> leave_out_uncovered(std::vector<Scan> scans, const MultiSensorData& data, const AssociationOptions& o,
                                       std::map<std::string, ReferenceIntegrity>* reference) {
-  double t0 = INFINITY, t1 = -INFINITY;
-  for (const Detection& x : data.detections)
-    if (!x.empty_scan()) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
+  const auto [t0, t1] = detections_span(data.detections);
   if (!(t1 > t0)) return scans;
   const double gap = o.reference_max_gap_s;
   std::map<std::string, std::vector<std::pair<double, double>>> uncovered;
@@ -873,9 +879,7 @@ constexpr int kShiftSteps = 300;
 std::string reference_time_shift_hint(const MultiSensorData& data, const std::map<std::string, std::vector<GeoSample>>& level,
                                       const LocalLevelFrame& F, const AssociationOptions& o,
                                       const std::map<std::string, double>& rotating) {
-  double t0 = INFINITY, t1 = -INFINITY;
-  for (const Detection& x : data.detections)
-    if (!x.empty_scan()) t0 = std::min(t0, x.t_s), t1 = std::max(t1, x.t_s);
+  const auto [t0, t1] = detections_span(data.detections);
   if (!(t1 > t0)) return "";
   const PlaneSeries observer(data.observer, F);
   struct Score {
