@@ -173,6 +173,13 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+// Autoferry scenario 4 as imported (the test fails where the recording is missing).
+MultiSensorData autoferry_scenario4() {
+  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
+  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
+  return autoferry_to_multi(load_autoferry(data));
+}
+
 }  // namespace
 
 TEST_CASE("multi association: bearing biases beyond the gates are associated once the gates are recentred") {
@@ -543,9 +550,7 @@ TEST_CASE("multi association: a gate shift beyond what its sensor can be off by 
   // refused; as recorded, no sensor's shift is refused. (A fit that far off comes from pairs that
   // are not the targets': Havfruen's echoes after her reference was cut at mid-span moved the
   // lidar's gates by 40 deg and -60 m, before the uncovered stretch was left out.)
-  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
-  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
-  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  const MultiSensorData whole = autoferry_scenario4();
   const AssociationOptions o;
   auto turned = [&](double deg) {
     MultiSensorData d = whole;
@@ -582,9 +587,7 @@ TEST_CASE("multi diagnosis: a reference that ends mid-recording: the uncovered p
   // diagnosis of what is left equals, within 2 standard errors, that of the recording cut at the
   // same time (observer, detections and references): the IR camera's bearing bias. Before, the
   // lidar's gates moved by 40 deg and the report named a 41.8 deg lidar bearing bias.
-  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
-  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
-  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  const MultiSensorData whole = autoferry_scenario4();
   const std::vector<GeoSample>& ref = whole.truth.at("1");
   const double mid = 0.5 * (ref.front().t_s + ref.back().t_s);
   MultiSensorData cut = whole, half = whole;
@@ -631,9 +634,7 @@ TEST_CASE("multi association: references stamped late against the detections are
   // shift that aligns its ranges is the stamping minus that clock: each found shift lies within
   // 1 s of the stamping, and the two differ by the 10 s between them to within 0.2 s (twice the
   // search's fine step of 0.1 s; the lidar's clock cancels). Stamped 0.7 s late, the check passes.
-  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
-  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
-  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  const MultiSensorData whole = autoferry_scenario4();
   auto shifted = [&](double late_s) {
     MultiSensorData d = whole;
     for (auto& [name, v] : d.truth)
@@ -672,9 +673,7 @@ TEST_CASE("multi association: references of another place are named as far from 
   // km (the diagnosis said only "no detection associated to any target"). The error must say that
   // the references lie far from the observer, with the nearest target's distance (100 km to
   // within 5 km: the boats move a few hundred metres about the ferry), and must not name a unit.
-  const std::string data = std::string(RNAV_DATA_DIR) + "/autoferry/scenario4";
-  if (!std::filesystem::exists(data)) FAIL("the Autoferry recording is not at " << data);
-  const MultiSensorData whole = autoferry_to_multi(load_autoferry(data));
+  const MultiSensorData whole = autoferry_scenario4();
   auto moved = [&](double north_deg) {
     MultiSensorData d = whole;
     for (GeoSample& g : d.observer) g.g.lat_deg += north_deg;
