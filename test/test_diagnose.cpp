@@ -370,6 +370,34 @@ TEST_CASE("flight-test CSV: bad input names file, line and column", "[diagnose][
   });
   INFO(e);
   CHECK(e.find("site.json radar.lat_deg and site.json radar.lon_deg look swapped") != std::string::npos);
+  // A radar site (and runway) 100 km north of the flight (0.9 deg of latitude): the folder reads,
+  // the diagnosis refuses its ranges and says where the flight lies from the site (about 100 km
+  // against the plots' tens of km), not a unit.
+  {
+    std::ifstream f(d / "site.json");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string orig = ss.str();
+    auto j = nlohmann::json::parse(orig);
+    j["radar"]["lat_deg"] = j["radar"]["lat_deg"].get<double>() + 0.9;
+    j["runway"]["threshold_lat_deg"] = j["runway"]["threshold_lat_deg"].get<double>() + 0.9;
+    std::ofstream(d / "site.json") << j.dump();
+    std::string what;
+    try {
+      diagnose_prl(PrlFlightData::read_folder(d.string()), DiagnoseOptions{});
+    } catch (const ConfigError& x) {
+      what = x.what();
+    }
+    std::ofstream(d / "site.json") << orig;
+    INFO(what);
+    CHECK(what.find("radar.csv range_m does not match the nav solution's geometry") != std::string::npos);
+    const std::string lead = "nav.csv's positions lie a median ";
+    const auto at = what.find(lead);
+    REQUIRE(at != std::string::npos);
+    const double km = std::stod(what.substr(at + lead.size()));
+    CHECK(km > 90);
+    CHECK(what.find("site.json's radar (and runway) may be another place's") != std::string::npos);
+  }
   // Extra columns are ignored.
   std::ofstream(d / "nav_extra.csv") << "t_s,foo,lat_deg,lon_deg,h_m\n0,x,48.1,16.5,200\n";
   const CsvTable t = CsvTable::read((d / "nav_extra.csv").string(), {"t_s", "lat_deg"});

@@ -85,10 +85,20 @@ void check_plot_units(const std::vector<PlotGeometry>& plots, double azimuth_ref
   const double qm = median(q);
   if (!(qm >= 1 / kMaxRangeScale && qm <= kMaxRangeScale)) {
     const std::string u = range_unit_of(qm);
+    // No unit: a radar site of another place puts the flight far from it. A surveyed site is
+    // never kSiteOffM off, nor does a radar effect move the median range that far.
+    std::vector<double> d_pred, d_meas;
+    for (const auto& p : plots) d_pred.push_back(p.range_pred_m), d_meas.push_back(p.range_m);
+    const double mp = median(d_pred), mm = median(d_meas);
+    const std::string site = u.empty() && std::abs(mp - mm) > kSiteOffM
+                                 ? "; nav.csv's positions lie a median " + short_num(mp / 1000) + " km from site.json's radar, radar.csv's "
+                                       "ranges a median " + short_num(mm / 1000) + " km: site.json's radar (and runway) may be another "
+                                       "place's, or its position off"
+                                 : std::string();
     throw ConfigError("radar.csv range_m " + (u.empty() ? std::string("does not match the nav solution's geometry")
                                                         : "looks like " + u) +
                       ": median ratio to the range from nav.csv " + short_num(qm) + n +
-                      " (expected 1; a range off by more than 25 % is no radar effect)");
+                      " (expected 1; a range off by more than 25 % is no radar effect)" + site);
   }
   // An angle column in another unit, from its least-squares slope b against the computed angle:
   // radians (b = pi/180), milliradians (b = 1000 pi/180 = 17.45) or radians converted twice

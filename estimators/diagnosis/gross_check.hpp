@@ -42,6 +42,7 @@ struct PlotGeometry {
 };
 
 constexpr double kMaxRangeScale = 1.25;     ///< a range 25 % off is no radar effect (range_gain is a few 1e-3)
+constexpr double kSiteOffM = 10000;         ///< [m] median ranges this far apart: the radar site is another place's
 constexpr double kMaxAngleOffsetDeg = 20;   ///< [deg] a bias of 20 deg is no radar effect
 constexpr double kMaxSlope = 2;             ///< an angle scaled by 2 or 1/2
 constexpr double kMinSpreadDeg = 0.5;       ///< [deg] the computed angle's spread (sd) a slope needs
