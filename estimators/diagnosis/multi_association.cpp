@@ -991,14 +991,13 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   // Ranges that match no unit: a reference late or early against the detections moves every
   // target along its track, and references of another place put every target far from the
   // observer; the ranges then miss the geometry though nothing is wrong with them. Say which.
-  if (!data.simulated)
+  if (!data.simulated) {
     check_units(scans, data.detections, [&] {
       const std::string shift = reference_time_shift_hint(data, level, F, o, rotating);
       return shift.empty() ? reference_distance_hint(scans, data.detections) : shift;
     });
-  // ... and where too few target scans had a detection near a target's bearing for the unit
-  // check to judge (seen from far away every target lies in one direction), the distance alone
-  if (!data.simulated) {
+    // ... and where too few target scans had a detection near a target's bearing for the unit
+    // check to judge (seen from far away every target lies in one direction), the distance alone
     const std::string far = reference_distance_hint(scans, data.detections);
     if (!far.empty())
       throw ConfigError("truth.csv and observer.csv: no detection can be associated" + far +
