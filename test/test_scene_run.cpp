@@ -13,6 +13,7 @@
 //   - a landing flight's scenario (rnav_scene scenario): run over LCM as in one process, with
 //     its report's range bias.
 #include "estimators/diagnosis/multi_diagnose.hpp"
+#include "scripts/compose/scenario/scene_scenario.hpp"
 #include "test/scene_recording_gen.hpp"
 #include "test/shell.hpp"
 
@@ -256,4 +257,29 @@ TEST_CASE("scene scenario: --out is required, and a landing flight's closure is 
   r = sh(kBin + "/rnav_scene closure " + (d / "flight").string() + " --effects x.json");
   CHECK(r.status == 2);
   CHECK(r.output.find("validate and scenario replay it") != std::string::npos);
+}
+
+TEST_CASE("scene scenario: scene.noise chooses the report's simulated or identified noise, as rnav_scene --noise", "[scene]") {
+  // A report whose radar:1:bearing channel was identified at 0.01 rad and is drawn at 0.03 rad
+  // (its slow wander): a scenario draws the latter by default and the former with
+  // scene.noise=identified (the key rnav_scene scenario --noise writes; it was not written, and
+  // an LCM run drew the simulated noise whatever --noise said).
+  const fs::path d = scratch("scene_scenario_noise");
+  make_scene(d, 0);
+  const nlohmann::json report = {
+      {"kind", "multi"},
+      {"effects", nlohmann::json::array()},
+      {"noise",
+       {{"radar:1:bearing",
+         {{"sigma", 0.01}, {"correlated_share", 0}, {"outlier_fraction", 0}, {"nominal_share", 0},
+          {"simulated", {{"model", "gauss_markov"}, {"sigma", 0.03}, {"tau_s", 50}, {"correlated_share", 0.99}, {"slow_wander", true}}}}}}}};
+  std::ofstream((d / "report.json").string()) << report.dump(1);
+  const std::string scen = (d / "scene.json").string(), rep = "scene.effects_report=" + (d / "report.json").string();
+  auto sigma = [&](const std::vector<std::string>& overrides) {
+    const auto sc = rnav::SceneScenario::load(scen, overrides);
+    return std::sqrt(sc.setup->errors.noise.at("radar:1:bearing").s2);
+  };
+  CHECK(sigma({rep}) == Approx(0.03));
+  CHECK(sigma({rep, "scene.noise=identified"}) == Approx(0.01));
+  CHECK_THROWS_WITH(rnav::SceneScenario::load(scen, {rep, "scene.noise=drawn"}), Catch::Contains("noise"));
 }

@@ -218,7 +218,7 @@ int scenario_scene(const Args& a, const std::string& dir, const std::string& nam
   rnav::prepare_output_dir(a.out, a.force);
   const std::filesystem::path out = std::filesystem::absolute(a.out);
   auto rel = [&out](const std::string& p) { return std::filesystem::absolute(p).lexically_normal().lexically_relative(out).string(); };
-  nlohmann::ordered_json scene = {{"recording", rel(dir)}, {"name", name}, {"clutter", a.clutter},
+  nlohmann::ordered_json scene = {{"recording", rel(dir)}, {"name", name}, {"clutter", a.clutter}, {"noise", a.noise},
                                   {"sigma_bearing_deg", a.sigma_deg}, {"sigma_range_m", a.sigma_range_m},
                                   {"gate_bearing_deg", a.assoc.gate_bearing_deg}, {"gate_position_m", a.assoc.gate_position_m},
                                   {"reference_max_gap_s", a.assoc.reference_max_gap_s}, {"calibration_seed", a.seed}};

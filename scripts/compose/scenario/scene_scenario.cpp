@@ -21,6 +21,7 @@ template <class V> void visit(SceneOptions& o, V& v) {
   v.str("effects_report", o.effects_report);
   v.str("name", o.name);
   v.choice("clutter", o.clutter, {"replay", "draw"});
+  v.choice("noise", o.noise, {"simulated", "identified"});
   v.num("sigma_bearing_deg", o.sigma_bearing_deg, 1e-6, 90);
   v.num("sigma_range_m", o.sigma_range_m, 1e-6, 1e5);
   v.num("gate_bearing_deg", o.gate_bearing_deg, 1e-3, 45);
@@ -80,7 +81,8 @@ SceneScenario SceneScenario::load(const std::string& file, const std::vector<std
     } catch (const nlohmann::json::exception& e) {
       throw ConfigError(file + ": scenario key 'scene.effects_report': " + sc.scene.effects_report + " is not JSON (" + e.what() + ")");
     }
-    setup->errors = errors_from_report(report, sc.scene.effects_report, rec_name, sb, sc.scene.sigma_range_m);
+    setup->errors = errors_from_report(report, sc.scene.effects_report, rec_name, sb, sc.scene.sigma_range_m,
+                                       sc.scene.noise == "simulated");
   }
   setup->scene = scene_from_recording(d, rec_name, assoc);
   for (auto& s : setup->scene.sensors) s.replay_clutter = sc.scene.clutter == "replay";

@@ -32,6 +32,9 @@ struct SceneOptions {
   std::string effects_report;
   std::string name;                 ///< the recording's name (a pooled report's recording scope); "" its folder's name
   std::string clutter = "replay";   ///< "replay": the recording's clutter in its own scans; "draw": Poisson per scan from its returns
+  /// With a report, each channel's noise: "simulated" (the report's drawn noise, slow wander
+  /// included) or "identified" (its identified noise findings alone)
+  std::string noise = "simulated";
   double sigma_bearing_deg = 0.5;   ///< [deg] nominal bearing noise (with a report: the report's), (0, 90]
   double sigma_range_m = 1.0;       ///< [m] nominal range noise (with a report: the report's), (0, 1e5]
   double gate_bearing_deg = 3;      ///< [deg] association gate of bearings (coverage, detection probability, clutter), (0, 45]
