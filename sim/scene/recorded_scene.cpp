@@ -39,6 +39,10 @@ void RecordedScene::check() const {
     for (std::size_t i = 1; i < s.scan_times_s.size(); ++i)
       if (!(s.scan_times_s[i] > s.scan_times_s[i - 1])) throw std::invalid_argument(w + "scan times do not increase at scan " + std::to_string(i));
     if (!(s.scan_period_s > 0)) throw std::invalid_argument(w + "scan_period_s must be > 0");
+    const Rotation& r = s.rotation;
+    if (!(r.period_s >= 0) || !std::isfinite(r.period_s) || (r.direction != 1 && r.direction != -1) || !std::isfinite(r.t0_s) ||
+        !(std::abs(r.b0_rad) <= M_PI))
+      throw std::invalid_argument(w + "rotation out of range (period_s finite and >= 0, direction +1 or -1, t0_s finite, b0_rad in [-pi, pi])");
     const Coverage& c = s.coverage;
     if (!(c.bearing_span_rad > 0 && c.bearing_span_rad <= 2 * M_PI) || !(c.range_lo_m >= 0 && c.range_hi_m > c.range_lo_m))
       throw std::invalid_argument(w + "coverage out of range (span in (0, 2 pi], 0 <= range_lo < range_hi)");

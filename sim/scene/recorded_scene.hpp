@@ -33,6 +33,20 @@ struct ClutterSample {
   double t_s = 0;          ///< [s] its scan's time stamp in the recording
 };
 
+/// A rotating sensor that stamps each detection at its own illumination time (a ship radar whose
+/// stamps hold one detection each; the diagnosis reads it as rotations: rotation_scans.hpp).
+/// Its beam points at
+///   b(t) = b0 + dir 2 pi (t - t0) / P
+/// and a target at bearing beta(t) is lit, in rotation k (t in [t0 + k P, t0 + (k + 1) P)), at
+///   t = t0 + k P + P ((dir (beta(t) - b0)) mod 2 pi) / (2 pi).
+struct Rotation {
+  double period_s = 0;       ///< [s] P, > 0; 0: not rotating (the sensor's scans are its stamps)
+  int direction = 1;         ///< dir: +1 clockwise, -1 counter-clockwise
+  double t0_s = 0;           ///< [s] t0, the start of rotation 0 (the recording's first detection)
+  double b0_rad = 0;         ///< [rad] b0, the beam's bearing at t0, clockwise from north, (-pi, pi]
+  bool rotating() const { return period_s > 0; }
+};
+
 /// A sensor of the scene.
 struct SceneSensor {
   std::string name;                  ///< [a-z0-9_]+
@@ -46,7 +60,10 @@ struct SceneSensor {
   /// a Poisson count per scan at clutter_per_scan, each a return drawn with replacement.
   std::vector<ClutterSample> clutter;
   bool replay_clutter = true;
-  double clutter_per_scan = 0;             ///< mean clutter returns per scan (drawn clutter), >= 0
+  double clutter_per_scan = 0;             ///< mean clutter returns per scan (a rotation if rotating; drawn clutter), >= 0
+  /// Rotating: each rotation between the first and the last scan time is a scan whose returns
+  /// are each stamped at their illumination time, and no empty scans are written.
+  Rotation rotation;
 };
 
 /// The scene: tracks and sensors.

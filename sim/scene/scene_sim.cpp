@@ -5,6 +5,7 @@
 #include "sim/scene/scene_geometry.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -52,6 +53,109 @@ struct Pending {
   LineOfSight los;
 };
 
+// A target's detection in scan (or rotation) order: a uniform per target and scan whatever
+// happens, so that the streams stay aligned; then its probability, its line of sight at t and
+// the sensor's coverage.
+void detect(const RecordedScene& scene, const SceneSensor& s, const std::string& name, const std::vector<GeoSample>& track, double t,
+            double u, std::vector<SceneDetection>& out, std::map<std::string, std::vector<Pending>>& by_target) {
+  const auto pd = s.p_detect.find(name);
+  if (pd == s.p_detect.end() || !(u < pd->second)) return;
+  LineOfSight los;
+  if (!line_of_sight(scene.observer, track, t, scene.reference_max_gap_s, los)) return;
+  if (!s.coverage.covers(los.bearing_rad, los.range_m)) return;
+  by_target[name].push_back({out.size(), los});
+  out.push_back({t, s.name, s.ranged ? los.range_m : NAN, los.bearing_rad, name});
+}
+
+// (x mod 2 pi) in [0, 2 pi)
+double mod_2pi(double x) {
+  const double m = std::fmod(x, 2 * M_PI);
+  return m < 0 ? m + 2 * M_PI : m;
+}
+
+// The time within [start, start + P) at which a rotating beam lights bearing b:
+//   t = start + P ((dir (b - b0)) mod 2 pi) / (2 pi)   (recorded_scene.hpp's Rotation; start = t0 + k P)
+double lit_at(const Rotation& r, double start_s, double bearing_rad) {
+  return start_s + r.period_s * mod_2pi(r.direction * (bearing_rad - r.b0_rad)) / (2 * M_PI);
+}
+
+// The time a moving target is lit in the rotation starting at start_s: the fixed point of
+// t = lit_at(beta(t)), from the rotation's middle. The beam turns far faster than any bearing
+// (a ship radar's 2.5 s period is 144 deg/s), so each step shrinks the error by that ratio and
+// kLitIterations steps leave far less than kLitToleranceS. A target at the rotation's cut has no
+// fixed point in it (the steps jump between its ends): it is lit in the neighbouring rotation,
+// and not in this one. False then, or without a line of sight.
+constexpr int kLitIterations = 6;
+constexpr double kLitToleranceS = 1e-6;
+bool target_lit(const RecordedScene& scene, const Rotation& r, const std::vector<GeoSample>& track, double start_s, double& t) {
+  t = start_s + 0.5 * r.period_s;
+  LineOfSight los;
+  for (int i = 0; i < kLitIterations; ++i) {
+    if (!line_of_sight(scene.observer, track, t, scene.reference_max_gap_s, los)) return false;
+    const double next = lit_at(r, start_s, los.bearing_rad);
+    const bool converged = std::abs(next - t) < kLitToleranceS;
+    t = next;
+    if (converged) return true;
+  }
+  return false;
+}
+
+// A sensor's scans at their stamps: target detections, clutter (replayed or drawn), an empty
+// scan where nothing is in it.
+void stamped_scans(const RecordedScene& scene, const SceneSensor& s, std::mt19937_64& rng, std::vector<SceneDetection>& out,
+                   std::map<std::string, std::vector<Pending>>& by_target) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::poisson_distribution<int> clutter_count(s.clutter_per_scan > 0 ? s.clutter_per_scan : 1.0);
+  std::size_t next_clutter = 0;  // replayed clutter: the first not yet passed
+  for (double t : s.scan_times_s) {
+    const std::size_t before = out.size();
+    for (const auto& [name, track] : scene.targets) detect(scene, s, name, track, t, U(rng), out, by_target);
+    if (s.replay_clutter) {  // the recording's own returns of this scan
+      for (; next_clutter < s.clutter.size() && s.clutter[next_clutter].t_s <= t; ++next_clutter) {
+        if (s.clutter[next_clutter].t_s < t) continue;  // a return between scans: none here
+        out.push_back({t, s.name, s.ranged ? s.clutter[next_clutter].range_m : NAN, s.clutter[next_clutter].bearing_rad, ""});
+      }
+    } else {
+      const int n_clutter = s.clutter_per_scan > 0 ? clutter_count(rng) : 0;
+      for (int k = 0; k < n_clutter; ++k) {
+        const auto i = std::min(static_cast<std::size_t>(U(rng) * static_cast<double>(s.clutter.size())), s.clutter.size() - 1);
+        out.push_back({t, s.name, s.ranged ? s.clutter[i].range_m : NAN, s.clutter[i].bearing_rad, ""});
+      }
+    }
+    if (out.size() == before) out.push_back({t, s.name, NAN, NAN, ""});  // an empty scan keeps the scan count
+  }
+}
+
+// A rotating sensor's rotations from its first to its last recorded stamp: each target lit at
+// its own time (kept inside the recorded span), clutter replayed at its recorded stamps or
+// drawn per rotation and lit at its bearing. No empty scans (such a sensor writes none).
+void rotations(const RecordedScene& scene, const SceneSensor& s, std::mt19937_64& rng, std::vector<SceneDetection>& out,
+               std::map<std::string, std::vector<Pending>>& by_target) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::poisson_distribution<int> clutter_count(s.clutter_per_scan > 0 ? s.clutter_per_scan : 1.0);
+  const Rotation& r = s.rotation;
+  const double first = s.scan_times_s.front(), last = s.scan_times_s.back();
+  const long n_rot = static_cast<long>(std::floor((last - r.t0_s) / r.period_s)) + 1;
+  for (long k = 0; k < n_rot; ++k) {
+    const double start = r.t0_s + static_cast<double>(k) * r.period_s;
+    for (const auto& [name, track] : scene.targets) {
+      const double u = U(rng);
+      double t = 0;
+      if (!target_lit(scene, r, track, start, t) || t < first || t > last) continue;
+      detect(scene, s, name, track, t, u, out, by_target);
+    }
+    if (s.replay_clutter) continue;
+    const int n_clutter = s.clutter_per_scan > 0 ? clutter_count(rng) : 0;
+    for (int c = 0; c < n_clutter; ++c) {
+      const auto i = std::min(static_cast<std::size_t>(U(rng) * static_cast<double>(s.clutter.size())), s.clutter.size() - 1);
+      const double t = lit_at(r, start, s.clutter[i].bearing_rad);
+      if (t >= first && t <= last) out.push_back({t, s.name, s.ranged ? s.clutter[i].range_m : NAN, s.clutter[i].bearing_rad, ""});
+    }
+  }
+  if (s.replay_clutter)
+    for (const ClutterSample& c : s.clutter) out.push_back({c.t_s, s.name, s.ranged ? c.range_m : NAN, c.bearing_rad, ""});
+}
+
 }  // namespace
 
 std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErrors& errors, std::uint64_t seed,
@@ -61,40 +165,12 @@ std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErro
   std::vector<SceneDetection> out;
   for (const SceneSensor& s : scene.sensors) {
     std::mt19937_64 rng = stream(seed, realization, 1, s.name);
-    std::uniform_real_distribution<double> U(0.0, 1.0);
-    std::poisson_distribution<int> clutter_count(s.clutter_per_scan > 0 ? s.clutter_per_scan : 1.0);
     std::map<std::string, std::vector<Pending>> by_target;  // detections awaiting their channel's noise
-    std::size_t next_clutter = 0;                            // replayed clutter: the first not yet passed
-    for (double t : s.scan_times_s) {
-      bool any = false;
-      for (const auto& [name, track] : scene.targets) {
-        // one uniform per target and scan whatever happens, so that the streams stay aligned
-        const double u = U(rng);
-        const auto pd = s.p_detect.find(name);
-        if (pd == s.p_detect.end() || !(u < pd->second)) continue;
-        LineOfSight los;
-        if (!line_of_sight(scene.observer, track, t, scene.reference_max_gap_s, los)) continue;
-        if (!s.coverage.covers(los.bearing_rad, los.range_m)) continue;
-        by_target[name].push_back({out.size(), los});
-        out.push_back({t, s.name, s.ranged ? los.range_m : NAN, los.bearing_rad, name});
-        any = true;
-      }
-      if (s.replay_clutter) {  // the recording's own returns of this scan
-        for (; next_clutter < s.clutter.size() && s.clutter[next_clutter].t_s <= t; ++next_clutter) {
-          if (s.clutter[next_clutter].t_s < t) continue;  // a return between scans: none here
-          out.push_back({t, s.name, s.ranged ? s.clutter[next_clutter].range_m : NAN, s.clutter[next_clutter].bearing_rad, ""});
-          any = true;
-        }
-      } else {
-        const int n_clutter = s.clutter_per_scan > 0 ? clutter_count(rng) : 0;
-        for (int k = 0; k < n_clutter; ++k) {
-          const auto i = std::min(static_cast<std::size_t>(U(rng) * static_cast<double>(s.clutter.size())), s.clutter.size() - 1);
-          out.push_back({t, s.name, s.ranged ? s.clutter[i].range_m : NAN, s.clutter[i].bearing_rad, ""});
-          any = true;
-        }
-      }
-      if (!any) out.push_back({t, s.name, NAN, NAN, ""});  // an empty scan keeps the scan count
-    }
+    const std::size_t sensor_begin = out.size();
+    if (s.rotation.rotating())
+      rotations(scene, s, rng, out, by_target);
+    else
+      stamped_scans(scene, s, rng, out, by_target);
     // each channel: y = h + sum c theta + noise, the noise drawn over the channel's own times
     for (const auto& [name, list] : by_target) {
       for (const bool is_range : {false, true}) {
@@ -115,6 +191,10 @@ std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErro
         }
       }
     }
+    // a rotating sensor's returns in time order (each rotation's targets and clutter interleave)
+    if (s.rotation.rotating())
+      std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(sensor_begin), out.end(),
+                       [](const SceneDetection& a, const SceneDetection& b) { return a.t_s < b.t_s; });
   }
   return out;
 }

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "common/physics/frames.hpp"
+#include "estimators/diagnosis/rotation_scans.hpp"
 #include "sim/scene/scene_geometry.hpp"
 
 #include <algorithm>
@@ -57,6 +58,51 @@ bool near_a_target(const MultiSensorData& data, const Detection& d, const Associ
   return false;
 }
 
+// A sensor the association read as rotations of period P (it stamps each detection at its own
+// time): its direction (rotation_scans.hpp) and its beam, b(t) = b0 + dir w (t - t0), t0 its
+// first detection, fitted to every detection (clutter included: the same beam lights it). A
+// period off by 1e-4 turns the beam 13 deg off over 900 s, so the phase and the rate are fitted
+// together: from b0 the circular mean of b_i - dir w (t_i - t0) over the first kPhaseRotations
+// rotations and w = 2 pi / P, each pass regresses
+//   e_i = wrap(b_i - b(t_i)) = db0 + dir dw (t_i - t0)
+// by least squares on the detections within kBeamTrimDeg of the beam (an echo stamped late, a
+// merge) and moves b0 and w by its solution; kBeamPasses passes.
+constexpr int kPhaseRotations = 10;
+constexpr int kBeamPasses = 3;
+constexpr double kBeamTrimDeg = 5;
+scene::Rotation rotation_of(const std::vector<Detection>& det, const std::string& sensor, double period_s) {
+  scene::Rotation r;
+  std::vector<double> t, b;
+  for (const auto& d : det)
+    if (d.sensor == sensor && !d.empty_scan()) t.push_back(d.t_s), b.push_back(d.bearing_rad);
+  const RotationEstimate e = rotation_period(t, b);
+  if (t.empty() || e.direction == 0) return r;  // not rotating after all: scans as stamped
+  r.direction = e.direction;
+  r.t0_s = t.front();
+  double w = 2 * M_PI / period_s, c = 0, sn = 0;
+  for (std::size_t i = 0; i < t.size() && t[i] - r.t0_s < kPhaseRotations * period_s; ++i) {
+    const double phi = b[i] - r.direction * w * (t[i] - r.t0_s);
+    c += std::cos(phi), sn += std::sin(phi);
+  }
+  double b0 = std::atan2(sn, c);
+  for (int pass = 0; pass < kBeamPasses; ++pass) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d y = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const double dt = t[i] - r.t0_s, ei = wrap_pi(b[i] - b0 - r.direction * w * dt);
+      if (std::abs(ei) > kBeamTrimDeg * M_PI / 180) continue;
+      const Eigen::Vector2d x(1.0, r.direction * dt);
+      A += x * x.transpose(), y += x * ei;
+    }
+    if (A.determinant() <= 0) break;
+    const Eigen::Vector2d s = A.ldlt().solve(y);
+    b0 += s(0), w += s(1);
+  }
+  r.period_s = 2 * M_PI / w;
+  r.b0_rad = wrap_pi(b0);
+  return r;
+}
+
 }  // namespace
 
 scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std::string& name, const AssociationOptions& o) {
@@ -94,6 +140,10 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
       ss.scan_period_s = dt[dt.size() / 2];
     }
     if (!(ss.scan_period_s > 0)) ss.scan_period_s = 1;
+    if (stats[s].rotation_period_s > 0) {
+      ss.rotation = rotation_of(data.detections, s, stats[s].rotation_period_s);
+      if (ss.rotation.rotating()) ss.scan_period_s = ss.rotation.period_s;
+    }
     ss.coverage = arc_of(bearings, kCoverageMarginDeg * M_PI / 180);
     auto& rr = assoc_range[s];
     if (!rr.empty()) {
@@ -102,7 +152,9 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
       ss.coverage.range_lo_m = std::max(0.0, *lo - w);
       ss.coverage.range_hi_m = std::max(*hi + w, ss.coverage.range_lo_m + 1);
     }
-    ss.clutter_per_scan = static_cast<double>(ss.clutter.size()) / static_cast<double>(ss.scan_times_s.size());
+    const double scans = ss.rotation.rotating() ? std::floor((ss.scan_times_s.back() - ss.rotation.t0_s) / ss.rotation.period_s) + 1
+                                                : static_cast<double>(ss.scan_times_s.size());
+    ss.clutter_per_scan = static_cast<double>(ss.clutter.size()) / scans;
     for (const auto& [t, track] : data.truth) ss.p_detect[t] = 1.0;  // calibrate_detection sets them
     sc.sensors.push_back(std::move(ss));
   }
