@@ -177,6 +177,53 @@ TEST_CASE("scene errors: a report's effects and noise are read, and a bad report
   CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("not a multi-sensor diagnosis report"));
 }
 
+TEST_CASE("scene errors: the targets' offsets of a report are drawn once per target and realization, not for a target its own effect explains") {
+  nlohmann::json j = {{"kind", "multi"},
+                      {"effects", nlohmann::json::array()},
+                      {"offsets",
+                       {{"radar:range", {{"unit", "m"}, {"mean", 10.0}, {"sd", 5.0}, {"explained", {"radar:2:range"}}}}}}};
+  const auto e = errors_from_report(j, "r.json", "rec", 0.3 * kDegToRad, 2);
+  REQUIRE(e.offsets.count("radar:range"));
+  CHECK(e.offsets.at("radar:range").explained == std::set<std::string>{"radar:2:range"});
+  // with the identified noise (use_simulated false) no offset is drawn: that noise is fitted
+  // with a trend, not about each channel's own mean
+  CHECK(errors_from_report(j, "r.json", "rec", 0.3 * kDegToRad, 2, false).offsets.empty());
+  auto bad = j;
+  bad["offsets"]["radar:range"]["sd"] = -1.0;
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("radar:range") && Catch::Contains("sd >= 0"));
+  bad = j;
+  bad["offsets"]["radar:range"].erase("mean");
+  CHECK_THROWS_WITH(errors_from_report(bad, "r.json", "rec", 0.1, 1), Catch::Contains("offsets \"radar:range\"") && Catch::Contains("'mean'"));
+  // Drawn: boat 1's range residual mean (raw, against its line of sight) over kRuns realizations
+  // has mean 10 and sd 5 (each realization's own noise adds 2 m / sqrt(~110) = 0.2 m to the sd:
+  // sqrt(25 + 0.04)); its mean lies within 3 SE (5 / sqrt(kRuns)) of 10, its sd within 3 SE
+  // (5 / sqrt(2 kRuns)) of 5. Boat 2's, explained, draws none: its mean per realization is the
+  // noise's alone (sd about 0.2 m): within 3 x 0.2 m of 0, and its sd below 0.5 m (a drawn
+  // offset would make it 5 m).
+  const MultiSensorData d = recording(5, 0.0);
+  scene::RecordedScene sc = scene_from_recording(d, "rec", assoc());
+  const int kRuns = 200;
+  std::vector<double> m1, m2;
+  for (int k = 0; k < kRuns; ++k) {
+    std::map<std::string, std::vector<double>> raw;
+    for (const auto& x : scene::simulate(sc, e, 11, static_cast<std::uint64_t>(k))) {
+      scene::LineOfSight los;
+      if (x.sensor != "radar" || x.target.empty() ||
+          !scene::line_of_sight(sc.observer, sc.targets.at(x.target), x.t_s, sc.reference_max_gap_s, los))
+        continue;
+      raw[x.target].push_back(x.range_m - los.range_m);
+    }
+    m1.push_back(residual_stats(raw["1"]).mean);
+    m2.push_back(residual_stats(raw["2"]).mean);
+  }
+  const auto s1 = residual_stats(m1), s2 = residual_stats(m2);
+  INFO("boat 1: mean " << s1.mean << " sd " << s1.sd << "; boat 2: mean " << s2.mean << " sd " << s2.sd);
+  CHECK(std::abs(s1.mean - 10) < 3 * 5 / std::sqrt(kRuns));
+  CHECK(std::abs(s1.sd - 5) < 3 * 5 / std::sqrt(2.0 * kRuns));
+  CHECK(std::abs(s2.mean) < 3 * 0.2);
+  CHECK(s2.sd < 0.5);
+}
+
 TEST_CASE("scene validation: a hidden radar bias diagnosed, simulated, and the recording inside the band only with it") {
   const MultiSensorData d = recording(3, kRadarBiasRad);
   MultiDiagnoseOptions mo;

@@ -469,7 +469,7 @@ nlohmann::ordered_json MultiReport::to_json() const {
   j["gain_window"] = recordings.empty() ? "fit on t < " + short_num(split_time_s) + " s, scored on t >= " + short_num(split_time_s) + " s"
                                         : "fit on the first " + short_num(100 * split_fraction) + " % of each recording, scored on the rest";
   j["gain_effects"] = result.holdout_effects;
-  for (const char* k : {"noise", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "refused", "familywise"}) j[k] = core[k];
+  for (const char* k : {"noise", "offsets", "series_gain", "gain_fit", "limits_method", "detection_limits", "naming_limits", "fisher_limits", "injected_limits", "separation_limits", "scope_support", "unexplained", "refused", "familywise"}) j[k] = core[k];
   j["target_model"] = target_notes;
   j["scan_period_s"] = scan_period_s;
   j["carry"] = carry_json(carry);

@@ -177,9 +177,11 @@ void add_recording(const std::vector<RecordingDetections>& recs, int r, const Mu
     const std::string base = prefix + x.sensor + ":" + x.target;
     by_channel[base + ":bearing"].push_back({i, false});
     channel_of[base + ":bearing"] = {base + ":bearing", x.sensor, x.target, "rad", sb};
+    channel_of[base + ":bearing"].offset_group = prefix + x.sensor + ":bearing";
     if (x.has_range) {
       by_channel[base + ":range"].push_back({i, true});
       channel_of[base + ":range"] = {base + ":range", x.sensor, x.target, "m", sr};
+      channel_of[base + ":range"].offset_group = prefix + x.sensor + ":range";
     }
   }
   mp.bearing_obs.emplace_back(a.size(), -1);

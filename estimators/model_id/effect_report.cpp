@@ -2,6 +2,8 @@
 #include "estimators/model_id/entry_tests.hpp"
 #include "estimators/model_id/replication.hpp"
 
+#include "estimators/model_id/drawn_noise.hpp"
+#include "estimators/model_id/offset_groups.hpp"
 #include "estimators/model_id/parallel_for.hpp"
 #include "estimators/model_id/stats.hpp"
 
@@ -209,47 +211,6 @@ void detection_limits(const Design& d, const SearchOptions& o, double m, SearchR
   }
 }
 
-// The noise a simulation draws per channel (ChannelNoise::drawn): the residual under the final
-// model, e = y - N beta_N - C beta_C (res.nuisance_fit + res.effect_fit), identified by maximum
-// likelihood with no fixed effect (they are subtracted) and tau up to four spans (a shorter cap
-// takes a wander as slow as the series for a faster, smaller one: test_model_id measures it), the
-// outlier flags of the channel's fit kept; the identified noise where no correlated part beats
-// the nominal one by use_correlated_lr. Channels alone, o.threads at once (the same result whatever the
-// scheduling).
-void drawn_noise(const Design& d, const SearchOptions& o, SearchResult& res) {
-  parallel_for(res.noise.size(), std::max(1, o.threads), [&](std::size_t ch) {
-    ChannelNoise& cn = res.noise[ch];
-    cn.drawn = cn.fit;
-    NoiseIdOptions nc = channel_options(*d.pb, ch, o.noise);
-    nc.profile_ml = true;
-    nc.tau_span_divisor = 0.25;
-    Eigen::VectorXd e = channel_y(d, ch);
-    for (std::size_t r = 0; r < d.rows[ch].size(); ++r) {
-      const auto i = static_cast<Eigen::Index>(d.rows[ch][r]);
-      e(static_cast<Eigen::Index>(r)) -= res.nuisance_fit(i) + res.effect_fit(i);
-    }
-    try {
-      const NoiseFit f = identify_noise(d.times[ch], d.gains[ch], e, Eigen::MatrixXd(), nc, &cn.fit.outlier);
-      cn.drawn_ok = true;
-      // a correlated part only where the data support it by Akaike's 2 per parameter (as the
-      // identified noise whitens), else the identified noise stands
-      if (!(2 * (f.loglik_correlated - f.loglik_nominal) > o.noise.use_correlated_lr)) return;
-      cn.drawn.params.s2 = f.params.s2;
-      cn.drawn.params.lambda = f.params.lambda;
-      cn.drawn.params.tau_s = f.params.tau_s;
-      cn.drawn.correlated = f.correlated;
-      cn.drawn.loglik_ml = f.loglik_ml;
-    } catch (const DegenerateSeries&) {
-      return;  // no spread left: the channel's fit stands
-    }
-    const auto& t = d.times[ch];
-    const double span = t.back() - t.front();
-    cn.slow_wander = cn.drawn.correlated && cn.drawn.params.lambda > 0 &&
-                     cn.drawn.params.tau_s > span / o.noise.tau_span_divisor &&
-                     cn.drawn.params.s2 > 1.21 * cn.fit.params.s2;
-  });
-}
-
 // The noise findings per channel (res.noise): its scale against the nominal and its correlation.
 void noise_findings(const Design& d, const SearchOptions& o, const std::vector<NoiseFit>& fits, double m,
                     SearchResult& res) {
@@ -421,6 +382,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
 
   // ---- noise findings per channel ----
   noise_findings(d, o, fits, m, res);
+  offset_groups(d, o, chosen, res);
 
   if (o.score_holdout) out_of_sample(d, o, res);
   name_outliers(d, o, chosen, m, res);

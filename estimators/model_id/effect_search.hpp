@@ -65,6 +65,10 @@ struct Channel {
   /// component a gain per observation (its projection changes along the geometry).
   double nominal_corr_sigma = 0;
   double nominal_corr_tau_s = 0;
+  /// Channels of one group ("" none) are one quantity of one sensor on different targets: the
+  /// constant offsets no named effect explains on them (a hull's echo point, an antenna on the
+  /// hull) are taken as a random effect across the targets (SearchResult::offsets). E.g. "radar:range".
+  std::string offset_group{};
   double nominal_var() const { return nominal_sigma * nominal_sigma + nominal_corr_sigma * nominal_corr_sigma; }
   /// The nominal correlated component's share of nominal_var(), capped at 0.999 (noise_model.hpp's mu).
   double nominal_share() const { return std::min(0.999, nominal_corr_sigma * nominal_corr_sigma / nominal_var()); }
@@ -280,6 +284,10 @@ struct ChannelNoise {
   /// the series allowed no such fit (drawn = fit then).
   NoiseFit drawn;
   bool drawn_ok = false;
+  /// The channel's offset group (Channel::offset_group) when its offset is drawn from the
+  /// group's random effect (SearchResult::offsets; drawn is then identified about the
+  /// channel's own mean); "" otherwise.
+  std::string offset_group;
   /// drawn has a correlated part slower than fit may hold (tau > span / tau_span_divisor) that
   /// raises its sigma over fit's by more than 10 %: a slow wander no named effect explains.
   bool slow_wander = false;
@@ -292,6 +300,24 @@ struct ChannelNoise {
   /// best (what the outlier count test counts; the flagged count when no set was needed)
   int outliers_beyond_set = 0;
 };
+
+/// The constant offsets no named effect explains on the channels of one offset group (a sensor's
+/// quantity on many targets), as a random effect: channel i's residual mean under the final
+/// model, m_i (GLS under its drawn noise, identified about that mean) with variance v_i, is
+///   m_i = mu + u_i + e_i,  u_i ~ N(0, tau^2),  e_i ~ N(0, v_i),
+/// mu and tau^2 by DerSimonian and Laird. A simulation draws one u per target. Channels whose
+/// offset a named effect of their own target explains (a non-shape entry that touches some but
+/// not all of the group's channels) are left out of it and listed.
+struct OffsetGroup {
+  std::string group, unit;
+  int targets = 0;                    ///< channels in the random effect (>= kMinOffsetTargets)
+  double mean = 0, mean_se = 0;       ///< [unit] mu and its SE
+  double sd = 0;                      ///< [unit] tau, >= 0
+  double q = 0;                       ///< Cochran's Q of the m_i (targets - 1 dof under tau = 0)
+  std::vector<std::string> channels;  ///< in the random effect
+  std::vector<std::string> explained; ///< left out: a named effect of their own explains their offset
+};
+inline constexpr int kMinOffsetTargets = 5;  ///< fewer targets: no spread across them to estimate
 
 struct SeriesGain {
   int n = 0;                                       ///< scored frames
@@ -340,6 +366,7 @@ struct SearchResult {
   std::vector<FoundEffect> effects;
   std::vector<RefusedEffect> refused;           ///< refused as explanations (physical bounds), in the order found
   std::vector<ChannelNoise> noise;              ///< per channel
+  std::vector<OffsetGroup> offsets;             ///< per offset group with kMinOffsetTargets channels
   Eigen::VectorXd nuisance_fit, effect_fit;     ///< per observation, full-data fit (the extended model's two parts)
   Eigen::VectorXd nominal_fit;                  ///< per observation, the nominal model (nuisance alone) fitted to all data
   Eigen::VectorXd nuisance_beta, nuisance_se;  ///< the nuisance's estimate and SE (full data)

@@ -103,7 +103,10 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
           {"sigma", std::sqrt(n.drawn.params.s2)},
           {"tau_s", n.drawn.correlated ? nlohmann::ordered_json(n.drawn.params.tau_s) : nlohmann::ordered_json(nullptr)},
           {"correlated_share", n.drawn.params.lambda},
-          {"slow_wander", n.slow_wander}};
+          {"slow_wander", n.slow_wander},
+          // where set, the channel's offset is drawn from this group of "offsets" and the noise
+          // above is identified about the channel's own mean
+          {"offset_group", n.offset_group.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(n.offset_group)}};
     // the nominal model's own correlated component (Channel::nominal_corr_sigma: a nav error, a
     // reference's interpolation), where the channel has one
     if (pb.channels[c].nominal_corr_sigma > 0) {
@@ -111,6 +114,12 @@ nlohmann::ordered_json search_json(const Problem& pb, const SearchResult& r) {
       j["noise"][pb.channels[c].name]["nominal_correlated_tau_s"] = pb.channels[c].nominal_corr_tau_s;
     }
   }
+  // the offsets no named effect explains, a random effect across each group's targets
+  // (OffsetGroup), in the channels' units
+  j["offsets"] = nlohmann::ordered_json::object();
+  for (const auto& g : r.offsets)
+    j["offsets"][g.group] = {{"unit", g.unit},        {"mean", g.mean}, {"mean_se", g.mean_se}, {"sd", g.sd},
+                             {"targets", g.targets}, {"q", g.q},       {"channels", g.channels}, {"explained", g.explained}};
   j["series_gain"] = nlohmann::ordered_json::object();
   for (std::size_t c = 0; c < r.gain.size(); ++c) {
     const auto& g = r.gain[c];
@@ -256,6 +265,15 @@ std::string search_text(const Problem& pb, const SearchResult& r) {
     if (n.slow_wander)
       o << "; slow wander no named effect explains: sigma " << short_num(u.factor * std::sqrt(n.drawn.params.s2)) << " " << u.name
         << ", tau " << short_num(n.drawn.params.tau_s) << " s (a simulation draws it)";
+    o << "\n";
+  }
+  for (const auto& g : r.offsets) {
+    const ShownUnit u = shown_unit(g.unit);
+    o << "  offsets  " << g.group << ": the targets' own offsets no named effect explains, across " << g.targets
+      << " targets: mean " << short_num(u.factor * g.mean) << " +- " << short_num(u.factor * g.mean_se) << " " << u.name
+      << ", spread (sd) " << short_num(u.factor * g.sd) << " " << u.name << " (Cochran's Q " << short_num(g.q) << " on "
+      << g.targets - 1 << " dof); a simulation draws one per target";
+    if (!g.explained.empty()) o << " (" << g.explained.size() << " explained by their own effects: not drawn)";
     o << "\n";
   }
   for (const auto& s : r.scopes) o << "  scope    " << s.question << " -> " << s.supported << "\n";

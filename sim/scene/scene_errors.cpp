@@ -45,6 +45,9 @@ void SceneErrors::check() const {
       if (!std::isfinite(x)) throw std::invalid_argument("scene errors: effect '" + e.name + "' has a non-finite parameter");
     if (!std::isfinite(e.scan_value)) throw std::invalid_argument("scene errors: effect '" + e.name + "' has a non-finite scanned value");
   }
+  for (const auto& [key, o] : offsets)
+    if (!std::isfinite(o.mean) || !std::isfinite(o.sd) || !(o.sd >= 0))
+      throw std::invalid_argument("scene errors: the target offsets of " + key + " need a finite mean and a finite sd >= 0");
   for (const auto& [name, p] : noise) {
     try {
       check_noise_params(p);

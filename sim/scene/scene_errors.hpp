@@ -8,6 +8,7 @@
 #include "common/physics/noise_process.hpp"
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,20 @@ struct InjectedEffect {
   double scan_value = 0;       ///< a scanned entry's value (bias_step: time [s]; scan_time_offset: sweep end [deg])
 };
 
+/// The offsets no named effect explains on one sensor's quantity, a random effect across its
+/// targets (the diagnosis's OffsetGroup): each channel of the sensor's quantity draws, once per
+/// realization, a constant offset u ~ N(mean, sd^2), except the channels listed as explained (a
+/// named effect of their own target stands for their offset).
+struct TargetOffsets {
+  double mean = 0;  ///< [rad or m] finite
+  double sd = 0;    ///< [rad or m] finite, >= 0
+  std::set<std::string> explained;  ///< channels ("sensor:target:quantity") that draw none
+};
+
 struct SceneErrors {
   std::vector<InjectedEffect> effects;
+  /// Per "sensor:bearing" or "sensor:range": the targets' offsets (none: no offset drawn).
+  std::map<std::string, TargetOffsets> offsets;
   /// Per channel "sensor:target:bearing" or "sensor:target:range": its noise; a channel without
   /// an entry takes the nominal white noise below.
   std::map<std::string, NoiseParams> noise;

@@ -47,6 +47,18 @@ double effects_at(const SceneErrors& errors, const multi_effect::Geometry& g, co
   return y;
 }
 
+// Channel ch's constant offset in this realization: u ~ N(mean, sd^2) of its sensor's quantity
+// (SceneErrors::offsets), 0 where there is none or a named effect of its own stands for it.
+// Its own stream (kind 3), so that the noise streams stay those of a scene without offsets.
+double target_offset(const SceneErrors& errors, const std::string& sensor, const std::string& ch, bool is_range, std::uint64_t seed,
+                     std::uint64_t realization) {
+  const auto it = errors.offsets.find(sensor + (is_range ? ":range" : ":bearing"));
+  if (it == errors.offsets.end() || it->second.explained.count(ch)) return 0;
+  std::mt19937_64 rng = stream(seed, realization, 3, ch);
+  std::normal_distribution<double> N(0.0, 1.0);
+  return it->second.mean + it->second.sd * N(rng);
+}
+
 // A target's detection before its channel noise: the index into the output and its geometry.
 struct Pending {
   std::size_t row;
@@ -180,10 +192,11 @@ std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErro
         for (const auto& p : list) times.push_back(out[p.row].t_s);
         std::mt19937_64 nrng = stream(seed, realization, 2, ch);
         const Eigen::VectorXd noise = sample_noise(times, {}, errors.channel_noise(ch, is_range), nrng);
+        const double offset = target_offset(errors, s.name, ch, is_range, seed, realization);
         for (std::size_t k = 0; k < list.size(); ++k) {
           SceneDetection& d = out[list[k].row];
           const multi_effect::Geometry g = effect_geometry(list[k].los, is_range, d.t_s, scene.min_speed_mps);
-          const double dy = effects_at(errors, g, s.name, name, s.scan_period_s) + noise(static_cast<Eigen::Index>(k));
+          const double dy = effects_at(errors, g, s.name, name, s.scan_period_s) + offset + noise(static_cast<Eigen::Index>(k));
           if (is_range)
             d.range_m = std::max(d.range_m + dy, 0.0);
           else

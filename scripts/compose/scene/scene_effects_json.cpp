@@ -130,6 +130,35 @@ scene::SceneErrors errors_from_report(const nlohmann::json& j, const std::string
     }
     if (pooled && !found) throw ConfigError(source + ": the pooled report holds no channel of recording '" + recording + "'");
   }
+  // the targets' offsets no named effect explains: this recording's groups ("REC/sensor:quantity"
+  // pooled, "sensor:quantity" alone), drawn with the simulated noise (identified about each
+  // channel's mean), not with the identified one
+  const auto offsets = j.find("offsets");
+  if (use_simulated && offsets != j.end() && offsets->is_object()) {
+    for (const auto& kv : offsets->items()) {
+      std::string key = kv.key();
+      const auto slash = key.find('/');
+      if (slash != std::string::npos) {
+        if (key.substr(0, slash) != recording) continue;
+        key = key.substr(slash + 1);
+      }
+      const std::string where = source + ": offsets \"" + kv.key() + "\"";
+      scene::TargetOffsets to;
+      to.mean = number_at(kv.value(), "mean", where, 0, true);
+      to.sd = number_at(kv.value(), "sd", where, 0, true);
+      if (kv.value().contains("explained")) {
+        if (!kv.value()["explained"].is_array()) throw ConfigError(where + ": 'explained' is not a list");
+        for (const auto& c : kv.value()["explained"]) {
+          if (!c.is_string()) throw ConfigError(where + ": 'explained' holds a value that is not a channel name");
+          std::string ch = c.get<std::string>();
+          const auto cs = ch.find('/');
+          if (cs != std::string::npos) ch = ch.substr(cs + 1);
+          to.explained.insert(ch);
+        }
+      }
+      e.offsets[key] = to;
+    }
+  }
   try {
     e.check();
   } catch (const std::invalid_argument& x) {

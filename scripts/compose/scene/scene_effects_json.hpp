@@ -21,9 +21,10 @@ namespace rnav {
 /// ConfigError naming source and the entry for a report of another kind, an unknown effect, a
 /// value of the wrong shape, or a recording the pooled report does not hold. Each channel's noise
 /// is the one the report says a simulation draws (its "simulated" model: the identified noise
-/// with the slow wander no named effect explains), or with use_simulated false (or a report
-/// without it) the identified noise findings themselves (fitted with a trend, correlation times
-/// up to a quarter of the series).
+/// with the slow wander no named effect explains), and each sensor's targets draw the offsets
+/// no named effect explains (its "offsets": a random effect across the targets); or with
+/// use_simulated false (or a report without them) the identified noise findings themselves
+/// (fitted with a trend, correlation times up to a quarter of the series) and no offsets.
 scene::SceneErrors errors_from_report(const nlohmann::json& j, const std::string& source, const std::string& recording,
                                       double nominal_bearing_sigma_rad, double nominal_range_sigma_m, bool use_simulated = true);
 
