@@ -118,6 +118,15 @@ TEST_CASE("noise model: the innovations form is generalised least squares") {
 }
 
 namespace {
+// The mean and the sample sd (n - 1) of x.
+std::pair<double, double> mean_and_sd(const std::vector<double>& x) {
+  double m = 0, s = 0;
+  for (double v : x) m += v;
+  m /= static_cast<double>(x.size());
+  for (double v : x) s += (v - m) * (v - m);
+  return std::make_pair(m, std::sqrt(s / static_cast<double>(x.size() - 1)));
+}
+
 // One radar-like channel over 200 s with irregular frames and a gap: y = effects + noise.
 // The range channel's nuisance (a range bias) and two catalogue entries: the physical
 // range_gain (column: the range) and the scanned bias_step (41 times, 20 ... 180 s).
@@ -992,16 +1001,9 @@ TEST_CASE("effect search: the noise a simulation draws keeps the slow wander the
       }
     }
   }
-  const auto mean_sd = [](const std::vector<double>& x) {
-    double m = 0, s = 0;
-    for (double v : x) m += v;
-    m /= static_cast<double>(x.size());
-    for (double v : x) s += (v - m) * (v - m);
-    return std::make_pair(m, std::sqrt(s / static_cast<double>(x.size() - 1)));
-  };
-  const auto [m_m2, sd_m2] = mean_sd(mean2_drawn);
-  const auto [m_v, sd_v] = mean_sd(spread_drawn);
-  const auto [m_fit, sd_fit] = mean_sd(mean2_fit);
+  const auto [m_m2, sd_m2] = mean_and_sd(mean2_drawn);
+  const auto [m_v, sd_v] = mean_and_sd(spread_drawn);
+  const auto [m_fit, sd_fit] = mean_and_sd(mean2_fit);
   INFO("E mean^2, drawn / true: " << m_m2 << " (sd " << sd_m2 << "); E spread^2, drawn / true: " << m_v << " (sd " << sd_v
                                   << "); E mean^2, identified / true: " << m_fit << "; wander flagged in " << flagged_wander
                                   << " of " << kSeries << " wandering and " << flagged_white << " of " << kSeries << " white series");
@@ -1069,15 +1071,8 @@ TEST_CASE("effect search: the offsets no named effect explains are a random effe
     }
     CHECK(r.noise[0].offset_group.empty());
   }
-  const auto mean_sd = [](const std::vector<double>& x) {
-    double m = 0, s = 0;
-    for (double v : x) m += v;
-    m /= static_cast<double>(x.size());
-    for (double v : x) s += (v - m) * (v - m);
-    return std::make_pair(m, std::sqrt(s / static_cast<double>(x.size() - 1)));
-  };
-  const auto [m_mu, sd_mu] = mean_sd(mu_hat);
-  const auto [m_t2, sd_t2] = mean_sd(tau2_hat);
+  const auto [m_mu, sd_mu] = mean_and_sd(mu_hat);
+  const auto [m_t2, sd_t2] = mean_and_sd(tau2_hat);
   INFO("mu: " << m_mu << " (sd " << sd_mu << "); tau^2: " << m_t2 << " (sd " << sd_t2 << "); drawn sigma " << drawn_sd / drawn_n);
   CHECK(left_out == kProblems);
   CHECK(grouped == kProblems);
