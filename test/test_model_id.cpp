@@ -1014,7 +1014,7 @@ TEST_CASE("effect search: the noise a simulation draws keeps the slow wander the
   CHECK(flagged_white <= 3);
 }
 
-TEST_CASE("effect search: the offsets no named effect explains are a random effect across a group's targets; a target's own effect leaves it out",
+TEST_CASE("effect search: the offsets no named effect explains are a random effect across a group's targets, and a target's own effect leaves it out",
           "[model_id]") {
   // Each problem: kTargets range channels of one radar (one offset group), 100 frames over 200 s
   // each with white noise 5 m, each channel's constant offset u_k ~ N(mu, tau^2), mu = -20 m,
