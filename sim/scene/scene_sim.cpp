@@ -4,8 +4,8 @@
 #include "common/physics/multi_effect_columns.hpp"
 #include "sim/scene/scene_geometry.hpp"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 #include <stdexcept>

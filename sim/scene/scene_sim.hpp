@@ -2,9 +2,12 @@
 // in the sensor's coverage is detected with its probability, at its true range and bearing plus
 // the effects' columns times their values plus its channel's noise; clutter returns drawn from
 // the recording's own (Poisson count per scan, places with replacement); a scan with nothing in
-// it is kept as an empty scan (the scan count is the recording's).
+// it is kept as an empty scan (the scan count is the recording's). A rotating sensor that stamps
+// each return at its own time (recorded_scene.hpp's Rotation) is simulated by rotations
+// instead: each target at the time the beam lights it, no empty scans.
 //   y = h(truth(t)) + sum_e c_e(geometry) theta_e + n_channel(t)
-// Random streams: one per sensor (detections and clutter) and one per channel (noise), each
+// Random streams: one per sensor (detections and clutter), one per channel (noise) and one per
+// channel for its target offset (SceneErrors::offsets), each
 // seeded by (seed, realization, name) only, so that the same seed gives the same detections
 // whatever else the scene holds.
 #pragma once
@@ -28,7 +31,7 @@ struct SceneDetection {
 };
 
 /// Simulated detections in sensor order, then time order, each scan's target detections (in
-/// target name order) before its clutter. Throws std::invalid_argument for an invalid scene or
+/// target name order) before its clutter (a rotating sensor's: in time order alone). Throws std::invalid_argument for an invalid scene or
 /// errors.
 std::vector<SceneDetection> simulate(const RecordedScene& scene, const SceneErrors& errors, std::uint64_t seed,
                                      std::uint64_t realization);
