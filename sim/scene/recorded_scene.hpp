@@ -8,6 +8,7 @@
 
 #include "common/physics/frames.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -45,6 +46,9 @@ struct Rotation {
   double t0_s = 0;           ///< [s] t0, the start of rotation 0 (the recording's first detection)
   double b0_rad = 0;         ///< [rad] b0, the beam's bearing at t0, clockwise from north, (-pi, pi]
   bool rotating() const { return period_s > 0; }
+  /// The rotations k = 0, 1, ... that start at or before last_s: floor((last_s - t0) / P) + 1
+  /// (rotating only).
+  long rotations_until(double last_s) const { return static_cast<long>(std::floor((last_s - t0_s) / period_s)) + 1; }
 };
 
 /// A sensor of the scene.

@@ -147,7 +147,7 @@ void rotations(const RecordedScene& scene, const SceneSensor& s, std::mt19937_64
   std::poisson_distribution<int> clutter_count(s.clutter_per_scan > 0 ? s.clutter_per_scan : 1.0);
   const Rotation& r = s.rotation;
   const double first = s.scan_times_s.front(), last = s.scan_times_s.back();
-  const long n_rot = static_cast<long>(std::floor((last - r.t0_s) / r.period_s)) + 1;
+  const long n_rot = r.rotations_until(last);
   for (long k = 0; k < n_rot; ++k) {
     const double start = r.t0_s + static_cast<double>(k) * r.period_s;
     for (const auto& [name, track] : scene.targets) {

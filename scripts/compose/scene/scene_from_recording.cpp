@@ -152,7 +152,7 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
       ss.coverage.range_lo_m = std::max(0.0, *lo - w);
       ss.coverage.range_hi_m = std::max(*hi + w, ss.coverage.range_lo_m + 1);
     }
-    const double scans = ss.rotation.rotating() ? std::floor((ss.scan_times_s.back() - ss.rotation.t0_s) / ss.rotation.period_s) + 1
+    const double scans = ss.rotation.rotating() ? static_cast<double>(ss.rotation.rotations_until(ss.scan_times_s.back()))
                                                 : static_cast<double>(ss.scan_times_s.size());
     ss.clutter_per_scan = static_cast<double>(ss.clutter.size()) / scans;
     for (const auto& [t, track] : data.truth) ss.p_detect[t] = 1.0;  // calibrate_detection sets them
