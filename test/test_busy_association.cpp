@@ -192,6 +192,7 @@ TEST_CASE("busy association: per-detection stamps pass the unit check and associ
   REQUIRE_NOTHROW(a = associate(sc.data, gates(), st));
   const SensorAssociation& r = st.at("radar");
   CHECK(r.rotation_period_s == Approx(kPeriodS).epsilon(0.005));
+  CHECK(r.rotation_direction == 1);  // the beam turns clockwise (make)
   // one scan per rotation: 236 rotations of 2.5 s in [5, 595]
   CHECK(r.scans == Approx((kLastS - kFirstS) / kPeriodS).margin(2));
   // each associated detection's geometry is taken at its own time

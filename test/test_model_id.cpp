@@ -38,6 +38,24 @@ TEST_CASE("stats: reference values") {
   CHECK(poisson_upper_tail(3, 1.0) == Approx(1 - std::exp(-1.0) * 2.5).epsilon(1e-12));
 }
 
+TEST_CASE("stats: DerSimonian-Laird pooling against values worked by hand") {
+  // b = (0, 1, 3), v = (1, 0.5, 2): w = (1, 2, 0.5), m_w = 3.5 / 3.5 = 1, Q = 1 + 0 + 0.5 * 4 = 3,
+  // tau^2 = (3 - 2) / (3.5 - 5.25 / 3.5) = 0.5, w* = (1/1.5, 1, 1/2.5): sum 31/15, mean 2.2 / (31/15)
+  const RandomEffects r = dersimonian_laird({0, 1, 3}, {1, 0.5, 2});
+  CHECK(r.fixed_mean == Approx(1).epsilon(1e-14));
+  CHECK(r.q == Approx(3).epsilon(1e-14));
+  CHECK(r.tau2 == Approx(0.5).epsilon(1e-14));
+  CHECK(r.sum_w == Approx(31.0 / 15).epsilon(1e-14));
+  CHECK(r.mean == Approx(33.0 / 31).epsilon(1e-14));
+  // Q below its degrees of freedom: no between-estimate variance, the fixed-effect mean
+  const RandomEffects h = dersimonian_laird({1, 1.1, 0.9}, {1, 1, 1});
+  CHECK(h.tau2 == 0);
+  CHECK(h.mean == Approx(1).epsilon(1e-14));
+  CHECK_THROWS_AS(dersimonian_laird({1}, {1}), std::invalid_argument);
+  CHECK_THROWS_AS(dersimonian_laird({1, 2}, {1, 0}), std::invalid_argument);
+  CHECK_THROWS_AS(dersimonian_laird({1, 2}, {1, std::nan("")}), std::invalid_argument);
+}
+
 TEST_CASE("noise model: whitened columns are the same, bit for bit, however many are whitened together") {
   // whiten() runs its columns through the filter several at a time (interleaved recursions); each
   // column's arithmetic must be what it is alone: 1 to 9 columns, a skipped frame, a gain.

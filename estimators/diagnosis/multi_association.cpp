@@ -556,7 +556,7 @@ void set_geometry(const Context& c, const LocalLevelFrame& F, Scan& s) {
 // Per sensor: the rotation period if it stamps (nearly) every detection at a time of its own
 // and its detections follow one rotating beam (rotation_scans.hpp); absent otherwise.
 constexpr double kOwnStampFraction = 0.9;  // at least this share of its stamps hold one detection
-std::map<std::string, double> rotating_sensors(const std::vector<Detection>& det) {
+std::map<std::string, RotationEstimate> rotating_sensors(const std::vector<Detection>& det) {
   struct Rows {
     std::vector<double> t, b;
     int stamps = 0, single = 0, in_stamp = 0;
@@ -576,18 +576,18 @@ std::map<std::string, double> rotating_sensors(const std::vector<Detection>& det
     r.t.push_back(x.t_s);
     r.b.push_back(x.bearing_rad);
   }
-  std::map<std::string, double> out;
+  std::map<std::string, RotationEstimate> out;
   for (auto& [sensor, r] : by) {
     r.single += r.in_stamp == 1;
     if (!r.ranged || r.stamps < kMinRotationDetections || r.single < kOwnStampFraction * r.stamps) continue;
     const RotationEstimate e = rotation_period(r.t, r.b);
-    if (e.period_s > 0) out[sensor] = e.period_s;
+    if (e.period_s > 0) out[sensor] = e;
   }
   return out;
 }
 
 // The scans of det, each with the observer and the targets' predictions at its time (frame F).
-std::vector<Scan> make_scans(const Context& c, const LocalLevelFrame& F, const std::map<std::string, double>& rotating) {
+std::vector<Scan> make_scans(const Context& c, const LocalLevelFrame& F, const std::map<std::string, RotationEstimate>& rotating) {
   const auto& det = c.det;
   std::vector<Scan> scans;
   // scans: consecutive rows of one sensor with one t_s (sensors may interleave between scans)
@@ -610,7 +610,8 @@ std::vector<Scan> make_scans(const Context& c, const LocalLevelFrame& F, const s
   }
   if (rotating.empty()) return scans;
   // a rotating sensor's rotations: k = floor((t - t_first) / P), each a scan at its middle
-  for (const auto& [sensor, P] : rotating) {
+  for (const auto& [sensor, e] : rotating) {
+    const double P = e.period_s;
     std::map<long, Scan> rot;
     double t_first = NAN;
     for (std::size_t k = 0; k < det.size(); ++k) {
@@ -878,7 +879,7 @@ constexpr double kShiftRatioTol = 0.05, kShiftSpanShare = 0.75;
 constexpr int kShiftSteps = 300;
 std::string reference_time_shift_hint(const MultiSensorData& data, const std::map<std::string, std::vector<GeoSample>>& level,
                                       const LocalLevelFrame& F, const AssociationOptions& o,
-                                      const std::map<std::string, double>& rotating) {
+                                      const std::map<std::string, RotationEstimate>& rotating) {
   const auto [t0, t1] = detections_span(data.detections);
   if (!(t1 > t0)) return "";
   const PlaneSeries observer(data.observer, F);
@@ -985,7 +986,7 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
   }
   for (const auto& [name, v] : level) truth.emplace(name, PlaneSeries(v, F, o.reference_max_gap_s));
   const Context c{data.detections, o, observer, truth};
-  const std::map<std::string, double> rotating = rotating_sensors(data.detections);
+  const std::map<std::string, RotationEstimate> rotating = rotating_sensors(data.detections);
   const std::vector<Scan> scans = leave_out_uncovered(make_scans(c, F, rotating), data, o, reference);
 
   // Ranges that match no unit: a reference late or early against the detections moves every
@@ -1038,7 +1039,10 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     ++passes;
   }
   for (auto& [sensor, x] : st) {
-    if (rotating.count(sensor)) x.rotation_period_s = rotating.at(sensor);
+    if (rotating.count(sensor)) {
+      x.rotation_period_s = rotating.at(sensor).period_s;
+      x.rotation_direction = rotating.at(sensor).direction;
+    }
     const auto it = shift.find(sensor);
     if (it != shift.end()) record_shift(x, it->second, wide_pairs[sensor]);
     x.passes = it != shift.end() && it->second.iterate ? passes : 1;

@@ -179,6 +179,7 @@ struct SensorAssociation {
   /// [s] > 0: the sensor stamps each detection at its own time and was read as scans of one
   /// rotation of this period each (rotation_scans.hpp); 0: scans as stamped
   double rotation_period_s = 0;
+  int rotation_direction = 0;  ///< with a rotation period: +1 clockwise, -1 counter-clockwise; 0 otherwise
 };
 
 /// Associate every scan; stats per sensor; with `reference`, the jump check of each target whose

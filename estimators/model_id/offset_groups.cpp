@@ -3,6 +3,7 @@
 #include "estimators/model_id/drawn_noise.hpp"
 #include "estimators/model_id/noise_model.hpp"
 #include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -62,7 +63,7 @@ ChannelMean channel_mean(const Design& d, const SearchOptions& o, std::size_t c,
   if (!(ww > 0)) return out;
   out.m = M.col(0).dot(M.col(1)) / ww;
   out.v = 1 / ww;
-  out.ok = std::isfinite(out.m) && std::isfinite(out.v);
+  out.ok = std::isfinite(out.m) && std::isfinite(out.v) && out.v > 0;
   return out;
 }
 
@@ -96,32 +97,18 @@ void offset_groups(const Design& d, const SearchOptions& o, const Chosen& chosen
     for (std::size_t k = 0; k < members.size(); ++k)
       if (cm[k].ok) used.push_back(k);
     if (used.size() < static_cast<std::size_t>(kMinOffsetTargets)) continue;
-    // DerSimonian-Laird: w_i = 1 / v_i, Q = sum w_i (m_i - m_w)^2,
-    //   tau^2 = max(0, (Q - (k - 1)) / (sum w - sum w^2 / sum w)),
-    //   mu = sum w*_i m_i / sum w*_i, w*_i = 1 / (v_i + tau^2), SE(mu) = (sum w*)^-1/2
-    double sw = 0, sw2 = 0, swm = 0;
-    for (std::size_t k : used) {
-      const double w = 1 / cm[k].v;
-      sw += w, sw2 += w * w, swm += w * cm[k].m;
-    }
-    const double mw = swm / sw;
-    double Q = 0;
-    for (std::size_t k : used) Q += (cm[k].m - mw) * (cm[k].m - mw) / cm[k].v;
-    const double kk = static_cast<double>(used.size());
-    const double tau2 = std::max(0.0, (Q - (kk - 1)) / (sw - sw2 / sw));
-    double sws = 0, swsm = 0;
-    for (std::size_t k : used) {
-      const double w = 1 / (cm[k].v + tau2);
-      sws += w, swsm += w * cm[k].m;
-    }
+    // DerSimonian-Laird over the targets' means; SE(mu) = (sum w*)^-1/2
+    std::vector<double> means, vars;
+    for (std::size_t k : used) means.push_back(cm[k].m), vars.push_back(cm[k].v);
+    const RandomEffects re = dersimonian_laird(means, vars);
     OffsetGroup og;
     og.group = g;
     og.unit = p.channels[members[used.front()]].unit;
     og.targets = static_cast<int>(used.size());
-    og.mean = swsm / sws;
-    og.mean_se = std::sqrt(1 / sws);
-    og.sd = std::sqrt(tau2);
-    og.q = Q;
+    og.mean = re.mean;
+    og.mean_se = std::sqrt(1 / re.sum_w);
+    og.sd = std::sqrt(re.tau2);
+    og.q = re.q;
     for (std::size_t k : used) {
       const std::size_t c = members[k];
       og.channels.push_back(p.channels[c].name);

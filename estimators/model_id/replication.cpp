@@ -61,21 +61,26 @@ Replication replication(const Design& d, const Chosen& chosen, std::size_t s) {
   const double nu = static_cast<double>(R - 1);
   double min_p = 1, min_q = 1;
   for (Eigen::Index j = 0; j < k; ++j) {
-    // DerSimonian-Laird: w_r = 1 / se_r^2, Q = sum w_r (b_r - b_FE)^2,
-    //   tau^2 = max(0, (Q - (R - 1)) / (sum w - sum w^2 / sum w))
-    const Eigen::VectorXd w = se.col(j).array().square().inverse();
-    const double sw = w.sum(), b_fe = w.dot(b.col(j)) / sw;
-    const double Q = (w.array() * (b.col(j).array() - b_fe).square()).sum();
-    min_q = std::min(min_q, chi2_sf(Q, nu));
-    const double tau2 = std::max(0.0, (Q - nu) / (sw - w.squaredNorm() / sw));
-    // random-effects weights w*_r = 1 / (se_r^2 + tau^2); mean m = sum w* b / sum w*;
-    // Hartung-Knapp: SE^2 = sum w* (b_r - m)^2 / ((R - 1) sum w*), t = m / SE ~ t(R - 1)
-    const Eigen::VectorXd ws = (se.col(j).array().square() + tau2).inverse();
-    const double sws = ws.sum(), m = ws.dot(b.col(j)) / sws;
-    const double se_hk = std::sqrt((ws.array() * (b.col(j).array() - m).square()).sum() / (nu * sws));
+    std::vector<double> bj(static_cast<std::size_t>(R)), vj(bj.size());
+    for (Eigen::Index r = 0; r < R; ++r) bj[static_cast<std::size_t>(r)] = b(r, j), vj[static_cast<std::size_t>(r)] = se(r, j) * se(r, j);
+    if (!std::all_of(vj.begin(), vj.end(), [](double v) { return v > 0 && std::isfinite(v); })) {
+      // an exact fit or a singular column: no spread to pool, this parameter tests nothing
+      out.mean.push_back(std::numeric_limits<double>::quiet_NaN());
+      out.mean_se.push_back(std::numeric_limits<double>::quiet_NaN());
+      out.between_sd.push_back(std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
+    const RandomEffects re = dersimonian_laird(bj, vj);
+    min_q = std::min(min_q, chi2_sf(re.q, nu));
+    // Hartung-Knapp on the random-effects weights w*_r = 1 / (se_r^2 + tau^2):
+    //   SE^2 = sum w* (b_r - m)^2 / ((R - 1) sum w*), t = m / SE ~ t(R - 1)
+    const double m = re.mean;
+    double hk = 0;
+    for (std::size_t r = 0; r < bj.size(); ++r) hk += (bj[r] - m) * (bj[r] - m) / (vj[r] + re.tau2);
+    const double se_hk = std::sqrt(hk / (nu * re.sum_w));
     out.mean.push_back(m);
     out.mean_se.push_back(se_hk);
-    out.between_sd.push_back(std::sqrt(tau2));
+    out.between_sd.push_back(std::sqrt(re.tau2));
     const double pj = se_hk > 0 ? t_two_sided(m / se_hk, nu) : (m != 0 ? 0.0 : 1.0);
     min_p = std::min(min_p, pj);
   }

@@ -127,6 +127,33 @@ Interval clopper_pearson(int k, int n, double conf) {
   return iv;
 }
 
+RandomEffects dersimonian_laird(const std::vector<double>& b, const std::vector<double>& var) {
+  if (b.size() != var.size() || b.size() < 2)
+    throw std::invalid_argument("dersimonian_laird: needs two or more estimates with one variance each");
+  for (double v : var)
+    if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument("dersimonian_laird: a variance is not positive and finite");
+  // w_i = 1 / v_i, m_w = sum w_i b_i / sum w_i, Q = sum w_i (b_i - m_w)^2,
+  //   tau^2 = max(0, (Q - (k - 1)) / (sum w - sum w^2 / sum w))
+  double sw = 0, sw2 = 0, swb = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const double w = 1 / var[i];
+    sw += w, sw2 += w * w, swb += w * b[i];
+  }
+  RandomEffects r;
+  r.fixed_mean = swb / sw;
+  for (std::size_t i = 0; i < b.size(); ++i) r.q += (b[i] - r.fixed_mean) * (b[i] - r.fixed_mean) / var[i];
+  const double k = static_cast<double>(b.size());
+  r.tau2 = std::max(0.0, (r.q - (k - 1)) / (sw - sw2 / sw));
+  // w*_i = 1 / (v_i + tau^2), mean = sum w*_i b_i / sum w*_i
+  double swsb = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const double w = 1 / (var[i] + r.tau2);
+    r.sum_w += w, swsb += w * b[i];
+  }
+  r.mean = swsb / r.sum_w;
+  return r;
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) throw std::invalid_argument("median of no values");
   const std::size_t n = v.size(), m = n / 2;

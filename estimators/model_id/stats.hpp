@@ -34,6 +34,17 @@ struct Interval {
   double lo = 0, hi = 1;
 };
 Interval clopper_pearson(int k, int n, double conf);
+/// A DerSimonian-Laird random-effects pooling of k >= 2 estimates b_i with variances v_i > 0.
+struct RandomEffects {
+  double fixed_mean = 0;  ///< inverse-variance mean m_w = sum w_i b_i / sum w_i, w_i = 1 / v_i
+  double q = 0;           ///< Cochran's Q = sum w_i (b_i - m_w)^2 (chi^2 with k - 1 dof when tau^2 = 0)
+  double tau2 = 0;        ///< between-estimate variance, same unit as v (>= 0)
+  double mean = 0;        ///< random-effects mean sum w*_i b_i / sum w*_i, w*_i = 1 / (v_i + tau^2)
+  double sum_w = 0;       ///< sum w*_i (so the DerSimonian-Laird SE of mean is sum_w^-1/2)
+};
+/// Pools b (estimates) with var (their variances); sizes equal and >= 2, every var > 0 and
+/// finite (throws std::invalid_argument otherwise).
+RandomEffects dersimonian_laird(const std::vector<double>& b, const std::vector<double>& var);
 /// Median of v (the mean of the two middle values for an even count); v must not be empty.
 double median(std::vector<double> v);
 /// Median of |v| (robust sigma: 1.4826 * median_abs). Empty v gives 0.

@@ -3,7 +3,6 @@
 #include <filesystem>
 
 #include "common/physics/frames.hpp"
-#include "estimators/diagnosis/rotation_scans.hpp"
 #include "sim/scene/scene_geometry.hpp"
 
 #include <algorithm>
@@ -58,8 +57,8 @@ bool near_a_target(const MultiSensorData& data, const Detection& d, const Associ
   return false;
 }
 
-// A sensor the association read as rotations of period P (it stamps each detection at its own
-// time): its direction (rotation_scans.hpp) and its beam, b(t) = b0 + dir w (t - t0), t0 its
+// A sensor the association read as rotations of period P and direction dir (it stamps each
+// detection at its own time; rotation_scans.hpp): its beam, b(t) = b0 + dir w (t - t0), t0 its
 // first detection, fitted to every detection (clutter included: the same beam lights it). A
 // period off by 1e-4 turns the beam 13 deg off over 900 s, so the phase and the rate are fitted
 // together: from b0 the circular mean of b_i - dir w (t_i - t0) over the first kPhaseRotations
@@ -70,14 +69,13 @@ bool near_a_target(const MultiSensorData& data, const Detection& d, const Associ
 constexpr int kPhaseRotations = 10;
 constexpr int kBeamPasses = 3;
 constexpr double kBeamTrimDeg = 5;
-scene::Rotation rotation_of(const std::vector<Detection>& det, const std::string& sensor, double period_s) {
+scene::Rotation rotation_of(const std::vector<Detection>& det, const std::string& sensor, double period_s, int direction) {
   scene::Rotation r;
   std::vector<double> t, b;
   for (const auto& d : det)
     if (d.sensor == sensor && !d.empty_scan()) t.push_back(d.t_s), b.push_back(d.bearing_rad);
-  const RotationEstimate e = rotation_period(t, b);
-  if (t.empty() || e.direction == 0) return r;  // not rotating after all: scans as stamped
-  r.direction = e.direction;
+  if (t.empty() || direction == 0) return r;  // not rotating after all: scans as stamped
+  r.direction = direction;
   r.t0_s = t.front();
   double w = 2 * M_PI / period_s, c = 0, sn = 0;
   for (std::size_t i = 0; i < t.size() && t[i] - r.t0_s < kPhaseRotations * period_s; ++i) {
@@ -141,7 +139,7 @@ scene::RecordedScene scene_from_recording(const MultiSensorData& data, const std
     }
     if (!(ss.scan_period_s > 0)) ss.scan_period_s = 1;
     if (stats[s].rotation_period_s > 0) {
-      ss.rotation = rotation_of(data.detections, s, stats[s].rotation_period_s);
+      ss.rotation = rotation_of(data.detections, s, stats[s].rotation_period_s, stats[s].rotation_direction);
       if (ss.rotation.rotating()) ss.scan_period_s = ss.rotation.period_s;
     }
     ss.coverage = arc_of(bearings, kCoverageMarginDeg * M_PI / 180);
