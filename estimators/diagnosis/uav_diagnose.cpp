@@ -3,6 +3,7 @@
 #include "common/physics/bearing.hpp"
 #include "common/physics/bearing_effect_columns.hpp"
 #include "common/io/config.hpp"
+#include "estimators/diagnosis/bearing_reference_check.hpp"
 #include "estimators/diagnosis/gross_check.hpp"
 #include "estimators/diagnosis/plane_series.hpp"
 #include "estimators/model_id/stats.hpp"
@@ -271,6 +272,7 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
   auto obs = std::make_shared<std::vector<Ob>>();
   if (with_truth) {
     check_bearing_units(data, observer, truth);
+    if (o.check_references) check_bearing_references(data, observer, truth, kOutlierWindow * gate);
     rep.reference = "truth (truth.csv)";
     *obs = against_truth(data, observer, truth, gate, rep.plots_dropped);
   } else {

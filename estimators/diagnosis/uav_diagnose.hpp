@@ -37,6 +37,9 @@ struct UavDiagnoseOptions {
   SearchOptions search;         ///< alpha (familywise, default 0.01), power, confound_corr, ...
   bool ignore_truth = false;    ///< diagnose on an estimated track even when truth.csv is present
   bool test_target_model = true;  ///< with truth as reference: check it against the target model
+  /// with truth as reference: refuse references that do not fit the bearings (shifted in time,
+  /// another place's, reciprocal, mirrored or frozen bearings; bearing_reference_check.hpp)
+  bool check_references = true;
   int maneuver_grid = 39;       ///< scan grid of target_maneuver (evenly inside the span), >= 2
   std::uint64_t seed = 1;       ///< seed of the track fit's initialisation (deterministic)
 };

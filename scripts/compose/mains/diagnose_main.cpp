@@ -243,6 +243,9 @@ void add_kind_options(rnav::cli::Parser& p, Options& a) {
             [&mo] { mo.leave_one_out = false; })
       .flag("--ignore-truth", "uav: diagnose on a track fitted to the bearings; truth only scores the gain",
             uo.ignore_truth)
+      .flag("--keep-references", "uav: diagnose even where truth.csv's target does not fit the bearings as stamped (a "
+            "second object that follows the target's path looks like a time shift of its reference)",
+            [&uo] { uo.check_references = false; })
       .value("--seed", "N", "uav: seed of that track fit's initialisation, >= 0", "1",
              [&uo](const std::string& v) { uo.seed = static_cast<std::uint64_t>(rnav::parse_integer("--seed", v, 0, std::numeric_limits<long long>::max())); });
 }
