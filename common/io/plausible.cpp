@@ -77,11 +77,15 @@ void near(const std::string& where, const Geodetic& g, const Geodetic& c, const 
   // degrees columns holding radians put a position within (+-pi/2, +-pi) of (0, 0)
   const bool radians = std::abs(g.lat_deg) <= 1.5708 && std::abs(g.lon_deg) <= 3.1416 &&
                        (std::abs(c.lat_deg) > 1.5708 || std::abs(c.lon_deg) > 3.1416);
+  // exactly (0, 0): what a receiver without a fix writes, not a position in radians
+  const bool no_fix = (g.lat_deg == 0 && g.lon_deg == 0) || (c.lat_deg == 0 && c.lon_deg == 0);
   if (!(d <= kMaxSceneDistanceM))
     throw ConfigError(where + ": position (" + num(g.lat_deg) + ", " + num(g.lon_deg) + ") is " + num(d / 1000) +
                       " km from " + centre_name + " (" + num(c.lat_deg) + ", " + num(c.lon_deg) + "), more than " +
                       num(kMaxSceneDistanceM / 1000) + " km: " +
-                      (radians ? "lat_deg and lon_deg look like radians" : "latitude and longitude swapped, or another place"));
+                      (no_fix    ? "(0, 0) is what a receiver without a fix writes: leave such samples out"
+                       : radians ? "lat_deg and lon_deg look like radians"
+                                 : "latitude and longitude swapped, or another place"));
 }
 
 

@@ -40,7 +40,10 @@ AzimuthData AzimuthData::read_folder(const std::string& dir) {
     for (std::size_t i = 0; i < t.rows(); ++i)
       d.truth.push_back({t.col("t_s")[i], {t.col("lat_deg")[i], t.col("lon_deg")[i], 0.0}});
   }
-  if (d.observer.size() < 2) throw ConfigError(dir + "/observer.csv: fewer than 2 rows");
+  // a track of fewer fixes cannot cover the bearings (named before the time-scale check, which
+  // would take 0.4 s of fixes under 300 s of bearings for bearings in milliseconds)
+  if (d.observer.size() < 10)
+    throw ConfigError(dir + "/observer.csv: " + std::to_string(d.observer.size()) + " fixes; the observer's track needs at least 10");
   if (d.frames.size() < 10) throw ConfigError(dir + "/bearings.csv: fewer than 10 frames");
   // coordinates in radians, named by file and column before validate's "far away"
   plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)},

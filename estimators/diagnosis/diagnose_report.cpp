@@ -226,7 +226,7 @@ nlohmann::ordered_json DiagnoseReport::to_json() const {
 std::string DiagnoseReport::text() const {
   std::ostringstream o;
   if (kind == "uav")
-    o << "frames used " << plots_used << ", dropped (no detection within the gate, or no observer nav) " << plots_dropped
+    o << "frames used " << plots_used << ", dropped (no detection within the gate, or no observer or reference sample around them) " << plots_dropped
       << "\n  reference: " << reference << "\n";
   else
     o << "plots used " << plots_used << ", dropped (no nav around them) " << plots_dropped << "\n";

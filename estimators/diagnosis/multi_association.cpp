@@ -962,6 +962,40 @@ std::string reference_distance_hint(const std::vector<Scan>& scans, const std::v
          " km: observer.csv and truth.csv may be of different places, or one file's positions shifted";
 }
 
+// Sensors whose bearings point from the targets to the observer, as a clause for an error ("" for
+// none): per sensor, the target scans with a detection within the bearing gate of the target's
+// reference bearing, and those with one within it of that bearing + 180 deg (a range sensor's
+// within kReciprocalRangeTol of the target's range as well); kMinUnitSamples or more of the second
+// kind and kReciprocalFactor times the first: reciprocal. ranged_only: range sensors alone (their
+// ranges make a coincidence with clutter unlikely).
+constexpr double kReciprocalFactor = 3, kReciprocalRangeTol = 0.1;
+std::string reciprocal_hint(const std::vector<Scan>& scans, const std::vector<Detection>& det, double gate_rad, bool ranged_only) {
+  std::map<std::string, std::pair<int, int>> count;  // per sensor: (as given, turned by 180 deg)
+  for (const Scan& s : scans) {
+    if (s.preds.empty() || s.rows.empty() || (ranged_only && !s.ranged)) continue;
+    auto& [direct, turned] = count[s.sensor];
+    for (const auto& pr : s.preds) {
+      bool d = false, t = false;
+      for (std::size_t i = 0; i < s.rows.size(); ++i) {
+        const Detection& x = det[s.rows[i]];
+        const Eigen::Vector2d rd = rel(s, i, pr);
+        const bool range_ok = !s.ranged || std::abs(x.range_m / rd.norm() - 1) <= kReciprocalRangeTol;
+        const double e = wrap_pi(x.bearing_rad + s.gamma - bearing_rad(rd));
+        d = d || (std::abs(e) <= gate_rad && range_ok);
+        t = t || (std::abs(wrap_pi(e - M_PI)) <= gate_rad && range_ok);
+      }
+      direct += d, turned += t;
+    }
+  }
+  std::string out;
+  for (const auto& [sensor, c] : count)
+    if (c.second >= kMinUnitSamples && c.second >= kReciprocalFactor * c.first)
+      out += "; detections.csv bearing_deg of sensor " + sensor + " looks like the reciprocal bearing, from the target to " +
+             "the observer: " + std::to_string(c.second) + " target scans have a detection at the target's bearing + 180 deg" +
+             (ranged_only ? " and its range" : "") + ", " + std::to_string(c.first) + " at its bearing";
+  return out;
+}
+
 }  // namespace
 
 std::vector<AssociatedDetection> associate(const MultiSensorData& data, const AssociationOptions& o,
@@ -997,6 +1031,9 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
       const std::string shift = reference_time_shift_hint(data, level, F, o, rotating);
       return shift.empty() ? reference_distance_hint(scans, data.detections) : shift;
     });
+    // a range sensor whose echoes lie at the targets' ranges but opposite their bearings
+    const std::string reciprocal = reciprocal_hint(scans, data.detections, o.gate_bearing_deg * kDegToRad, true);
+    if (!reciprocal.empty()) throw ConfigError(reciprocal.substr(2));
     // ... and where too few target scans had a detection near a target's bearing for the unit
     // check to judge (seen from far away every target lies in one direction), the distance alone
     const std::string far = reference_distance_hint(scans, data.detections);
@@ -1047,6 +1084,21 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
     if (it != shift.end()) record_shift(x, it->second, wide_pairs[sensor]);
     x.passes = it != shift.end() && it->second.iterate ? passes : 1;
     stats[sensor] = x;
+  }
+  // Nothing to diagnose: say why where the references or the bearings explain it (the diagnosis
+  // would say only that no pair has detections enough)
+  if (!data.simulated) {
+    std::map<std::pair<std::string, std::string>, int> pairs;
+    int most = 0;
+    for (const auto& x : out) most = std::max(most, ++pairs[{x.sensor, x.target}]);
+    if (most < kMinPairDetections) {
+      std::string why = reciprocal_hint(scans, data.detections, o.gate_bearing_deg * kDegToRad, false);
+      if (why.empty()) why = reference_time_shift_hint(data, level, F, o, rotating);
+      if (why.empty()) why = reference_distance_hint(scans, data.detections);
+      if (!why.empty())
+        throw ConfigError("multi diagnosis: no sensor:target pair with " + std::to_string(kMinPairDetections) +
+                          " or more associated detections (the most: " + std::to_string(most) + ")" + why);
+    }
   }
   return out;
 }

@@ -121,6 +121,9 @@ struct AssociationOptions {
 /// A common gate shift is judged across targets when at least this many targets have
 /// kMinTargetPairs pairs each (a median and MAD over targets need a handful; the Autoferry
 /// recordings' two or three boats stay with the rule on pairs).
+/// associated detections a sensor:target pair needs to be diagnosed (fewer: too few to identify
+/// its noise; reported, not used)
+constexpr int kMinPairDetections = 10;
 constexpr int kMinCommonTargets = 5;
 constexpr int kMinTargetPairs = 5;  ///< pairs a target needs for its median to count
 

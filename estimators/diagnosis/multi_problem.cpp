@@ -187,7 +187,7 @@ void add_recording(const std::vector<RecordingDetections>& recs, int r, const Mu
   mp.bearing_obs.emplace_back(a.size(), -1);
   mp.range_obs.emplace_back(a.size(), -1);
   for (auto& [name, list] : by_channel) {
-    if (list.size() < 10) {  // too few to identify a noise model: reported, not used
+    if (list.size() < static_cast<std::size_t>(kMinPairDetections)) {  // too few to identify a noise model: reported, not used
       mp.dropped_channels.push_back(name + " (" + std::to_string(list.size()) + " detections)");
       continue;
     }
@@ -588,7 +588,8 @@ MultiProblem build_multi_problem(const std::vector<RecordingDetections>& recs, c
   // channels in a fixed order: recording, sensor, target, quantity
   ObsTables obs;
   for (int r = 0; r < R; ++r) add_recording(recs, r, o, mp, obs);
-  if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with 10 or more associated detections");
+  if (p.channels.empty()) throw ConfigError("multi diagnosis: no sensor:target pair with " + std::to_string(kMinPairDetections) +
+                                             " or more associated detections");
   add_interpolation_noise(p, obs.interp_sd, obs.interval);
   const auto n = static_cast<Eigen::Index>(p.y.size());
   p.nuisance = Eigen::MatrixXd(n, 0);

@@ -87,6 +87,8 @@ void read_detections(const std::string& file, MultiSensorData& d) {
     if (!valid_sensor_name(x.sensor)) fail(t, i, "sensor", "'" + x.sensor + "' is not a sensor name ([a-z0-9_]+)");
     if (!std::isnan(x.range_m) && (x.range_m < 0 || x.range_m > kMaxRange_m))
       fail(t, i, "range_m", num(x.range_m) + " is outside [0, 1e6]");
+    if (x.range_m == 0)
+      fail(t, i, "range_m", "0 is no range (a bearing-only sensor's range_m is left empty; a range sensor's is > 0)");
     // a degree column holding milliradians reaches 1000 x 2 pi = 6283: named as such
     if (!std::isnan(b) && (b < -360 || b > 360))
       fail(t, i, "bearing_deg",
@@ -114,6 +116,7 @@ void read_detections(const std::string& file, MultiSensorData& d) {
     throw ConfigError(file + ": no detections at all (" + std::to_string(t.rows()) + " empty-scan rows)");
 }
 
+constexpr double kSameTrackShare = 0.9;  // of the shorter track's samples equal: one track under two names
 void read_truth(const std::string& file, MultiSensorData& d) {
   const CsvTable t = CsvTable::read_columns(
       file, {{"t_s"}, {"target", CsvKind::kText}, {"lat_deg"}, {"lon_deg"}, {"h_m", CsvKind::kNumberOrEmpty, true}});
@@ -128,6 +131,25 @@ void read_truth(const std::string& file, MultiSensorData& d) {
                             num(v.back().t_s) + ")");
     v.push_back({ts, {t.col("lat_deg")[i], t.col("lon_deg")[i], t.has("h_m") ? t.col("h_m")[i] : kNaN}});
   }
+  for (const auto& [name, v] : d.truth)
+    if (v.size() < 2)
+      throw ConfigError(file + ": target '" + name + "' has " + std::to_string(v.size()) +
+                        " sample; a reference track needs 2 or more (give its track, or leave its row out)");
+  // one track under two names (a copy, or an id changed mid-file and the rows written twice): at
+  // least kSameTrackShare of the shorter one's samples equal, time and position, to the other's
+  for (auto a = d.truth.begin(); a != d.truth.end(); ++a)
+    for (auto b = std::next(a); b != d.truth.end(); ++b) {
+      const auto &u = a->second, &w = b->second;
+      std::size_t i = 0, j = 0, same = 0;
+      while (i < u.size() && j < w.size()) {
+        if (u[i].t_s < w[j].t_s) ++i;
+        else if (w[j].t_s < u[i].t_s) ++j;
+        else same += u[i].g.lat_deg == w[j].g.lat_deg && u[i].g.lon_deg == w[j].g.lon_deg, ++i, ++j;
+      }
+      if (static_cast<double>(same) >= kSameTrackShare * static_cast<double>(std::min(u.size(), w.size())))
+        throw ConfigError(file + ": targets '" + a->first + "' and '" + b->first + "' have the same track (" +
+                          std::to_string(same) + " samples equal in time and position): one target under two names");
+    }
 }
 
 // targets.csv: each target's hull size; 0 (AIS: not available) and empty cells are unknown.
@@ -235,6 +257,7 @@ void refuse_raw_autoferry(const std::string& dir) {
 //                lie outside that band read as degrees (bearings_look_like_radians): radians.
 constexpr double kMinCourseSpeedMps = 0.5;  // [m/s] slower, the course over ground is noise
 constexpr double kMetresPerDegree = 111195;  // [m] one degree of a great circle (mean radius)
+constexpr double kMinHeadingTurnDeg = 10;    // [deg] a course turning by more, under a constant heading: no compass
 void check_units(const MultiSensorData& d) {
   plausible::NamedPositions tru{"truth.csv lat_deg", "truth.csv lon_deg", {}};
   for (const auto& [name, v] : d.truth)
@@ -253,6 +276,25 @@ void check_units(const MultiSensorData& d) {
     ++refs;
     refs_outside += outside_radians_band(std::fmod(std::atan2(de, dn) + 2 * M_PI, 2 * M_PI));
   }
+  // one value in every row while the ship turns: no compass behind the column (a zero or a
+  // default written), before the radians check, which a constant 0 would pass
+  double h_lo = INFINITY, h_hi = -INFINITY;
+  for (double h : d.observer_heading_deg)
+    if (!std::isnan(h)) h_lo = std::min(h_lo, h), h_hi = std::max(h_hi, h);
+  std::vector<double> course;
+  for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
+    const Geodetic &a = d.observer[i].g, &b = d.observer[i + 1].g;
+    const double dn = (b.lat_deg - a.lat_deg) * kMetresPerDegree,
+                 de = (b.lon_deg - a.lon_deg) * kMetresPerDegree * std::cos(a.lat_deg * kDegToRad);
+    const double dt = d.observer[i + 1].t_s - d.observer[i].t_s;
+    if (dt > 0 && std::hypot(dn, de) / dt >= kMinCourseSpeedMps) course.push_back(std::atan2(de, dn));
+  }
+  double turn = 0;  // the course's largest departure from its first value [deg]
+  for (double c : course) turn = std::max(turn, std::abs(wrap_pi(c - course.front())) / kDegToRad);
+  if (n >= kMinUnitSamples && h_lo == h_hi && turn > kMinHeadingTurnDeg)
+    throw ConfigError("observer.csv heading_deg is " + num(h_lo) + " in every row while the observer's course over "
+                      "ground turns by " + num(turn) + " deg: no compass behind the column (leave it empty where "
+                      "there is no heading)");
   if (bearings_look_like_radians(n, inside, refs, refs_outside))
     throw ConfigError("observer.csv heading_deg looks like radians: all " + std::to_string(n) +
                       " values lie within [0, 6.28] while the observer's course over ground mostly lies outside (" +
