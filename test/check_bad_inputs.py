@@ -203,8 +203,9 @@ AZIMUTH = [
     ("every bearing written twice (two detections, one place)", rows("bearings.csv", twice), SAME, None),
     ("observer.csv with 5 fixes", rows("observer.csv", first(5)), REFUSED, "observer.csv: 5 fixes; the observer's track needs at least 10"),
     ("the observer's track ends at a third", rows("observer.csv", cut(0.33, 1.0)), DIAGNOSED,
-     "or no observer or reference sample around them) 405"),
-    ("truth.csv ends at half", rows("truth.csv", cut(0.5, 1.0)), DIAGNOSED, "or no observer or reference sample around them) 303"),
+     "405 frames without an observer or truth sample around them left out"),
+    ("truth.csv ends at half", rows("truth.csv", cut(0.5, 1.0)), DIAGNOSED,
+     "over 0 to 149.9 s of the frames' 0 to 300 s: 303 frames without an observer or truth sample around them left out"),
     ("the bearing column named bearing_rad", text("bearings.csv", lambda s: s.replace("bearing_deg", "bearing_rad", 1)), REFUSED,
      "bearings.csv:1: header lacks column 'bearing_deg'"),
 ]

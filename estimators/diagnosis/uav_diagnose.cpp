@@ -39,6 +39,9 @@ double ramp(double t, double t_m) { return t > t_m ? t - t_m : 0.0; }
 // clutter only and is dropped.
 constexpr double kOutlierWindow = 3;
 
+// A reference leaving more than this share of the frames without a sample around them is named.
+constexpr double kUncoveredShare = 0.05;
+
 template <class F>
 std::function<Eigen::MatrixXd(std::size_t)> columns(const Obs& obs, int k, F f) {
   return [obs, k, f](std::size_t v) {
@@ -75,7 +78,7 @@ void check_bearing_units(const AzimuthData& data, const PlaneSeries& observer, c
 
 // Against truth: each frame's detection nearest the true bearing within the gate.
 std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double gate,
-                              int& dropped) {
+                              int& dropped, int& no_reference) {
   std::vector<Ob> obs;
   auto brg = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return bearing_rad(b - a); };
   for (const auto& fr : data.frames) {
@@ -83,7 +86,7 @@ std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observ
     const double h = 0.5;  // [s] half-step of the central difference of the bearing rate
     if (!observer.at(fr.t_s, po) || !truth.at(fr.t_s, pt) || !observer.at(fr.t_s - h, po_a) ||
         !observer.at(fr.t_s + h, po_b) || !truth.at(fr.t_s - h, pt_a) || !truth.at(fr.t_s + h, pt_b)) {
-      ++dropped;
+      ++dropped, ++no_reference;
       continue;
     }
     const double bt = brg(po, pt), best = wrapped_nearest(fr.bearings_rad, bt);
@@ -274,7 +277,15 @@ DiagnoseReport diagnose_uav(const AzimuthData& data, const UavDiagnoseOptions& o
     check_bearing_units(data, observer, truth);
     if (o.check_references) check_bearing_references(data, observer, truth, kOutlierWindow * gate);
     rep.reference = "truth (truth.csv)";
-    *obs = against_truth(data, observer, truth, gate, rep.plots_dropped);
+    int no_reference = 0;
+    *obs = against_truth(data, observer, truth, gate, rep.plots_dropped, no_reference);
+    // a reference that covers part of the frames: the rest left out, and said so (beyond the few
+    // frames at the ends, whose bearing rate needs a sample half a second either side)
+    if (no_reference > kUncoveredShare * static_cast<double>(data.frames.size()))
+      rep.reference += ", over " + short_num(std::max(truth.t_first(), observer.t_first())) + " to " +
+                       short_num(std::min(truth.t_last(), observer.t_last())) + " s of the frames' " +
+                       short_num(data.frames.front().t_s) + " to " + short_num(data.frames.back().t_s) + " s: " +
+                       std::to_string(no_reference) + " frames without an observer or truth sample around them left out";
   } else {
     TrackFitOptions fo;
     fo.gate_deg = o.gate_deg;
