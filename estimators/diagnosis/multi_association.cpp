@@ -963,35 +963,49 @@ std::string reference_distance_hint(const std::vector<Scan>& scans, const std::v
 }
 
 // Sensors whose bearings point from the targets to the observer, as a clause for an error ("" for
-// none): per sensor, the target scans with a detection within the bearing gate of the target's
-// reference bearing, and those with one within it of that bearing + 180 deg (a range sensor's
-// within kReciprocalRangeTol of the target's range as well); kMinUnitSamples or more of the second
-// kind and kReciprocalFactor times the first: reciprocal. ranged_only: range sensors alone (their
-// ranges make a coincidence with clutter unlikely).
-constexpr double kReciprocalFactor = 3, kReciprocalRangeTol = 0.1;
+// none): per sensor, the target scans with a detection within the gate of the target's reference
+// bearing, and those with one within the gate of that bearing + 180 deg that no other target of
+// the scan explains within kUnitsBearingDeg (a target on the far side at the same range is no
+// evidence, even seen through a bias beyond the gate); a range sensor's within
+// kReciprocalRangeTol of the target's range as well. kMinUnitSamples or more of the second kind,
+// at least kReciprocalShare of the sensor's target scans (a sensor that sees its targets at all
+// sees them in many scans; clutter at the far side now and then is no evidence) and
+// kReciprocalFactor times the first: reciprocal. ranged_only: range sensors alone (their ranges
+// make a coincidence with clutter unlikely).
+constexpr double kReciprocalFactor = 3, kReciprocalRangeTol = 0.1, kReciprocalShare = 0.25;
 std::string reciprocal_hint(const std::vector<Scan>& scans, const std::vector<Detection>& det, double gate_rad, bool ranged_only) {
   std::map<std::string, std::pair<int, int>> count;  // per sensor: (as given, turned by 180 deg)
+  std::map<std::string, int> target_scans;
   for (const Scan& s : scans) {
     if (s.preds.empty() || s.rows.empty() || (ranged_only && !s.ranged)) continue;
     auto& [direct, turned] = count[s.sensor];
+    // whether row i lies within the gate of target pr's prediction turned by `turn` [rad]
+    auto near = [&](std::size_t i, const Pred& pr, double turn, double window) {
+      const Detection& x = det[s.rows[i]];
+      const Eigen::Vector2d rd = rel(s, i, pr);
+      const bool range_ok = !s.ranged || std::abs(x.range_m / rd.norm() - 1) <= kReciprocalRangeTol;
+      return range_ok && std::abs(wrap_pi(x.bearing_rad + s.gamma - bearing_rad(rd) - turn)) <= window;
+    };
     for (const auto& pr : s.preds) {
       bool d = false, t = false;
       for (std::size_t i = 0; i < s.rows.size(); ++i) {
-        const Detection& x = det[s.rows[i]];
-        const Eigen::Vector2d rd = rel(s, i, pr);
-        const bool range_ok = !s.ranged || std::abs(x.range_m / rd.norm() - 1) <= kReciprocalRangeTol;
-        const double e = wrap_pi(x.bearing_rad + s.gamma - bearing_rad(rd));
-        d = d || (std::abs(e) <= gate_rad && range_ok);
-        t = t || (std::abs(wrap_pi(e - M_PI)) <= gate_rad && range_ok);
+        d = d || near(i, pr, 0, gate_rad);
+        if (t || !near(i, pr, M_PI, gate_rad)) continue;
+        bool other = false;
+        for (const auto& q : s.preds) other = other || (&q != &pr && near(i, q, 0, kUnitsBearingDeg * kDegToRad));
+        t = !other;
       }
       direct += d, turned += t;
+      ++target_scans[s.sensor];
     }
   }
   std::string out;
   for (const auto& [sensor, c] : count)
-    if (c.second >= kMinUnitSamples && c.second >= kReciprocalFactor * c.first)
+    if (c.second >= kMinUnitSamples && c.second >= kReciprocalFactor * c.first &&
+        c.second >= kReciprocalShare * target_scans[sensor])
       out += "; detections.csv bearing_deg of sensor " + sensor + " looks like the reciprocal bearing, from the target to " +
-             "the observer: " + std::to_string(c.second) + " target scans have a detection at the target's bearing + 180 deg" +
+             "the observer: " + std::to_string(c.second) + " of " + std::to_string(target_scans[sensor]) +
+             " target scans have a detection at the target's bearing + 180 deg" +
              (ranged_only ? " and its range" : "") + ", " + std::to_string(c.first) + " at its bearing";
   return out;
 }
@@ -1003,6 +1017,11 @@ std::vector<AssociatedDetection> associate(const MultiSensorData& data, const As
                                            std::map<std::string, ReferenceIntegrity>* reference) {
   check_options(o);
   if (data.truth.empty()) throw ConfigError("multi-sensor diagnosis: needs truth.csv (the targets' reference tracks)");
+  // no target with a track: every reference a single sample (one target's single sample among
+  // tracks leaves its detections unassociated, as a target seen once)
+  if (std::all_of(data.truth.begin(), data.truth.end(), [](const auto& kv) { return kv.second.size() < 2; }))
+    throw ConfigError("truth.csv: every target has a single sample (" + std::to_string(data.truth.size()) +
+                      " targets); a reference track needs 2 or more");
   const LocalLevelFrame F(data.observer.front().g, 0.0);
   const PlaneSeries observer(data.observer, F);
   std::map<std::string, PlaneSeries> truth;

@@ -87,8 +87,6 @@ void read_detections(const std::string& file, MultiSensorData& d) {
     if (!valid_sensor_name(x.sensor)) fail(t, i, "sensor", "'" + x.sensor + "' is not a sensor name ([a-z0-9_]+)");
     if (!std::isnan(x.range_m) && (x.range_m < 0 || x.range_m > kMaxRange_m))
       fail(t, i, "range_m", num(x.range_m) + " is outside [0, 1e6]");
-    if (x.range_m == 0)
-      fail(t, i, "range_m", "0 is no range (a bearing-only sensor's range_m is left empty; a range sensor's is > 0)");
     // a degree column holding milliradians reaches 1000 x 2 pi = 6283: named as such
     if (!std::isnan(b) && (b < -360 || b > 360))
       fail(t, i, "bearing_deg",
@@ -114,6 +112,15 @@ void read_detections(const std::string& file, MultiSensorData& d) {
   }
   if (n_det == 0)
     throw ConfigError(file + ": no detections at all (" + std::to_string(t.rows()) + " empty-scan rows)");
+  // a sensor whose every range is 0: no range sensor (one echo at 0 m is a glitch, all of them a
+  // bearing-only sensor's unknown range written as 0)
+  std::map<std::string, std::pair<std::size_t, std::size_t>> zeros;  // per sensor: (rows with a range, of them 0)
+  for (const Detection& x : d.detections)
+    if (!std::isnan(x.range_m)) ++zeros[x.sensor].first, zeros[x.sensor].second += x.range_m == 0;
+  for (const auto& [sensor, z] : zeros)
+    if (z.first >= static_cast<std::size_t>(kMinUnitSamples) && z.second == z.first)
+      throw ConfigError(file + ": column 'range_m' of sensor '" + sensor + "' is 0 in all its " + std::to_string(z.first) +
+                        " rows: no range (a bearing-only sensor's range_m is left empty; a range sensor's is > 0)");
 }
 
 constexpr double kSameTrackShare = 0.9;  // of the shorter track's samples equal: one track under two names
@@ -131,10 +138,6 @@ void read_truth(const std::string& file, MultiSensorData& d) {
                             num(v.back().t_s) + ")");
     v.push_back({ts, {t.col("lat_deg")[i], t.col("lon_deg")[i], t.has("h_m") ? t.col("h_m")[i] : kNaN}});
   }
-  for (const auto& [name, v] : d.truth)
-    if (v.size() < 2)
-      throw ConfigError(file + ": target '" + name + "' has " + std::to_string(v.size()) +
-                        " sample; a reference track needs 2 or more (give its track, or leave its row out)");
   // one track under two names (a copy, or an id changed mid-file and the rows written twice): at
   // least kSameTrackShare of the shorter one's samples equal, time and position, to the other's
   for (auto a = d.truth.begin(); a != d.truth.end(); ++a)
