@@ -3,6 +3,7 @@
 #include <GeographicLib/Geocentric.hpp>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace rnav {
@@ -76,6 +77,13 @@ double wrap_pi(double a) {
   if (a > -M_PI && a <= M_PI) return a;
   a = std::remainder(a, 2 * M_PI);  // in [-pi, pi]
   return a <= -M_PI ? a + 2 * M_PI : a;
+}
+
+double nearest_wrapped(const std::vector<double>& angles_rad, double ref_rad) {
+  double best = std::numeric_limits<double>::infinity();
+  for (double a : angles_rad)
+    if (std::abs(wrap_pi(a - ref_rad)) < std::abs(best)) best = wrap_pi(a - ref_rad);
+  return best;
 }
 
 Polar polar_from_cartesian(const Eigen::Vector3d& p) {

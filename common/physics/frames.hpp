@@ -13,6 +13,8 @@
 #include <Eigen/Dense>
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include <vector>
+
 namespace rnav {
 
 /// WGS84 geodetic position.
@@ -86,6 +88,9 @@ Eigen::Matrix3d polar_jacobian(const Eigen::Vector3d& p_RA_R);
 
 /// Angle wrapped into (-pi, pi].
 double wrap_pi(double a);
+/// Of several angles [rad], the wrapped difference wrap_pi(a - ref) of the one nearest ref (the
+/// first of equals); +inf for none (a frame without detections).
+double nearest_wrapped(const std::vector<double>& angles_rad, double ref_rad);
 
 constexpr double kDegToRad = 0.017453292519943295;
 

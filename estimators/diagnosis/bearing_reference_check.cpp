@@ -8,20 +8,11 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
-#include <limits>
 #include <string>
 
 namespace rnav {
 
 namespace {
-
-// The detection of `bearings` nearest to ref: wrap(b - ref) [rad] (+inf for an empty frame).
-double nearest(const std::vector<double>& bearings, double ref) {
-  double best = std::numeric_limits<double>::infinity();
-  for (double b : bearings)
-    if (std::abs(wrap_pi(b - ref)) < std::abs(best)) best = wrap_pi(b - ref);
-  return best;
-}
 
 // Circular mean of angles [rad] and the circular sd sqrt(-2 ln R) [rad].
 std::pair<double, double> circular(const std::vector<double>& a) {
@@ -34,21 +25,7 @@ std::pair<double, double> circular(const std::vector<double>& a) {
 
 std::string deg(double rad) { return short_num(rad / kDegToRad); }
 
-}  // namespace
-
-namespace {
-void check_references(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double window_rad);
-}  // namespace
-
-void check_bearing_references(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double window_rad) {
-  try {
-    check_references(data, observer, truth, window_rad);
-  } catch (const ConfigError& e) {
-    throw ConfigError(std::string(e.what()) + " (--keep-references diagnoses it as it is)");
-  }
-}
-
-namespace {
+// The checks (bearing_reference_check.hpp) without the note on --keep-references.
 void check_references(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double window_rad) {
   // the frames with detections and both references, and each one's reference bearing beta
   struct Frame {
@@ -76,7 +53,7 @@ void check_references(const AzimuthData& data, const PlaneSeries& observer, cons
     for (const Frame& x : fr) {
       double p = 0;
       if (!predicted(x, p)) continue;
-      const double e = std::abs(nearest(x.f->bearings_rad, p));
+      const double e = std::abs(nearest_wrapped(x.f->bearings_rad, p));
       capped.push_back(std::min(e, window_rad));
       if (e <= window_rad) in.push_back(e);
     }
@@ -175,5 +152,13 @@ void check_references(const AzimuthData& data, const PlaneSeries& observer, cons
 }
 
 }  // namespace
+
+void check_bearing_references(const AzimuthData& data, const PlaneSeries& observer, const PlaneSeries& truth, double window_rad) {
+  try {
+    check_references(data, observer, truth, window_rad);
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string(e.what()) + " (--keep-references diagnoses it as it is)");
+  }
+}
 
 }  // namespace rnav

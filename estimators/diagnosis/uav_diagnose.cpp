@@ -52,13 +52,6 @@ std::function<Eigen::MatrixXd(std::size_t)> columns(const Obs& obs, int k, F f) 
 }
 
 
-double wrapped_nearest(const std::vector<double>& bearings, double ref) {
-  double best = std::numeric_limits<double>::infinity();
-  for (double b : bearings)
-    if (std::abs(wrap_pi(b - ref)) < std::abs(best)) best = wrap_pi(b - ref);
-  return best;
-}
-
 // Bearings in radians written into bearing_deg (0 ... 6.28 "degrees") pass every range check and
 // leave nothing near the reference: named before any gate where every bearing lies within
 // +-2 pi degrees while most reference bearings (truth) lie outside that band.
@@ -89,7 +82,7 @@ std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observ
       ++dropped, ++no_reference;
       continue;
     }
-    const double bt = brg(po, pt), best = wrapped_nearest(fr.bearings_rad, bt);
+    const double bt = brg(po, pt), best = nearest_wrapped(fr.bearings_rad, bt);
     if (!(std::abs(best) <= kOutlierWindow * gate)) {
       ++dropped;
       continue;
@@ -108,7 +101,7 @@ std::vector<Ob> against_truth(const AzimuthData& data, const PlaneSeries& observ
 std::vector<Ob> against_fitted(const std::vector<TrackObs>& tobs, const TrackFit& fit, double gate) {
   std::vector<Ob> obs;
   for (std::size_t k = 0; k < tobs.size(); ++k) {
-    const double best = wrapped_nearest(tobs[k].bearings_rad, fit.track.bearing(tobs[k]));
+    const double best = nearest_wrapped(tobs[k].bearings_rad, fit.track.bearing(tobs[k]));
     if (!(std::abs(best) <= kOutlierWindow * gate)) continue;
     Ob x;
     x.t = tobs[k].t_s;
