@@ -268,6 +268,7 @@ void check_units(const MultiSensorData& d) {
   plausible::coordinates_in_degrees({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)}, tru);
   plausible::coordinates_not_swapped({"observer.csv lat_deg", "observer.csv lon_deg", plausible::positions(d.observer)}, tru);
   int n = 0, inside = 0, refs = 0, refs_outside = 0;
+  std::vector<double> course;  // [rad] the observer's course over ground between moving rows
   for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
     const double h = d.observer_heading_deg[i];
     if (!std::isnan(h)) ++n, inside += h * kDegToRad <= kRadiansAsDegreesRad;
@@ -277,21 +278,14 @@ void check_units(const MultiSensorData& d) {
     const double dt = d.observer[i + 1].t_s - d.observer[i].t_s;
     if (!(dt > 0) || std::hypot(dn, de) / dt < kMinCourseSpeedMps) continue;
     ++refs;
-    refs_outside += outside_radians_band(std::fmod(std::atan2(de, dn) + 2 * M_PI, 2 * M_PI));
+    course.push_back(std::atan2(de, dn));
+    refs_outside += outside_radians_band(std::fmod(course.back() + 2 * M_PI, 2 * M_PI));
   }
   // one value in every row while the ship turns: no compass behind the column (a zero or a
   // default written), before the radians check, which a constant 0 would pass
   double h_lo = INFINITY, h_hi = -INFINITY;
   for (double h : d.observer_heading_deg)
     if (!std::isnan(h)) h_lo = std::min(h_lo, h), h_hi = std::max(h_hi, h);
-  std::vector<double> course;
-  for (std::size_t i = 0; i + 1 < d.observer.size(); ++i) {
-    const Geodetic &a = d.observer[i].g, &b = d.observer[i + 1].g;
-    const double dn = (b.lat_deg - a.lat_deg) * kMetresPerDegree,
-                 de = (b.lon_deg - a.lon_deg) * kMetresPerDegree * std::cos(a.lat_deg * kDegToRad);
-    const double dt = d.observer[i + 1].t_s - d.observer[i].t_s;
-    if (dt > 0 && std::hypot(dn, de) / dt >= kMinCourseSpeedMps) course.push_back(std::atan2(de, dn));
-  }
   double turn = 0;  // the course's largest departure from its first value [deg]
   for (double c : course) turn = std::max(turn, std::abs(wrap_pi(c - course.front())) / kDegToRad);
   if (n >= kMinUnitSamples && h_lo == h_hi && turn > kMinHeadingTurnDeg)
