@@ -12,12 +12,14 @@
 #include "estimators/diagnosis/target_model.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <set>
 #include <stdexcept>
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace rnav {
@@ -251,6 +253,11 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     std::vector<std::vector<LeaveOneOutRow>> rows(R);
     std::vector<std::vector<std::string>> carried(R);
     std::vector<CarriedHardware> shares(R);
+    // a line per recording done, with the time left at the mean time per recording so far (the
+    // lines go to the caller; no result depends on them)
+    const auto start = std::chrono::steady_clock::now();
+    std::mutex done_m;
+    std::size_t done = 0;
     parallel_for(R, o.search.injection.threads, [&](std::size_t k) {
       try {
         std::vector<RecordingDetections> rest;
@@ -268,6 +275,15 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
         AppliedScore scored = scorers[k].score(shares[k].carried);
         rows[k] = std::move(scored.rows);
         carried[k] = std::move(scored.applied);
+        if (o.search.progress) {
+          const std::lock_guard<std::mutex> lock(done_m);
+          ++done;
+          const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          const double left = spent / static_cast<double>(done) * static_cast<double>(R - done);
+          char line[160];
+          std::snprintf(line, sizeof line, "leave one out: %zu of %zu recordings done, about %.0f s left", done, R, left);
+          o.search.progress(line);
+        }
       } catch (const std::exception& e) {
         throw std::runtime_error("leaving out recording " + recs[k].name + ": " + e.what());
       }
