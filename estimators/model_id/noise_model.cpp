@@ -47,6 +47,41 @@ void NoiseFilter::update(double nu) {
   started_ = true;
 }
 
+namespace {
+
+// The innovations filter's gains at one frame (whiten's pass 1).
+struct Gain {
+  double f0 = 0, f = 0, H0 = 1, K0 = 0, K1 = 0, sq = 1;
+  bool skip = false, started = false;
+};
+
+// Whiten's pass 2 on the B columns of M from column c on, through the gains g:
+// x- = Phi x+; nu = m - H x-; x+ = x- + K nu; m = nu / sqrt(S). Each recursion is a chain of
+// dependent operations; B of them interleaved overlap in the processor (four at once run about
+// as fast as one). Each column's arithmetic is the same whatever B (the same results, bit for bit).
+template <int B>
+void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, Eigen::Index c) {
+  double* m[B];
+  double x0[B] = {}, x1[B] = {};  // states (a, g)
+  for (int k = 0; k < B; ++k) m[k] = M.col(c + k).data();
+  const auto n = static_cast<Eigen::Index>(g.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Gain& G = g[static_cast<std::size_t>(i)];
+    for (int k = 0; k < B; ++k) {
+      if (G.skip) {
+        m[k][i] = 0;
+        continue;
+      }
+      if (G.started) x0[k] *= G.f0, x1[k] *= G.f;
+      const double nu = m[k][i] - (G.H0 * x0[k] + 1.0 * x1[k]);
+      x0[k] += G.K0 * nu, x1[k] += G.K1 * nu;
+      m[k][i] = nu / G.sq;
+    }
+  }
+}
+
+}  // namespace
+
 // The filter of NoiseFilter written out on scalars, the same operations in the same order, for
 // every column at once without temporaries: the gains depend on the times and h alone, and this
 // loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
@@ -60,10 +95,6 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
   const double q0 = p.nom_share * p.s2, q = (1 - p.nom_share) * p.lambda * p.s2, r = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
   // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0,
   // K and sqrt(S).
-  struct Gain {
-    double f0 = 0, f = 0, H0 = 1, K0 = 0, K1 = 0, sq = 1;
-    bool skip = false, started = false;
-  };
   std::vector<Gain> g(static_cast<std::size_t>(n));
   double P00 = q0, P01 = 0, P10 = 0, P11 = q;  // stationary start
   double t_prev = 0, dt_prev = NAN, f0_prev = 0, f_prev = 0;
@@ -104,44 +135,15 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
     started = true;
     if (logS) (*logS)(i) = std::log(S);
   }
-  // Pass 2, each column through the same gains: x- = Phi x+; nu = m - H x-; x+ = x- + K nu.
-  // kBlock columns at a time: their recursions are independent, so interleaved they overlap in
-  // the processor; each column's arithmetic is the same as alone (the same results, bit for bit).
-  constexpr Eigen::Index kBlock = 4;
+  // Pass 2, each column through the same gains (whiten_columns).
   const Eigen::Index cols = M.cols();
   Eigen::Index c = 0;
-  for (; c + kBlock <= cols; c += kBlock) {
-    double* m[kBlock];
-    double x0[kBlock] = {}, x1[kBlock] = {};  // states (a, g)
-    for (Eigen::Index k = 0; k < kBlock; ++k) m[k] = M.col(c + k).data();
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Gain& G = g[static_cast<std::size_t>(i)];
-      for (Eigen::Index k = 0; k < kBlock; ++k) {
-        if (G.skip) {
-          m[k][i] = 0;
-          continue;
-        }
-        if (G.started) x0[k] *= G.f0, x1[k] *= G.f;
-        const double nu = m[k][i] - (G.H0 * x0[k] + 1.0 * x1[k]);
-        x0[k] += G.K0 * nu, x1[k] += G.K1 * nu;
-        m[k][i] = nu / G.sq;
-      }
-    }
-  }
-  for (; c < cols; ++c) {
-    double* m = M.col(c).data();
-    double x0 = 0, x1 = 0;  // state (a, g)
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const Gain& G = g[static_cast<std::size_t>(i)];
-      if (G.skip) {
-        m[i] = 0;
-        continue;
-      }
-      if (G.started) x0 *= G.f0, x1 *= G.f;
-      const double nu = m[i] - (G.H0 * x0 + 1.0 * x1);
-      x0 += G.K0 * nu, x1 += G.K1 * nu;
-      m[i] = nu / G.sq;
-    }
+  for (; c + 4 <= cols; c += 4) whiten_columns<4>(g, M, c);
+  switch (cols - c) {
+    case 3: whiten_columns<3>(g, M, c); break;
+    case 2: whiten_columns<2>(g, M, c); break;
+    case 1: whiten_columns<1>(g, M, c); break;
+    default: break;
   }
 }
 
