@@ -80,6 +80,48 @@ TEST_CASE("noise model: whitened columns are the same, bit for bit, however many
   }
 }
 
+TEST_CASE("noise model: whiten_batch gives each model what whiten gives it alone, bit for bit") {
+  // The REML grid whitens under its shares lambda at one tau at once (interleaved recursions,
+  // shared transitions): each model's columns and log S must be whiten()'s exactly, including a
+  // white share (lambda 0, no transition of its own) beside correlated ones, and a model without
+  // the nominal component beside ones with it.
+  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
+  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+  const std::vector<char> skip = {0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0};
+  const auto n = static_cast<Eigen::Index>(t.size());
+  std::vector<NoiseParams> ps;
+  for (double lam : {0.0, 0.3, 0.9, 0.995})
+    for (double mu : {0.0, 0.35}) {
+      NoiseParams p;
+      p.s2 = 1.5, p.lambda = lam, p.tau_s = 2.5, p.nom_share = mu, p.nom_tau_s = 5.0;
+      ps.push_back(p);
+    }
+  Eigen::MatrixXd M(n, 6);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index c = 0; c < M.cols(); ++c) M(i, c) = std::cos(0.9 * static_cast<double>(i) - static_cast<double>(c)) + 0.2 * c;
+  std::vector<Eigen::MatrixXd> Ws(ps.size(), M);
+  std::vector<Eigen::Ref<Eigen::MatrixXd>> refs;
+  for (auto& W : Ws) refs.emplace_back(W);
+  std::vector<Eigen::VectorXd> logs;
+  whiten_batch(t, h, ps, skip, refs, &logs);
+  REQUIRE(logs.size() == ps.size());
+  for (std::size_t j = 0; j < ps.size(); ++j) {
+    Eigen::MatrixXd alone = M;
+    Eigen::VectorXd logS;
+    whiten(t, h, ps[j], skip, alone, &logS);
+    INFO("model " << j << ": lambda " << ps[j].lambda << ", mu " << ps[j].nom_share);
+    CHECK((alone.array() == Ws[j].array()).all());
+    CHECK((logS.array() == logs[j].array()).all());
+  }
+  // models that do not share their correlation times, or a matrix per model missing: refused
+  NoiseParams other = ps[1];
+  other.tau_s = 3.0;
+  std::vector<Eigen::MatrixXd> two(2, M);
+  std::vector<Eigen::Ref<Eigen::MatrixXd>> two_refs(two.begin(), two.end());
+  CHECK_THROWS_WITH(whiten_batch(t, h, {ps[1], other}, skip, two_refs), Catch::Contains("share their correlation times"));
+  CHECK_THROWS_WITH(whiten_batch(t, h, {ps[1]}, skip, two_refs), Catch::Contains("one matrix per noise model"));
+}
+
 namespace {
 // The noise model's covariance built densely (noise_model.hpp):
 // C_ij = mu s2 h_i h_j exp(-|dt| / tau0) + (1 - mu) lambda s2 exp(-|dt| / tau) + delta_ij (1 - mu)(1 - lambda) s2

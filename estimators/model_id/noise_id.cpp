@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -26,20 +27,20 @@ struct Series {
   double tau0;                   ///< the nominal component's correlation time
 };
 
-// REML log-likelihood at (lambda, tau) (and the nominal component's share mu) with s^2
-// profiled; [X | e] whitened with s^2 = 1.
-Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vector<char>& skip) {
-  const std::vector<double>& t = sr.t;
-  const Eigen::MatrixXd& Xe = sr.Xe;
+// The noise model (lambda, tau, mu) of a series, s^2 = 1.
+NoiseParams model_of(const Series& sr, double mu, double lambda, double tau) {
   NoiseParams p;
   p.lambda = lambda;
   p.tau_s = tau;
   p.nom_share = mu;
   p.nom_tau_s = sr.tau0;
-  Eigen::MatrixXd W = Xe;
-  Eigen::VectorXd logS;
-  whiten(t, sr.h, p, skip, W, &logS);
-  const Eigen::Index k = Xe.cols() - 1;
+  return p;
+}
+
+// REML from [X | e] whitened (W) with s^2 = 1 and its log S_i.
+Reml reml_whitened(const Series& sr, const Eigen::MatrixXd& W, const Eigen::VectorXd& logS, const std::vector<char>& skip) {
+  const std::vector<double>& t = sr.t;
+  const Eigen::Index k = W.cols() - 1;
   const Eigen::MatrixXd X = W.leftCols(k);
   const Eigen::VectorXd e = W.col(k);
   double n = 0;
@@ -63,6 +64,29 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
   out.dof = nprime;
   out.ll = -0.5 * (nprime * std::log(out.s2) + logS.sum() + logdet + nprime * (1 + std::log(2 * M_PI)));
   out.ml = -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
+  return out;
+}
+
+// REML log-likelihood at (lambda, tau) (and the nominal component's share mu) with s^2
+// profiled; [X | e] whitened with s^2 = 1.
+Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vector<char>& skip) {
+  Eigen::MatrixXd W = sr.Xe;
+  Eigen::VectorXd logS;
+  whiten(sr.t, sr.h, model_of(sr, mu, lambda, tau), skip, W, &logS);
+  return reml_whitened(sr, W, logS, skip);
+}
+
+// reml() at each of the shares lambdas at one tau, the same values (whiten_batch).
+std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
+                              const std::vector<char>& skip) {
+  std::vector<NoiseParams> ps;
+  std::vector<Eigen::MatrixXd> Ws(count, sr.Xe);
+  std::vector<Eigen::Ref<Eigen::MatrixXd>> refs;
+  for (std::size_t j = 0; j < count; ++j) ps.push_back(model_of(sr, mu, lambdas[j], tau)), refs.emplace_back(Ws[j]);
+  std::vector<Eigen::VectorXd> logS;
+  whiten_batch(sr.t, sr.h, ps, skip, refs, &logS);
+  std::vector<Reml> out;
+  for (std::size_t j = 0; j < count; ++j) out.push_back(reml_whitened(sr, Ws[j], logS[j], skip));
   return out;
 }
 
@@ -140,14 +164,16 @@ void check_series(const char* who, const std::vector<double>& t, const std::vect
 }
 
 // The (lambda, log tau) maximising crit(lambda, tau): the grid, then refined.
-template <class F>
-std::pair<double, double> search_lambda_tau(F crit, double ltau_lo, double ltau_hi) {
+// crit_grid(tau): crit at each of grid_lambdas at tau, in their order.
+template <class F, class G>
+std::pair<double, double> search_lambda_tau(F crit, G crit_grid, double ltau_lo, double ltau_hi) {
   // grid
   double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
   for (int i = 0; i < n_tau; ++i) {
     const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
-    for (double lam : grid_lambdas) {
-      const double ll = crit(lam, std::exp(lt));
+    const std::vector<double> lls = crit_grid(std::exp(lt));
+    for (std::size_t j = 0; j < std::size(grid_lambdas); ++j) {
+      const double ll = lls[j], lam = grid_lambdas[j];
       if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
     }
   }
@@ -237,10 +263,16 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     const Reml r = reml(sr, mu, lam, tau, skip);
     return o.profile_ml ? r.ml : r.ll;
   };
+  auto crit_grid = [&](double tau) {
+    std::vector<double> out;
+    for (const Reml& r : reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip))
+      out.push_back(o.profile_ml ? r.ml : r.ll);
+    return out;
+  };
   for (int round = 0; round < 5; ++round) {
     const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
-    const auto [best_lam, best_lt] = search_lambda_tau(crit, ltau_lo, ltau_hi);
+    const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, ltau_lo, ltau_hi);
     const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
     if (o.profile_ml) {
       // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
@@ -315,16 +347,19 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
   const auto [ltau_lo, ltau_hi] = log_tau_range(o, std::max(t.back() - t.front(), 1e-6));
   // every grid model with its REML log-likelihood; the null model (nominal or white) first
   std::vector<std::pair<double, NoiseParams>> all;
-  auto add = [&](double lam, double tau) {
-    const Reml r = reml(sr, mu, lam, tau, skip);
+  auto keep = [&](double lam, double tau, const Reml& r) {
     if (!std::isfinite(r.ll)) return;
     NoiseParams p;
     p.s2 = r.s2, p.lambda = lam, p.tau_s = tau, p.nom_share = mu, p.nom_tau_s = sr.tau0;
     all.emplace_back(r.ll, p);
   };
+  auto add = [&](double lam, double tau) { keep(lam, tau, reml(sr, mu, lam, tau, skip)); };
   add(0.0, 1.0);
-  for (int i = 0; i < n_tau; ++i)
-    for (double lam : grid_lambdas) add(lam, std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1)));
+  for (int i = 0; i < n_tau; ++i) {
+    const double tau = std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1));
+    const std::vector<Reml> rs = reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
+    for (std::size_t j = 0; j < rs.size(); ++j) keep(grid_lambdas[j], tau, rs[j]);
+  }
   if (all.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
   double best = -INFINITY;
   for (const auto& a : all) best = std::max(best, a.first);

@@ -87,63 +87,96 @@ void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, E
 // loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
 void whiten(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
             const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS) {
+  std::vector<Eigen::VectorXd> ls;
+  whiten_batch(t, h, {p}, skip, {M}, logS ? &ls : nullptr);
+  if (logS) *logS = std::move(ls[0]);
+}
+
+void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                  const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
+                  std::vector<Eigen::VectorXd>* logS) {
   const auto n = static_cast<Eigen::Index>(t.size());
-  if (M.rows() != n) throw std::invalid_argument("whiten: rows != number of times");
+  const std::size_t J = ps.size();
+  if (Ms.size() != J || J == 0) throw std::invalid_argument("whiten: one matrix per noise model, at least one");
+  for (const auto& M : Ms)
+    if (M.rows() != n) throw std::invalid_argument("whiten: rows != number of times");
   if (!h.empty() && h.size() != t.size()) throw std::invalid_argument("whiten: gains != number of times");
-  check_noise_params(p);
-  if (logS) logS->setZero(n);
-  const double q0 = p.nom_share * p.s2, q = (1 - p.nom_share) * p.lambda * p.s2, r = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
+  if (!skip.empty() && skip.size() != t.size()) throw std::invalid_argument("whiten: skip mask != number of times");
+  for (const NoiseParams& p : ps) {
+    check_noise_params(p);
+    if (p.tau_s != ps[0].tau_s || p.nom_tau_s != ps[0].nom_tau_s)
+      throw std::invalid_argument("whiten: the noise models of one batch must share their correlation times");
+  }
+  if (logS) logS->assign(J, Eigen::VectorXd::Zero(n));
+  // Per model: q0 = mu s^2, q = (1 - mu) lambda s^2, r = (1 - mu) (1 - lambda) s^2.
+  std::vector<double> q0(J), q(J), r(J);
+  bool any_q0 = false, any_q = false;
+  for (std::size_t j = 0; j < J; ++j) {
+    const NoiseParams& p = ps[j];
+    q0[j] = p.nom_share * p.s2, q[j] = (1 - p.nom_share) * p.lambda * p.s2, r[j] = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
+    any_q0 = any_q0 || q0[j] > 0, any_q = any_q || q[j] > 0;
+  }
   // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0,
-  // K and sqrt(S).
-  std::vector<Gain> g(static_cast<std::size_t>(n));
-  double P00 = q0, P01 = 0, P10 = 0, P11 = q;  // stationary start
-  double t_prev = 0, dt_prev = NAN, f0_prev = 0, f_prev = 0;
+  // K and sqrt(S). The models' recursions run interleaved (each is a chain of dependent
+  // operations, the processor overlaps them) and share the transitions exp(-dt / tau): each
+  // model's arithmetic is what it is alone (the same results, bit for bit).
+  std::vector<std::vector<Gain>> g(J, std::vector<Gain>(static_cast<std::size_t>(n)));
+  std::vector<double> P00(q0), P01(J, 0.0), P10(J, 0.0), P11(q);  // stationary start
+  double t_prev = 0, dt_prev = NAN, e0 = 0, e = 0;
   bool started = false;
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    Gain& G = g[ui];
     if (!skip.empty() && skip[ui]) {  // no sample of the noise process: no update
-      G.skip = true;
+      for (std::size_t j = 0; j < J; ++j) g[j][ui].skip = true;
       continue;
     }
     const double H0 = h.empty() ? 1.0 : h[ui], H1 = 1.0;
-    G.H0 = H0;
-    G.started = started;
     if (started) {
       // x- = Phi x+, P- = Phi P+ Phi + diag(q0 (1 - phi0^2), q (1 - phi^2))
       const double dt = t[ui] - t_prev;
       if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
-        f0_prev = q0 > 0 ? std::exp(-dt / p.nom_tau_s) : 0.0, f_prev = q > 0 ? std::exp(-dt / p.tau_s) : 0.0;
+        e0 = any_q0 ? std::exp(-dt / ps[0].nom_tau_s) : 0.0, e = any_q ? std::exp(-dt / ps[0].tau_s) : 0.0;
         dt_prev = dt;
       }
-      G.f0 = f0_prev, G.f = f_prev;
-      const double f0 = G.f0, f = G.f;
-      P00 = f0 * f0 * P00 + q0 * (1 - f0 * f0);
-      P11 = f * f * P11 + q * (1 - f * f);
-      P01 = P10 = f0 * f * P01;
     }
     t_prev = t[ui];
-    // S = H P- H' + r; K = P- H' / S
-    const double HP0 = H0 * P00 + H1 * P10, HP1 = H0 * P01 + H1 * P11;
-    const double S = std::max(HP0 * H0 + HP1 * H1 + r, 1e-300);
-    G.K0 = (P00 * H0 + P01 * H1) / S, G.K1 = (P10 * H0 + P11 * H1) / S;
-    G.sq = std::sqrt(S);
-    // P+ = (I - K H) P-, symmetrised
-    const double A00 = 1 - G.K0 * H0, A01 = -G.K0 * H1, A10 = -G.K1 * H0, A11 = 1 - G.K1 * H1;
-    const double N00 = A00 * P00 + A01 * P10, N01 = A00 * P01 + A01 * P11, N10 = A10 * P00 + A11 * P10, N11 = A10 * P01 + A11 * P11;
-    P00 = N00, P11 = N11, P01 = P10 = 0.5 * (N01 + N10);
+    for (std::size_t j = 0; j < J; ++j) {
+      Gain& G = g[j][ui];
+      G.H0 = H0;
+      G.started = started;
+      if (started) {
+        G.f0 = q0[j] > 0 ? e0 : 0.0, G.f = q[j] > 0 ? e : 0.0;
+        const double f0 = G.f0, f = G.f;
+        P00[j] = f0 * f0 * P00[j] + q0[j] * (1 - f0 * f0);
+        P11[j] = f * f * P11[j] + q[j] * (1 - f * f);
+        P01[j] = P10[j] = f0 * f * P01[j];
+      }
+      // S = H P- H' + r; K = P- H' / S
+      const double HP0 = H0 * P00[j] + H1 * P10[j], HP1 = H0 * P01[j] + H1 * P11[j];
+      const double S = std::max(HP0 * H0 + HP1 * H1 + r[j], 1e-300);
+      G.K0 = (P00[j] * H0 + P01[j] * H1) / S, G.K1 = (P10[j] * H0 + P11[j] * H1) / S;
+      G.sq = std::sqrt(S);
+      // P+ = (I - K H) P-, symmetrised
+      const double A00 = 1 - G.K0 * H0, A01 = -G.K0 * H1, A10 = -G.K1 * H0, A11 = 1 - G.K1 * H1;
+      const double N00 = A00 * P00[j] + A01 * P10[j], N01 = A00 * P01[j] + A01 * P11[j],
+                   N10 = A10 * P00[j] + A11 * P10[j], N11 = A10 * P01[j] + A11 * P11[j];
+      P00[j] = N00, P11[j] = N11, P01[j] = P10[j] = 0.5 * (N01 + N10);
+      if (logS) (*logS)[j](i) = std::log(S);
+    }
     started = true;
-    if (logS) (*logS)(i) = std::log(S);
   }
-  // Pass 2, each column through the same gains (whiten_columns).
-  const Eigen::Index cols = M.cols();
-  Eigen::Index c = 0;
-  for (; c + 4 <= cols; c += 4) whiten_columns<4>(g, M, c);
-  switch (cols - c) {
-    case 3: whiten_columns<3>(g, M, c); break;
-    case 2: whiten_columns<2>(g, M, c); break;
-    case 1: whiten_columns<1>(g, M, c); break;
-    default: break;
+  // Pass 2, each model's columns through its gains (whiten_columns).
+  for (std::size_t j = 0; j < J; ++j) {
+    Eigen::Ref<Eigen::MatrixXd> M = Ms[j];
+    const Eigen::Index cols = M.cols();
+    Eigen::Index c = 0;
+    for (; c + 4 <= cols; c += 4) whiten_columns<4>(g[j], M, c);
+    switch (cols - c) {
+      case 3: whiten_columns<3>(g[j], M, c); break;
+      case 2: whiten_columns<2>(g[j], M, c); break;
+      case 1: whiten_columns<1>(g[j], M, c); break;
+      default: break;
+    }
   }
 }
 

@@ -67,6 +67,15 @@ class NoiseFilter {
 void whiten(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
             const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS = nullptr);
 
+/// whiten() under several noise models at once: Ms[j] whitened in place under ps[j], logS (if
+/// given) receives each model's log S_i. The models must share tau_s and nom_tau_s (e.g. the
+/// REML grid's shares lambda at one correlation time); each model's result is whiten()'s, bit for
+/// bit, in less time (the models' recursions interleaved, their transitions computed once).
+/// Throws std::invalid_argument on sizes that differ or models that do not share their times.
+void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                  const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
+                  std::vector<Eigen::VectorXd>* logS = nullptr);
+
 /// Sequential (one-step-ahead predictive) log-likelihood of residuals e at times t (gains h,
 /// empty: 1) under p, summed over frames with score[i] (all when empty); every frame conditions
 /// the later ones except those the mixture judges outliers (posterior outlier probability > 1/2).
