@@ -80,10 +80,16 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
 std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
                               const std::vector<char>& skip) {
   std::vector<NoiseParams> ps;
-  std::vector<Eigen::MatrixXd> Ws(count, sr.Xe);
+  // the whitened copies and their log S kept per thread between calls (whiten_batch says why)
+  thread_local std::vector<Eigen::MatrixXd> Ws;
+  thread_local std::vector<Eigen::VectorXd> logS;
+  if (Ws.size() < count) Ws.resize(count);
   std::vector<Eigen::Ref<Eigen::MatrixXd>> refs;
-  for (std::size_t j = 0; j < count; ++j) ps.push_back(model_of(sr, mu, lambdas[j], tau)), refs.emplace_back(Ws[j]);
-  std::vector<Eigen::VectorXd> logS;
+  for (std::size_t j = 0; j < count; ++j) {
+    Ws[j] = sr.Xe;
+    ps.push_back(model_of(sr, mu, lambdas[j], tau));
+    refs.emplace_back(Ws[j]);
+  }
   whiten_batch(sr.t, sr.h, ps, skip, refs, &logS);
   std::vector<Reml> out;
   for (std::size_t j = 0; j < count; ++j) out.push_back(reml_whitened(sr, Ws[j], logS[j], skip));
