@@ -82,9 +82,7 @@ void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, E
 
 }  // namespace
 
-// The filter of NoiseFilter written out on scalars, the same operations in the same order, for
-// every column at once without temporaries: the gains depend on the times and h alone, and this
-// loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
+// One noise model: the batch of one.
 void whiten(const std::vector<double>& t, const std::vector<double>& h, const NoiseParams& p,
             const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS) {
   std::vector<Eigen::VectorXd> ls;
@@ -92,6 +90,9 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
   if (logS) *logS = std::move(ls[0]);
 }
 
+// The filter of NoiseFilter written out on scalars, the same operations in the same order, for
+// every column at once without temporaries: the gains depend on the times and h alone, and this
+// loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
 void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
                   const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
                   std::vector<Eigen::VectorXd>* logS) {
