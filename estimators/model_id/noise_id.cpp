@@ -67,16 +67,9 @@ Reml reml_whitened(const Series& sr, const Eigen::MatrixXd& W, const Eigen::Vect
   return out;
 }
 
-// REML log-likelihood at (lambda, tau) (and the nominal component's share mu) with s^2
-// profiled; [X | e] whitened with s^2 = 1.
-Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vector<char>& skip) {
-  Eigen::MatrixXd W = sr.Xe;
-  Eigen::VectorXd logS;
-  whiten(sr.t, sr.h, model_of(sr, mu, lambda, tau), skip, W, &logS);
-  return reml_whitened(sr, W, logS, skip);
-}
-
-// reml() at each of the shares lambdas at one tau, the same values (whiten_batch).
+// REML log-likelihood at each of the shares lambdas at one tau (and the nominal component's
+// share mu) with s^2 profiled; [X | e] whitened with s^2 = 1, under all the shares at once
+// (whiten_batch: the same values as one at a time).
 std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
                               const std::vector<char>& skip) {
   std::vector<NoiseParams> ps;
@@ -94,6 +87,11 @@ std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas
   std::vector<Reml> out;
   for (std::size_t j = 0; j < count; ++j) out.push_back(reml_whitened(sr, Ws[j], logS[j], skip));
   return out;
+}
+
+// reml_shares at one share lambda.
+Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vector<char>& skip) {
+  return reml_shares(sr, mu, &lambda, 1, tau, skip)[0];
 }
 
 // Golden-section maximum of f on [a, b].
