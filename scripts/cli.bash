@@ -94,6 +94,8 @@ cli_fields() {
 
 cli_help() {
   local first=1 line e text
+  # every entry checked here, in this shell: inside the pipe below cli_die would end only the pipe's subshell
+  for e in "${CLI_OPTS[@]}"; do cli_fields "$e"; done
   {
     while IFS= read -r line; do
       if ((first)); then printf 'L\tUsage: %s\n' "$CLI_PROG${line:+ $line}"; first=0; else printf 'L\t       %s\n' "$CLI_PROG${line:+ $line}"; fi
