@@ -105,12 +105,47 @@ def localize(cmd, tmp):
     return re.sub(r"(?<=\s)out/", tmp + "/out/", cmd)
 
 
+# [s] One command's limit: five times the longest example's command on a loaded 2-core machine
+# (readme.autoferry_pooled, ~190 s with another test beside it), and below ctest's 900 s, so that
+# a command that hangs is named here with what it left, not by ctest's bare "Timeout".
+COMMAND_TIMEOUT_S = 600
+
+
+def processes(pgid):
+    """ps of a process group: the processes a command started that are still alive."""
+    return subprocess.run(["ps", "-o", "pid,ppid,stat,etime,args", "-g", str(pgid)],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True).stdout
+
+
+def hang_report(cmd, tmp, ps, out, err):
+    """What a command that ran past COMMAND_TIMEOUT_S left: its processes still alive (`ps`), the
+    tails of its output and of the run logs in the scratch folder."""
+    logs = ""
+    for log in sorted(glob.glob(os.path.join(tmp, "**", "logs", "*.log"), recursive=True)):
+        tail = open(log, errors="replace").read().splitlines()[-5:]
+        logs += "\n  %s:\n    %s" % (os.path.relpath(log, tmp), "\n    ".join(tail))
+    return ("'%s' did not finish within %d s (COMMAND_TIMEOUT_S); its processes then:\n%s"
+            "its stdout ended: %s\nits stderr ended: %s\nlogs:%s"
+            % (cmd, COMMAND_TIMEOUT_S, ps, out[-600:], err[-1500:], logs or " none"))
+
+
 def run(cmd, tmp, what):
+    """The command's CompletedProcess; one that runs past COMMAND_TIMEOUT_S is killed with every
+    process it started (its own process group: a process still holding the output pipes would
+    keep the read waiting) and fails the example with hang_report's account."""
     # the package of this checkout (scripts/setup's rnav.pth names the last checkout set up)
     env = dict(os.environ, RNAV_BUILD=BUILD, PYTHONPATH=os.path.join(os.path.abspath(SRC), "scripts"))
-    r = subprocess.run(["bash", "-c", localize(cmd, tmp)], cwd=SRC, env=env,
-                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    return r
+    p = subprocess.Popen(["bash", "-c", localize(cmd, tmp)], cwd=SRC, env=env, stdin=subprocess.DEVNULL,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, err = p.communicate(timeout=COMMAND_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        ps = processes(p.pid)
+        os.killpg(p.pid, 9)
+        out, err = p.communicate()
+        fail("%s (%s): %s" % (what, WHERE, hang_report(cmd, tmp, ps, out, err)))
+        raise RuntimeError(what)
+    return subprocess.CompletedProcess(p.args, p.returncode, out, err)
 
 
 def run_ok(cmd, tmp, what):
