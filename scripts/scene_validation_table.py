@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Markdown tables of scene validations (rnav_scene validate --json: recorded scenes or landing
 flights) and a closure (rnav_scene closure --json): per recording, the pairs with >= min_n detections inside the simulations' 5-95 %
 band on every statistic, nominal and extended; per statistic, the share of rows inside; the

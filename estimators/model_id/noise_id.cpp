@@ -94,10 +94,18 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
   return reml_shares(sr, mu, &lambda, 1, tau, skip)[0];
 }
 
-// Golden-section maximum of f on [a, b].
+// The refinement's resolution: each golden-section search below stops once its bracket is
+// narrower than this, in log tau (0.1 % of tau) and in logit lambda. Fixed iteration counts
+// (30 and 40) used to narrow the brackets to 1e-7 and 1e-8: twice the REML evaluations, for
+// maxima whose log-likelihood then differed by less than the decisions' rounding.
+constexpr double kRefineWidth = 1e-3;
+
+// Golden-section maximum of f on [a, b], the bracket narrowed to at most `width`.
 template <class F>
-double golden_max(F f, double a, double b, int iters) {
+double golden_max(F f, double a, double b, double width) {
   const double g = 0.5 * (std::sqrt(5.0) - 1);
+  // each iteration multiplies the bracket by g: n iterations leave (b - a) g^(n + 1)
+  const int iters = b - a > width ? static_cast<int>(std::ceil(std::log(width / (b - a)) / std::log(g))) - 1 : 0;
   double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
   for (int i = 0; i < iters; ++i) {
     if (fc > fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
@@ -187,9 +195,9 @@ std::pair<double, double> search_lambda_tau(F crit, G crit_grid, double ltau_lo,
   auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
   for (int it = 0; it < 2; ++it) {
     best_lt = golden_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
-                         std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), 30);
+                         std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), kRefineWidth);
     const double z = golden_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
-                                logit(0.01), logit(0.999), 40);
+                                logit(0.01), logit(0.999), kRefineWidth);
     best_lam = expit(z);
   }
   return {best_lam, best_lt};
