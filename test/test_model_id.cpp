@@ -5,6 +5,7 @@
 #include "estimators/model_id/effect_search.hpp"
 #include "estimators/model_id/noise_id.hpp"
 #include "estimators/model_id/noise_memo.hpp"
+#include "estimators/model_id/progress_clock.hpp"
 #include "test/coloured_noise.hpp"
 #include "estimators/model_id/shown_unit.hpp"
 #include "estimators/model_id/stats.hpp"
@@ -13,10 +14,12 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <random>
 #include <set>
+#include <thread>
 
 using namespace rnav;
 using rnav::test::CascadeNoise;
@@ -1141,4 +1144,23 @@ TEST_CASE("effect search: the offsets no named effect explains are a random effe
   // the mean of 280 sigma estimates, each from 99 frames (SE about 5 / sqrt(2 * 99) = 0.36 m
   // each, 0.02 m over all): within 5 % of the truth
   CHECK(std::abs(drawn_sd / drawn_n - sigma) < 0.05 * sigma);
+}
+
+TEST_CASE("progress clock: the time left is the mean time per part done times the parts left", "[model_id][progress]") {
+  CHECK_THROWS_AS(ProgressClock(0), std::invalid_argument);
+  const ProgressClock clock(4);
+  CHECK_THROWS_AS(clock.left_s(0), std::invalid_argument);
+  CHECK_THROWS_AS(clock.left_s(5), std::invalid_argument);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(clock.left_s(4) == 0);
+  // one part of four done after >= 50 ms: three more at the same pace. The clock is read twice
+  // (spent, then left), so left lies between 3 x the spent before and 3 x the spent after.
+  const double before = clock.spent_s(), left = clock.left_s(1), after = clock.spent_s();
+  CHECK(before >= 0.05);
+  CHECK(left >= 3 * before);
+  CHECK(left <= 3 * after);
+  // two of four: as much again as spent
+  const double b2 = clock.spent_s(), l2 = clock.left_s(2), a2 = clock.spent_s();
+  CHECK(l2 >= b2);
+  CHECK(l2 <= a2);
 }

@@ -7,12 +7,12 @@
 #include "estimators/diagnosis/diagnose_report.hpp"
 #include "estimators/diagnosis/multi_problem.hpp"
 #include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/progress_clock.hpp"
 #include "estimators/model_id/search_json.hpp"
 #include "estimators/model_id/stats.hpp"
 #include "estimators/diagnosis/target_model.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <set>
@@ -255,7 +255,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
     std::vector<CarriedHardware> shares(R);
     // a line per recording done, with the time left at the mean time per recording so far (the
     // lines go to the caller; no result depends on them)
-    const auto start = std::chrono::steady_clock::now();
+    const ProgressClock clock(R);
     std::mutex done_m;
     std::size_t done = 0;
     parallel_for(R, o.search.injection.threads, [&](std::size_t k) {
@@ -278,10 +278,9 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
         if (o.search.progress) {
           const std::lock_guard<std::mutex> lock(done_m);
           ++done;
-          const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          const double left = spent / static_cast<double>(done) * static_cast<double>(R - done);
           char line[160];
-          std::snprintf(line, sizeof line, "leave one out: %zu of %zu recordings done, about %.0f s left", done, R, left);
+          std::snprintf(line, sizeof line, "leave one out: %zu of %zu recordings done, about %.0f s left", done, R,
+                        clock.left_s(done));
           o.search.progress(line);
         }
       } catch (const std::exception& e) {

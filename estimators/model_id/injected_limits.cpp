@@ -2,12 +2,12 @@
 #include "estimators/model_id/injected_limits.hpp"
 
 #include "estimators/model_id/parallel_for.hpp"
+#include "estimators/model_id/progress_clock.hpp"
 
 #include "estimators/model_id/search_design.hpp"
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cmath>
 #include <limits>
@@ -315,7 +315,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   }
   // Progress: a line before the first parameter, and one per parameter with the time left at
   // the mean time per parameter so far (the lines go to the caller; no result depends on them).
-  const auto start = std::chrono::steady_clock::now();
+  const ProgressClock clock(std::max<std::size_t>(jobs.size(), 1));
   if (io.progress && !jobs.empty())
     io.progress(std::to_string(jobs.size()) + " parameter(s) to measure, " + std::to_string(io.ladder_injections) +
                 " injections per ladder size and " + std::to_string(io.injections) + " per check");
@@ -325,11 +325,10 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
     InjectedLimit& L = out[c.name + "@" + c.scope.label()][c.params[jb.j]];
     L = measure_one(b, o, io, jb.e, jb.j, jb.fisher);
     if (io.progress) {
-      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double left = spent / static_cast<double>(k + 1) * static_cast<double>(jobs.size() - k - 1);
-      char clock[128];
-      std::snprintf(clock, sizeof clock, "%zu of %zu, %.0f s, about %.0f s left: ", k + 1, jobs.size(), spent, left);
-      io.progress(clock + c.name + "@" + c.scope.label() + " " + c.params[jb.j] + ": named at " + short_num(L.named.size) +
+      char head[128];
+      std::snprintf(head, sizeof head, "%zu of %zu, %.0f s, about %.0f s left: ", k + 1, jobs.size(), clock.spent_s(),
+                    clock.left_s(k + 1));
+      io.progress(head + c.name + "@" + c.scope.label() + " " + c.params[jb.j] + ": named at " + short_num(L.named.size) +
                   " (" + std::to_string(L.named.hits) + "/" + std::to_string(L.named.n) + "), detected at " +
                   short_num(L.detected.size) + " (" + std::to_string(L.detected.hits) + "/" + std::to_string(L.detected.n) +
                   "), Fisher " + short_num(L.fisher));
