@@ -536,7 +536,9 @@ def _draw(i):
 def draw_all(jobs):
     """Draw the figures, one process per core (forked: each gets the data as it is; matplotlib
     renders a figure in about half a second, so the six of a run take ~3 s on one core). The PNGs
-    are the same whichever process draws them."""
+    are the same whichever process draws them. A drawing process that dies (killed, out of
+    memory) fails the plotting with BrokenProcessPool, where multiprocessing.Pool would wait for
+    it for ever."""
     global _JOBS
     _JOBS = jobs
     n = min(len(jobs), os.cpu_count() or 1)
@@ -545,8 +547,9 @@ def draw_all(jobs):
             _draw(i)
         return
     import multiprocessing
-    with multiprocessing.get_context("fork").Pool(n) as pool:
-        pool.map(_draw, range(len(jobs)), chunksize=1)
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("fork")) as pool:
+        list(pool.map(_draw, range(len(jobs))))
 
 
 def main(argv):
