@@ -957,8 +957,8 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
   NoiseIdOptions o;
   search_detail::NoiseMemo memo;
   const NoiseFit direct = identify_noise(t, {}, e, X, o);
-  const NoiseFit first = memo.fit(0, t, {}, e, X, o, nullptr);
-  const NoiseFit again = memo.fit(0, t, {}, e, X, o, nullptr);
+  const NoiseFit first = memo.fit(t, {}, e, X, o, nullptr);
+  const NoiseFit again = memo.fit(t, {}, e, X, o, nullptr);
   CHECK(memo.misses() == 1);
   CHECK(memo.hits() == 1);
   for (const NoiseFit* f : {&first, &again}) {
@@ -968,24 +968,25 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
     CHECK(f->loglik_ml == direct.loglik_ml);
     CHECK(f->outlier == direct.outlier);
   }
-  // another column, another channel index, other options, given flags: each computed afresh
-  const NoiseFit other = memo.fit(0, t, {}, e, X2, o, nullptr);
+  // another column, other options, given flags: each computed afresh; the same series asked
+  // again (another channel or another search with the same frames): the stored fit
+  const NoiseFit other = memo.fit(t, {}, e, X2, o, nullptr);
   CHECK(other.loglik_ml == identify_noise(t, {}, e, X2, o).loglik_ml);
-  memo.fit(1, t, {}, e, X, o, nullptr);
+  CHECK(memo.fit(t, {}, e, X, o, nullptr).loglik_ml == direct.loglik_ml);
   NoiseIdOptions pm = o;
   pm.profile_ml = true;
-  CHECK(memo.fit(0, t, {}, e, X, pm, nullptr).loglik_ml == identify_noise(t, {}, e, X, pm).loglik_ml);
+  CHECK(memo.fit(t, {}, e, X, pm, nullptr).loglik_ml == identify_noise(t, {}, e, X, pm).loglik_ml);
   const std::vector<char> skip(300, 0);
-  memo.fit(0, t, {}, e, X, o, &skip);
-  CHECK(memo.misses() == 5);
-  CHECK(memo.hits() == 1);
+  memo.fit(t, {}, e, X, o, &skip);
+  CHECK(memo.misses() == 4);
+  CHECK(memo.hits() == 2);
   // a series its columns span throws DegenerateSeries, from the memo as from identify_noise
   Eigen::MatrixXd span = Eigen::MatrixXd::Identity(300, 300).leftCols(298);
-  CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
-  CHECK_THROWS_AS(memo.fit(0, t, {}, e, span, o, nullptr), DegenerateSeries);
-  CHECK(memo.hits() == 2);
+  CHECK_THROWS_AS(memo.fit(t, {}, e, span, o, nullptr), DegenerateSeries);
+  CHECK_THROWS_AS(memo.fit(t, {}, e, span, o, nullptr), DegenerateSeries);
+  CHECK(memo.hits() == 3);
   // a confidence set is keyed apart from a fit of the same series, and by its level
-  const auto set4 = memo.confidence_set(0, t, {}, e, X, o, skip, 4.0);
+  const auto set4 = memo.confidence_set(t, {}, e, X, o, skip, 4.0);
   const auto direct4 = noise_confidence_set(t, {}, e, X, o, skip, 4.0);
   REQUIRE(set4.size() == direct4.size());
   for (std::size_t i = 0; i < set4.size(); ++i) {
@@ -993,10 +994,10 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
     CHECK(set4[i].tau_s == direct4[i].tau_s);
     CHECK(set4[i].s2 == direct4[i].s2);
   }
-  CHECK(memo.confidence_set(0, t, {}, e, X, o, skip, 4.0).size() == set4.size());
-  CHECK(memo.confidence_set(0, t, {}, e, X, o, skip, 9.0).size() == noise_confidence_set(t, {}, e, X, o, skip, 9.0).size());
-  CHECK(memo.misses() == 8);
-  CHECK(memo.hits() == 3);
+  CHECK(memo.confidence_set(t, {}, e, X, o, skip, 4.0).size() == set4.size());
+  CHECK(memo.confidence_set(t, {}, e, X, o, skip, 9.0).size() == noise_confidence_set(t, {}, e, X, o, skip, 9.0).size());
+  CHECK(memo.misses() == 7);
+  CHECK(memo.hits() == 4);
 }
 
 TEST_CASE("effect search: the noise a simulation draws keeps the slow wander the identified noise leaves to its trend",

@@ -179,7 +179,11 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   rep.dropped_channels = mp.dropped_channels;
   rep.scan_period_s = mp.scan_period_s;
   check_limit_entries(mp.problem, o.search.injection, "diagnose multi");
-  rep.result = search_effects(mp.problem, o.search);
+  // the searches of these recordings below (the report's, the carried fit's, the leave-one-out's)
+  // share one memo of noise fits: the channels of a recording are the same in each
+  SearchOptions search = o.search;
+  if (!search.noise_memo) search.noise_memo = make_noise_memo();
+  rep.result = search_effects(mp.problem, search);
   const SearchResult& r = rep.result;
 
   // gain per sensor:target (per recording): compensated measurement against the held-out reference
@@ -223,7 +227,7 @@ MultiReport diagnose_multi_pooled(const std::vector<std::pair<std::string, Multi
   for (const RecordingDetections& rec : recs) scorers.emplace_back(rec, mp.scan_period_s, po);
   // pooled, the carried hardware comes from a fit at carry_alpha (no injected limits): the
   // report's own fit where the levels are the same
-  SearchOptions carry_search = o.search;
+  SearchOptions carry_search = search;
   carry_search.injection.injections = 0;
   if (pooled) carry_search.alpha = o.carry_alpha;
   {

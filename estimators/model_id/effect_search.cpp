@@ -333,10 +333,13 @@ Selection select_bounded(const Design& d, const SearchOptions& o, double m_famil
 
 }  // namespace
 
+std::shared_ptr<search_detail::NoiseMemo> make_noise_memo() { return std::make_shared<search_detail::NoiseMemo>(); }
+
 SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
   check_options(o_in);
   SearchOptions o = o_in;
   Design d(pb);
+  if (o.noise_memo) d.memo = o.noise_memo;
   SearchResult res;
   const double n_ch = static_cast<double>(pb.channels.size());
   // The family: every catalogue entry, and three noise tests (scale, correlation, outliers) per channel.

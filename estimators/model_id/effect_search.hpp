@@ -38,10 +38,15 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rnav {
+
+namespace search_detail {
+class NoiseMemo;
+}
 
 /// Where an effect acts: a sensor, a target's reference, both, or everything (empty = null).
 struct Scope {
@@ -229,7 +234,18 @@ struct SearchOptions {
   /// stderr on a large input; may be empty. May be called from several threads at once (the
   /// diagnoses run searches in parallel); the searches run inside one (injections) do not call it.
   std::function<void(const std::string&)> progress;
+  /// Noise fits remembered across searches of the same data (make_noise_memo): a pooled
+  /// diagnosis, its carried fit and its leave-one-out share one, so a channel whose frames,
+  /// fixed-effect columns, outlier flags and options are the same as in another search is not
+  /// identified again. A fit is a function of exactly those (search_detail::NoiseMemo), so the
+  /// results are the same with or without it, bit for bit. Empty (the default): the search
+  /// remembers its own fits only. Not for searches of different data (the injections do not
+  /// pass it on): it would only grow.
+  std::shared_ptr<search_detail::NoiseMemo> noise_memo;
 };
+
+/// A memo of noise fits for SearchOptions::noise_memo, safe to share between threads.
+std::shared_ptr<search_detail::NoiseMemo> make_noise_memo();
 
 /// The replication check of an entry with replicates (replication.hpp).
 struct Replication {

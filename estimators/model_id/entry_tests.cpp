@@ -98,7 +98,7 @@ std::vector<NoiseFit> identify_all(const Design& d, const Chosen& chosen, const 
   parallel_for(d.rows.size(), threads, [&](std::size_t c) {
     const Eigen::MatrixXd Xc = channel_columns(d, X, c);
     try {
-      out[c] = d.memo->fit(c, d.times[c], d.gains[c], channel_y(d, c), Xc, channel_options(*d.pb, c, no), nullptr);
+      out[c] = d.memo->fit(d.times[c], d.gains[c], channel_y(d, c), Xc, channel_options(*d.pb, c, no), nullptr);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("channel " + d.pb->channels[c].name + " (" + std::to_string(d.rows[c].size()) + " frames, " +
                                   std::to_string(Xc.cols()) + " fixed-effect columns): " + e.what());
@@ -136,7 +136,7 @@ double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
   NoiseIdOptions pm = no_;
   pm.profile_ml = true;
   try {
-    return d_.memo->fit(c, d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
+    return d_.memo->fit(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
         .loglik_ml;
   } catch (const DegenerateSeries&) {
     return std::nan("");  // the columns span the channel
@@ -170,7 +170,7 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
     // the null's noise among the models the data allow with the entry in: a slow correlation
     // that exists only to absorb the step is not among them
     double l0 = -INFINITY;
-    for (const NoiseParams& p : d_.memo->confidence_set(c, d_.times[c], d_.gains[c], channel_y(d_, c), X1,
+    for (const NoiseParams& p : d_.memo->confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
                                                         channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
       l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
     lr += 2 * (l1 - l0);
@@ -185,7 +185,7 @@ double EntryTests::fixed(std::size_t e) const {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
     try {
-      NoiseParams q = d_.memo->fit(c, d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
+      NoiseParams q = d_.memo->fit(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc), channel_options(*d_.pb, c, no_),
                                    &fits_[c].outlier)
                           .params;
       q.p_out = 0, q.s_out2 = 0;
@@ -226,7 +226,7 @@ double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) cons
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel: its null noise stays
     try {
-      sets[c] = d_.memo->confidence_set(c, d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc),
+      sets[c] = d_.memo->confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), with(c, Cc),
                                         channel_options(*d_.pb, c, no_), fits_[c].outlier, q);
     } catch (const DegenerateSeries&) {
       // spanned by the columns: its null noise stays (empty set)

@@ -291,6 +291,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   inner.injection.injections = 0;
   inner.score_holdout = false;
   inner.threads = 1;  // the injections run at once instead
+  inner.noise_memo = nullptr;  // each injection's data are its own: a shared memo would only grow
   Bootstrap b{pb, res, inner, d, {}};
   for (const ChannelNoise& n : res.noise) {
     NoiseParams q = n.fit.params;

@@ -39,12 +39,12 @@ namespace {
 
 // The key of one channel's series: what identify_noise and noise_confidence_set read besides
 // the set's level (tag: which of the two; q: the set's level, 0 for a fit).
-std::pair<std::uint64_t, std::uint64_t> series_key(char tag, double q, std::size_t c, const std::vector<double>& t,
+std::pair<std::uint64_t, std::uint64_t> series_key(char tag, double q, const std::vector<double>& t,
                                                    const std::vector<double>& h, const Eigen::VectorXd& e,
                                                    const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                                    const std::vector<char>* skip) {
   Hasher k;
-  k.value(tag), k.value(q), k.value(c);
+  k.value(tag), k.value(q);
   k.value(t.size()), k.value(h.size()), k.value(e.size());
   k.bytes(t.data(), t.size() * sizeof(double));
   k.bytes(h.data(), h.size() * sizeof(double));
@@ -92,16 +92,16 @@ NoiseMemo::Stored NoiseMemo::lookup(const Key& key, Compute compute) {
   return s;
 }
 
-NoiseFit NoiseMemo::fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+NoiseFit NoiseMemo::fit(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                         const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
-  return lookup(series_key('f', 0.0, c, t, h, e, X, o, skip), [&](Stored& s) { s.fit = identify_noise(t, h, e, X, o, skip); })
+  return lookup(series_key('f', 0.0, t, h, e, X, o, skip), [&](Stored& s) { s.fit = identify_noise(t, h, e, X, o, skip); })
       .fit;
 }
 
-std::vector<NoiseParams> NoiseMemo::confidence_set(std::size_t c, const std::vector<double>& t, const std::vector<double>& h,
+std::vector<NoiseParams> NoiseMemo::confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                                    const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
                                                    const NoiseIdOptions& o, const std::vector<char>& skip, double q) {
-  return lookup(series_key('s', q, c, t, h, e, X, o, &skip),
+  return lookup(series_key('s', q, t, h, e, X, o, &skip),
                 [&](Stored& s) { s.set = noise_confidence_set(t, h, e, X, o, skip, q); })
       .set;
 }

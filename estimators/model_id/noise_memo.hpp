@@ -1,5 +1,6 @@
 // Internal to the effect search: the noise identified on one channel with given fixed-effect
-// columns and outlier flags, remembered for the rest of one search.
+// columns and outlier flags, remembered for the rest of one search (or of the searches sharing
+// it: SearchOptions::noise_memo).
 #pragma once
 
 #include "estimators/model_id/noise_id.hpp"
@@ -18,21 +19,22 @@ namespace rnav::search_detail {
 /// one search the times, gains and residuals of a channel never change, and a candidate's test
 /// re-identifies its touched channels with the same columns at every selection step until an
 /// entry touching that channel is chosen (a per-target entry changes one or two of 50 channels),
-/// and again when the selection is repeated (after a refusal, in the next noise round). The memo
-/// returns the stored fit for the same (channel, times, gains, residuals, columns, options, flags);
-/// it is keyed by two
-/// independent 64-bit hashes of their bytes (a false match has probability about 2^-128 per
-/// pair of keys), and is safe to share between the search's threads. The fit is the same
-/// whichever thread computed it, so results do not depend on scheduling.
+/// and again when the selection is repeated (after a refusal, in the next noise round). Searches
+/// of the same recordings (a pooled diagnosis and its leave-one-out) see the same channels again.
+/// The memo returns the stored fit for the same (times, gains, residuals, columns, options,
+/// flags), whichever channel or search asks; it is keyed by two independent 64-bit hashes of
+/// their bytes (a false match has probability about 2^-128 per pair of keys), and is safe to
+/// share between threads and searches. The fit is the same whoever computed it, so results do
+/// not depend on scheduling.
 class NoiseMemo {
  public:
-  /// The fit of identify_noise(t, h, e, X, o, skip) for channel c, computed on first use.
+  /// The fit of identify_noise(t, h, e, X, o, skip), computed on first use.
   /// Rethrows DegenerateSeries as identify_noise threw it.
-  NoiseFit fit(std::size_t c, const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+  NoiseFit fit(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip);
-  /// noise_confidence_set(t, h, e, X, o, skip, q) for channel c, computed on first use (the same
-  /// memo: a set is keyed apart from a fit). Rethrows DegenerateSeries.
-  std::vector<NoiseParams> confidence_set(std::size_t c, const std::vector<double>& t, const std::vector<double>& h,
+  /// noise_confidence_set(t, h, e, X, o, skip, q), computed on first use (the same memo: a set
+  /// is keyed apart from a fit). Rethrows DegenerateSeries.
+  std::vector<NoiseParams> confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                           const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                           const std::vector<char>& skip, double q);
   std::size_t hits() const;    ///< calls answered from the memo
