@@ -1165,3 +1165,40 @@ TEST_CASE("progress clock: the time left is the mean time per part done times th
   CHECK(l2 >= b2);
   CHECK(l2 <= a2);
 }
+
+TEST_CASE("effect search: searches sharing a noise memo report what each gives alone, bit for bit", "[model_id][memo]") {
+  // A memo filled by one search answers another of the same data (every fit a hit) and of
+  // other data with the same frames (hits where the columns and residuals agree): the reports
+  // must equal fresh searches' in every effect, estimate and statistic.
+  const Problem a = make(3, 3e-3, 0.3, 8.0, 0, 0.5).pb;
+  const Problem b = make(901, 0.0, 0.3, 8.0, 0, 0.5).pb;
+  const SearchResult fresh_a = search_effects(a, SearchOptions{});
+  const SearchResult fresh_b = search_effects(b, SearchOptions{});
+  SearchOptions shared;
+  shared.noise_memo = make_noise_memo();
+  const SearchResult first_a = search_effects(a, shared);
+  const std::size_t misses = shared.noise_memo->misses();
+  const SearchResult again_a = search_effects(a, shared);
+  CHECK(shared.noise_memo->misses() == misses);  // the second search of a: every fit remembered
+  CHECK(shared.noise_memo->hits() > 0);
+  const SearchResult then_b = search_effects(b, shared);
+  CHECK(shared.noise_memo->misses() > misses);  // b's own series: computed
+  auto same = [](const SearchResult& x, const SearchResult& y) {
+    REQUIRE(x.effects.size() == y.effects.size());
+    for (std::size_t i = 0; i < x.effects.size(); ++i) {
+      CHECK(x.effects[i].name == y.effects[i].name);
+      CHECK(x.effects[i].estimate == y.effects[i].estimate);
+      CHECK(x.effects[i].lr == y.effects[i].lr);
+      CHECK(x.effects[i].kept_lr == y.effects[i].kept_lr);
+    }
+    REQUIRE(x.noise.size() == y.noise.size());
+    for (std::size_t c = 0; c < x.noise.size(); ++c) {
+      CHECK(x.noise[c].fit.params.tau_s == y.noise[c].fit.params.tau_s);
+      CHECK(x.noise[c].fit.params.s2 == y.noise[c].fit.params.s2);
+    }
+    CHECK(x.holdout_effects == y.holdout_effects);
+  };
+  same(first_a, fresh_a);
+  same(again_a, fresh_a);
+  same(then_b, fresh_b);
+}
