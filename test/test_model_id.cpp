@@ -913,6 +913,26 @@ TEST_CASE("effect search: a scanned step does not replace a physical cause that 
   CHECK(step_closer >= 10);  // the margin was needed: the step did explain better there
 }
 
+namespace {
+// Two search reports equal bit for bit: the effects chosen, their estimates and statistics,
+// each channel's noise and the held-out effects.
+void check_same_report(const SearchResult& x, const SearchResult& y) {
+  REQUIRE(x.effects.size() == y.effects.size());
+  for (std::size_t i = 0; i < x.effects.size(); ++i) {
+    CHECK(x.effects[i].name == y.effects[i].name);
+    CHECK(x.effects[i].estimate == y.effects[i].estimate);
+    CHECK(x.effects[i].lr == y.effects[i].lr);
+    CHECK(x.effects[i].kept_lr == y.effects[i].kept_lr);
+  }
+  REQUIRE(x.noise.size() == y.noise.size());
+  for (std::size_t c = 0; c < x.noise.size(); ++c) {
+    CHECK(x.noise[c].fit.params.tau_s == y.noise[c].fit.params.tau_s);
+    CHECK(x.noise[c].fit.params.s2 == y.noise[c].fit.params.s2);
+  }
+  CHECK(x.holdout_effects == y.holdout_effects);
+}
+}  // namespace
+
 TEST_CASE("effect search: candidates tested several at once give the same report as one at a time", "[model_id]") {
   // Forward selection tests its ranked candidates `threads` at a time and takes the first that
   // passes in rank order: the chosen entries, estimates and statistics must be bit-identical.
@@ -924,14 +944,7 @@ TEST_CASE("effect search: candidates tested several at once give the same report
       o.threads = threads;
       const SearchResult many = search_effects(pb, o);
       INFO("seed " << seed << ", threads " << threads);
-      REQUIRE(many.effects.size() == one.effects.size());
-      for (std::size_t i = 0; i < one.effects.size(); ++i) {
-        CHECK(many.effects[i].name == one.effects[i].name);
-        CHECK(many.effects[i].estimate == one.effects[i].estimate);
-        CHECK(many.effects[i].lr == one.effects[i].lr);
-        CHECK(many.effects[i].kept_lr == one.effects[i].kept_lr);
-      }
-      CHECK(many.holdout_effects == one.holdout_effects);
+      check_same_report(many, one);
     }
   }
   SearchOptions bad;
@@ -1183,22 +1196,7 @@ TEST_CASE("effect search: searches sharing a noise memo report what each gives a
   CHECK(shared.noise_memo->hits() > 0);
   const SearchResult then_b = search_effects(b, shared);
   CHECK(shared.noise_memo->misses() > misses);  // b's own series: computed
-  auto same = [](const SearchResult& x, const SearchResult& y) {
-    REQUIRE(x.effects.size() == y.effects.size());
-    for (std::size_t i = 0; i < x.effects.size(); ++i) {
-      CHECK(x.effects[i].name == y.effects[i].name);
-      CHECK(x.effects[i].estimate == y.effects[i].estimate);
-      CHECK(x.effects[i].lr == y.effects[i].lr);
-      CHECK(x.effects[i].kept_lr == y.effects[i].kept_lr);
-    }
-    REQUIRE(x.noise.size() == y.noise.size());
-    for (std::size_t c = 0; c < x.noise.size(); ++c) {
-      CHECK(x.noise[c].fit.params.tau_s == y.noise[c].fit.params.tau_s);
-      CHECK(x.noise[c].fit.params.s2 == y.noise[c].fit.params.s2);
-    }
-    CHECK(x.holdout_effects == y.holdout_effects);
-  };
-  same(first_a, fresh_a);
-  same(again_a, fresh_a);
-  same(then_b, fresh_b);
+  check_same_report(first_a, fresh_a);
+  check_same_report(again_a, fresh_a);
+  check_same_report(then_b, fresh_b);
 }
