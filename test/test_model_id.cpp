@@ -998,7 +998,8 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
   CHECK_THROWS_AS(memo.fit(t, {}, e, span, o, nullptr), DegenerateSeries);
   CHECK_THROWS_AS(memo.fit(t, {}, e, span, o, nullptr), DegenerateSeries);
   CHECK(memo.hits() == 3);
-  // a confidence set is keyed apart from a fit of the same series, and by its level
+  // a confidence set is ranked from the series' profile grid, keyed apart from a fit: the grid
+  // is computed once, and sets at any level read it
   const auto set4 = memo.confidence_set(t, {}, e, X, o, skip, 4.0);
   const auto direct4 = noise_confidence_set(t, {}, e, X, o, skip, 4.0);
   REQUIRE(set4.size() == direct4.size());
@@ -1009,8 +1010,68 @@ TEST_CASE("noise memo: a remembered fit is the fit identify_noise gives, and onl
   }
   CHECK(memo.confidence_set(t, {}, e, X, o, skip, 4.0).size() == set4.size());
   CHECK(memo.confidence_set(t, {}, e, X, o, skip, 9.0).size() == noise_confidence_set(t, {}, e, X, o, skip, 9.0).size());
+  CHECK(memo.misses() == 6);
+  CHECK(memo.hits() == 5);
+  // a profile fit with those flags reads the same grid (and is what identify_noise gives)
+  const NoiseFit pf = memo.fit(t, {}, e, X, pm, &skip);
   CHECK(memo.misses() == 7);
-  CHECK(memo.hits() == 4);
+  CHECK(memo.hits() == 6);
+  CHECK(pf.loglik_ml == identify_noise(t, {}, e, X, pm, &skip).loglik_ml);
+}
+
+TEST_CASE("noise identification: the profile grid gives the profile fit, the confidence sets and loglik_ml_at, bit for bit",
+          "[model_id][noise]") {
+  // A Gauss-Markov series (tau 20 s) plus white noise, with a step column, a few frames kept
+  // out, and a nominal component with a per-frame gain: every path of the grid's arithmetic.
+  std::mt19937_64 rng(31);
+  std::normal_distribution<double> g;
+  std::vector<double> t, h;
+  Eigen::VectorXd e(400);
+  Eigen::MatrixXd X(400, 2);
+  double x = 0;
+  for (int i = 0; i < 400; ++i) {
+    t.push_back(0.5 * i + (i > 200 ? 7.0 : 0.0));  // a gap of 7 s
+    h.push_back(0.5 + i / 400.0);
+    x = std::exp(-0.5 / 20) * x + std::sqrt(1 - std::exp(-1.0 / 20)) * g(rng);
+    e(i) = x + 0.4 * g(rng) + (i >= 250 ? 0.8 : 0.0);
+    X(i, 0) = 1;
+    X(i, 1) = i >= 250 ? 1.0 : 0.0;
+  }
+  std::vector<char> skip(400, 0);
+  skip[17] = skip[333] = 1;
+  NoiseIdOptions o;
+  o.nominal_share = 0.2, o.nominal_tau_s = 40;
+  NoiseIdOptions pm = o;
+  pm.profile_ml = true;
+  const NoiseGrid grid = profile_noise_grid(t, h, e, X, o, skip);
+  REQUIRE(grid.points.size() == 1 + 28 * 7);
+  // the profile fit: the same with the grid read as computed
+  const NoiseFit direct = identify_noise(t, h, e, X, pm, &skip), read = identify_noise_profile(t, h, e, X, pm, skip, grid);
+  CHECK(read.loglik_ml == direct.loglik_ml);
+  CHECK(read.params.lambda == direct.params.lambda);
+  CHECK(read.params.tau_s == direct.params.tau_s);
+  CHECK(read.params.s2 == direct.params.s2);
+  CHECK(direct.params.lambda > 0);  // a correlated model: the refinement ran from the grid's best
+  CHECK_THROWS_AS(identify_noise_profile(t, h, e, X, o, skip, grid), std::invalid_argument);  // not profile mode
+  // the confidence set: the same models in the same order
+  for (double q : {2.0, 5.0, 20.0}) {
+    const std::vector<NoiseParams> set = noise_confidence_set(t, h, e, X, o, skip, q);
+    const std::vector<std::size_t> ix = confidence_indices(grid, q);
+    REQUIRE(ix.size() == set.size());
+    CHECK(set.size() > 1);
+    for (std::size_t k = 0; k < ix.size(); ++k) {
+      CHECK(grid.points[ix[k]].p.lambda == set[k].lambda);
+      CHECK(grid.points[ix[k]].p.tau_s == set[k].tau_s);
+      CHECK(grid.points[ix[k]].p.s2 == set[k].s2);
+    }
+  }
+  // loglik_ml_at at each grid model, with other columns (the null's, as the scanned test reads
+  // it): the other columns' grid at the same index
+  const Eigen::MatrixXd X0 = X.leftCols(1);
+  const NoiseGrid grid0 = profile_noise_grid(t, h, e, X0, o, skip);
+  for (std::size_t i = 0; i < grid.points.size(); i += 13)
+    CHECK(grid0.points[i].ml == loglik_ml_at(t, h, e, X0, grid.points[i].p, skip));
+  CHECK(grid0.points[0].ml == loglik_ml_at(t, h, e, X0, grid.points[0].p, skip));  // the null
 }
 
 TEST_CASE("effect search: the noise a simulation draws keeps the slow wander the identified noise leaves to its trend",

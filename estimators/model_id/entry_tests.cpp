@@ -168,11 +168,15 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
     const double l1 = profile_ml(c, X1);
     if (std::isnan(l1)) continue;  // the entry's and the chosen columns span the channel: no evidence here
     // the null's noise among the models the data allow with the entry in: a slow correlation
-    // that exists only to absorb the step is not among them
+    // that exists only to absorb the step is not among them. The set's models are grid points,
+    // and the null's likelihood at each (loglik_ml_at) is the null's own profile grid there.
+    const NoiseIdOptions oc = channel_options(*d_.pb, c, no_);
+    const auto g1 = d_.memo->grid(d_.times[c], d_.gains[c], channel_y(d_, c), X1, oc, fits_[c].outlier);
+    const auto g0 = d_.memo->grid(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], oc, fits_[c].outlier);
+    const std::vector<std::size_t> set = confidence_indices(*g1, null_set_q_);
+    if (set.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
     double l0 = -INFINITY;
-    for (const NoiseParams& p : d_.memo->confidence_set(d_.times[c], d_.gains[c], channel_y(d_, c), X1,
-                                                        channel_options(*d_.pb, c, no_), fits_[c].outlier, null_set_q_))
-      l0 = std::max(l0, loglik_ml_at(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], p, fits_[c].outlier));
+    for (std::size_t i : set) l0 = std::max(l0, g0->points[i].ml);
     lr += 2 * (l1 - l0);
   }
   return lr;

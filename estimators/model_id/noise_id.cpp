@@ -41,16 +41,20 @@ NoiseParams model_of(const Series& sr, double mu, double lambda, double tau) {
 Reml reml_whitened(const Series& sr, const Eigen::MatrixXd& W, const Eigen::VectorXd& logS, const std::vector<char>& skip) {
   const std::vector<double>& t = sr.t;
   const Eigen::Index k = W.cols() - 1;
-  const Eigen::MatrixXd X = W.leftCols(k);
-  const Eigen::VectorXd e = W.col(k);
+  const auto X = W.leftCols(k);
+  const auto e = W.col(k);
   double n = 0;
   for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
   Eigen::Index rank = 0;
-  Eigen::VectorXd r = e;
+  // the residual and the decomposition kept per thread (this runs about 150 times per noise
+  // identification; their memory is reused)
+  thread_local Eigen::VectorXd r;
+  thread_local Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  r = e;
   double logdet = 0;  // log|X~' X~| over the rank-revealing R's diagonal
   if (k > 0) {        // (Eigen's QR of an n x 0 matrix is not defined)
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
     qr.setThreshold(1e-10);
+    qr.compute(X);
     rank = qr.rank();
     r = e - X * qr.solve(e);
     for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
@@ -176,14 +180,14 @@ void check_series(const char* who, const std::vector<double>& t, const std::vect
 }
 
 // The (lambda, log tau) maximising crit(lambda, tau): the grid, then refined.
-// crit_grid(tau): crit at each of grid_lambdas at tau, in their order.
+// crit_grid(i, tau): crit at each of grid_lambdas at the grid's i-th tau, in their order.
 template <class F, class G>
 std::pair<double, double> search_lambda_tau(F crit, G crit_grid, double ltau_lo, double ltau_hi) {
   // grid
   double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
   for (int i = 0; i < n_tau; ++i) {
     const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
-    const std::vector<double> lls = crit_grid(std::exp(lt));
+    const std::vector<double> lls = crit_grid(i, std::exp(lt));
     for (std::size_t j = 0; j < std::size(grid_lambdas); ++j) {
       const double ll = lls[j], lam = grid_lambdas[j];
       if (ll > best_ll) best_ll = ll, best_lt = lt, best_lam = lam;
@@ -256,10 +260,10 @@ void set_outliers(const std::vector<char>& skip, const Eigen::VectorXd& e, Eigen
   }
 }
 
-}  // namespace
-
-NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
-                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+// identify_noise; grid (profile_ml mode with fixed_skip only): its grid stage, precomputed.
+NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                  const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip,
+                  const NoiseGrid* grid) {
   check_series("identify_noise", t, h, e, X, o, fixed_skip);
   const auto n = static_cast<Eigen::Index>(t.size());
   const double t0 = t.front(), span = std::max(t.back() - t0, 1e-6);
@@ -275,8 +279,13 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
     const Reml r = reml(sr, mu, lam, tau, skip);
     return o.profile_ml ? r.ml : r.ll;
   };
-  auto crit_grid = [&](double tau) {
+  auto crit_grid = [&](int i, double tau) {
     std::vector<double> out;
+    if (grid) {  // the profile grid's ML values at the i-th tau (point 0 is the null)
+      for (std::size_t j = 0; j < std::size(grid_lambdas); ++j)
+        out.push_back(grid->points[1 + static_cast<std::size_t>(i) * std::size(grid_lambdas) + j].ml);
+      return out;
+    }
     for (const Reml& r : reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip))
       out.push_back(o.profile_ml ? r.ml : r.ll);
     return out;
@@ -346,39 +355,76 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
   return fit;
 }
 
+// The profile grid's Series: fixed effects exactly X (profile_ml mode, no trend).
+NoiseGrid grid_of(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                  const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>& skip) {
+  NoiseIdOptions ro = o;
+  ro.profile_ml = true;  // fixed effects exactly X (no trend)
+  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, ro);
+  const double mu = o.nominal_share;
+  const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
+  const auto [ltau_lo, ltau_hi] = log_tau_range(o, std::max(t.back() - t.front(), 1e-6));
+  NoiseGrid g;
+  auto keep = [&](double lam, double tau, double lt, const Reml& r) {
+    NoiseGrid::Point pt;
+    pt.p.s2 = r.s2, pt.p.lambda = lam, pt.p.tau_s = tau, pt.p.nom_share = mu, pt.p.nom_tau_s = sr.tau0;
+    pt.ll = r.ll, pt.ml = r.ml, pt.log_tau = lt;
+    g.points.push_back(pt);
+  };
+  keep(0.0, 1.0, 0.0, reml(sr, mu, 0.0, 1.0, skip));
+  for (int i = 0; i < n_tau; ++i) {
+    const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1), tau = std::exp(lt);
+    const std::vector<Reml> rs = reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
+    for (std::size_t j = 0; j < rs.size(); ++j) keep(grid_lambdas[j], tau, lt, rs[j]);
+  }
+  return g;
+}
+
+}  // namespace
+
+NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                        const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* fixed_skip) {
+  return identify(t, h, e, X, o, fixed_skip, nullptr);
+}
+
+NoiseGrid profile_noise_grid(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                             const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>& skip) {
+  check_series("profile_noise_grid", t, h, e, X, o, &skip);
+  return grid_of(t, h, e, X, o, skip);
+}
+
+NoiseFit identify_noise_profile(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                                const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>& skip,
+                                const NoiseGrid& g) {
+  if (!o.profile_ml) throw std::invalid_argument("identify_noise_profile: the options must be in profile_ml mode");
+  if (g.points.size() != 1 + n_tau * std::size(grid_lambdas))
+    throw std::invalid_argument("identify_noise_profile: the grid is not a profile_noise_grid");
+  return identify(t, h, e, X, o, &skip, &g);
+}
+
+std::vector<std::size_t> confidence_indices(const NoiseGrid& g, double q) {
+  if (!(q > 0)) throw std::invalid_argument("noise_confidence_set: q must be > 0");
+  // every model with spread left, ranked by REML log-likelihood (the null first among equals)
+  std::vector<std::size_t> all;
+  double best = -INFINITY;
+  for (std::size_t i = 0; i < g.points.size(); ++i)
+    if (std::isfinite(g.points[i].ll)) all.push_back(i), best = std::max(best, g.points[i].ll);
+  std::stable_sort(all.begin(), all.end(), [&](std::size_t a, std::size_t b) { return g.points[a].ll > g.points[b].ll; });
+  std::vector<std::size_t> out;
+  for (std::size_t i : all)
+    if (2 * (best - g.points[i].ll) <= q) out.push_back(i);
+  return out;
+}
+
 std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                               const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                               const std::vector<char>& skip, double q) {
   check_series("noise_confidence_set", t, h, e, X, o, &skip);
   if (!(q > 0)) throw std::invalid_argument("noise_confidence_set: q must be > 0");
-  NoiseIdOptions ro = o;
-  ro.profile_ml = true;  // fixed effects exactly X (no trend): those of the test the set serves
-  const Eigen::MatrixXd Xe = fixed_effects(t, e, X, ro);
-  const double mu = o.nominal_share;
-  const Series sr{t, h, Xe, mu > 0 ? o.nominal_tau_s : 1.0};
-  const auto [ltau_lo, ltau_hi] = log_tau_range(o, std::max(t.back() - t.front(), 1e-6));
-  // every grid model with its REML log-likelihood; the null model (nominal or white) first
-  std::vector<std::pair<double, NoiseParams>> all;
-  auto keep = [&](double lam, double tau, const Reml& r) {
-    if (!std::isfinite(r.ll)) return;
-    NoiseParams p;
-    p.s2 = r.s2, p.lambda = lam, p.tau_s = tau, p.nom_share = mu, p.nom_tau_s = sr.tau0;
-    all.emplace_back(r.ll, p);
-  };
-  auto add = [&](double lam, double tau) { keep(lam, tau, reml(sr, mu, lam, tau, skip)); };
-  add(0.0, 1.0);
-  for (int i = 0; i < n_tau; ++i) {
-    const double tau = std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1));
-    const std::vector<Reml> rs = reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
-    for (std::size_t j = 0; j < rs.size(); ++j) keep(grid_lambdas[j], tau, rs[j]);
-  }
-  if (all.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
-  double best = -INFINITY;
-  for (const auto& a : all) best = std::max(best, a.first);
-  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  const NoiseGrid g = grid_of(t, h, e, X, o, skip);
   std::vector<NoiseParams> out;
-  for (const auto& a : all)
-    if (2 * (best - a.first) <= q) out.push_back(a.second);
+  for (std::size_t i : confidence_indices(g, q)) out.push_back(g.points[i].p);
+  if (out.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
   return out;
 }
 

@@ -20,6 +20,7 @@
 
 #include <Eigen/Dense>
 
+#include <cmath>
 #include <vector>
 
 namespace rnav {
@@ -78,10 +79,41 @@ NoiseFit identify_noise(const std::vector<double>& t, const std::vector<double>&
                         const Eigen::MatrixXd& X,
                         const NoiseIdOptions& o, const std::vector<char>* fixed_skip = nullptr);
 
+/// The profile noise grid of one series: fixed effects exactly X (no trend), frames skip kept
+/// out (empty: none); the null model (the nominal share alone, lambda 0) and each (lambda, tau) of
+/// identify_noise's search grid, with the REML and ML log-likelihoods, s^2 profiled. It is what
+/// the profile mode of identify_noise searches first, what noise_confidence_set ranks, and what
+/// loglik_ml_at gives at a grid model: computed once, it serves all three, bit for bit.
+struct NoiseGrid {
+  struct Point {
+    NoiseParams p;            ///< the model; p.s2 its REML s^2
+    double ll = -INFINITY;    ///< REML log-likelihood (-inf: the columns leave no spread)
+    double ml = -INFINITY;    ///< ML log-likelihood
+    double log_tau = 0;       ///< log of p.tau_s [log s] as the search computes it (the null: 0)
+  };
+  std::vector<Point> points;  ///< [0] the null model, then tau by tau (ascending), lambda within
+};
+
+/// The profile noise grid (NoiseGrid) of residuals e at times t (gains h) with fixed effects X.
+/// Options read: the tau range and the nominal component.
+NoiseGrid profile_noise_grid(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                             const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>& skip);
+
+/// identify_noise(t, h, e, X, o, &skip) in profile_ml mode (o.profile_ml must be set) with its
+/// grid stage read from g, profile_noise_grid(t, h, e, X, o, skip): the same fit, bit for bit.
+NoiseFit identify_noise_profile(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
+                                const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>& skip,
+                                const NoiseGrid& g);
+
+/// The indices into g.points of noise_confidence_set at level q (the same models, in its order);
+/// empty when no model leaves spread.
+std::vector<std::size_t> confidence_indices(const NoiseGrid& g, double q);
+
 /// A likelihood confidence set for the noise model: the models of identify_noise's search grid
 /// (white or nominal, and each (lambda, tau) grid point, the scale s^2 profiled at each) whose
-/// REML log-likelihood, fixed effects X and the trend, frames skip kept out (empty: none), lies
-/// within q / 2 of the grid's best. With q the chi-square(2) quantile at beta it covers the
+/// REML log-likelihood, fixed effects exactly X (no trend: those of the test the set serves),
+/// frames skip kept out (empty: none), lies within q / 2 of the grid's best (profile_noise_grid
+/// ranked). With q the chi-square(2) quantile at beta it covers the
 /// true (lambda, tau) with probability about 1 - beta (asymptotically; the grid's best is a
 /// little below the maximum, so the set is a little larger). Never empty; the most likely first.
 std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, const std::vector<double>& h,

@@ -94,16 +94,34 @@ NoiseMemo::Stored NoiseMemo::lookup(const Key& key, Compute compute) {
 
 NoiseFit NoiseMemo::fit(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                         const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip) {
-  return lookup(series_key('f', 0.0, t, h, e, X, o, skip), [&](Stored& s) { s.fit = identify_noise(t, h, e, X, o, skip); })
+  return lookup(series_key('f', 0.0, t, h, e, X, o, skip),
+                [&](Stored& s) {
+                  s.fit = o.profile_ml && skip ? identify_noise_profile(t, h, e, X, o, *skip, *grid(t, h, e, X, o, *skip))
+                                               : identify_noise(t, h, e, X, o, skip);
+                })
       .fit;
+}
+
+std::shared_ptr<const NoiseGrid> NoiseMemo::grid(const std::vector<double>& t, const std::vector<double>& h,
+                                                 const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
+                                                 const NoiseIdOptions& o, const std::vector<char>& skip) {
+  // only what the grid reads: the tau range and the nominal component (the rest set to defaults)
+  NoiseIdOptions g;
+  g.tau_min_s = o.tau_min_s, g.tau_max_s = o.tau_max_s, g.tau_span_divisor = o.tau_span_divisor;
+  g.nominal_share = o.nominal_share, g.nominal_tau_s = o.nominal_tau_s;
+  return lookup(series_key('g', 0.0, t, h, e, X, g, &skip),
+                [&](Stored& s) { s.grid = std::make_shared<const NoiseGrid>(profile_noise_grid(t, h, e, X, g, skip)); })
+      .grid;
 }
 
 std::vector<NoiseParams> NoiseMemo::confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                                    const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
                                                    const NoiseIdOptions& o, const std::vector<char>& skip, double q) {
-  return lookup(series_key('s', q, t, h, e, X, o, &skip),
-                [&](Stored& s) { s.set = noise_confidence_set(t, h, e, X, o, skip, q); })
-      .set;
+  const std::shared_ptr<const NoiseGrid> g = grid(t, h, e, X, o, skip);
+  std::vector<NoiseParams> out;
+  for (std::size_t i : confidence_indices(*g, q)) out.push_back(g->points[i].p);
+  if (out.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
+  return out;
 }
 
 std::size_t NoiseMemo::hits() const {

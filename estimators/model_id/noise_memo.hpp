@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -32,11 +33,19 @@ class NoiseMemo {
   /// Rethrows DegenerateSeries as identify_noise threw it.
   NoiseFit fit(const std::vector<double>& t, const std::vector<double>& h, const Eigen::VectorXd& e,
                const Eigen::MatrixXd& X, const NoiseIdOptions& o, const std::vector<char>* skip);
-  /// noise_confidence_set(t, h, e, X, o, skip, q), computed on first use (the same memo: a set
-  /// is keyed apart from a fit). Rethrows DegenerateSeries.
+  /// A profile-mode fit with frames kept out (o.profile_ml, skip given) reads its grid stage from
+  /// grid(): the same fit, and the grid is then there for the confidence sets of the same columns.
+  ///
+  /// noise_confidence_set(t, h, e, X, o, skip, q), ranked from grid() (a set at any q costs no
+  /// further fit). Rethrows DegenerateSeries.
   std::vector<NoiseParams> confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                           const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                           const std::vector<char>& skip, double q);
+  /// profile_noise_grid(t, h, e, X, o, skip), computed on first use (keyed by what it reads:
+  /// options other than the tau range and the nominal component do not split it).
+  std::shared_ptr<const NoiseGrid> grid(const std::vector<double>& t, const std::vector<double>& h,
+                                        const Eigen::VectorXd& e, const Eigen::MatrixXd& X, const NoiseIdOptions& o,
+                                        const std::vector<char>& skip);
   std::size_t hits() const;    ///< calls answered from the memo
   std::size_t misses() const;  ///< calls computed
 
@@ -45,7 +54,7 @@ class NoiseMemo {
     bool degenerate = false;
     std::string what;  ///< DegenerateSeries's message
     NoiseFit fit;
-    std::vector<NoiseParams> set;
+    std::shared_ptr<const NoiseGrid> grid;
   };
   template <class Compute>
   Stored lookup(const std::pair<std::uint64_t, std::uint64_t>& key, Compute compute);
