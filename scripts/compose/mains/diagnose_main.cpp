@@ -5,6 +5,7 @@
 // log's SIM_SCENARIO. Prints the report; writes JSON.
 #include "common/io/atomic_file.hpp"
 #include "common/io/cli.hpp"
+#include "common/io/process_memory.hpp"
 #include "common/io/csv_table.hpp"
 #include "common/io/did_you_mean.hpp"
 #include "common/io/config.hpp"
@@ -386,6 +387,7 @@ int run_single(const Options& a, const std::string& kind, const std::string& inp
 }  // namespace
 
 int main(int argc, char** argv) {
+  rnav::cli::keep_freed_memory();
   return rnav::cli::guarded_main("rnav_diagnose", [&]() -> int {
     Options a;
     set_report_defaults(a);

@@ -9,6 +9,7 @@
 //             scenario of a multi-sensor recording, the landing scenario of a landing flight.
 #include "common/io/atomic_file.hpp"
 #include "common/io/cli.hpp"
+#include "common/io/process_memory.hpp"
 #include "common/io/config.hpp"
 #include "common/io/did_you_mean.hpp"
 #include "scripts/compose/scene/scene_closure.hpp"
@@ -274,6 +275,7 @@ int closure(const Args& a, const rnav::MultiSensorData& d, const std::string& na
 }  // namespace
 
 int main(int argc, char** argv) {
+  rnav::cli::keep_freed_memory();
   return rnav::cli::guarded_main("rnav_scene", [&]() -> int {
     Args a;
     rnav::cli::Parser p("rnav_scene", "simulate RECORDING --out DIR [--effects REPORT.json] [--seed S] [--realization K]\n"
