@@ -142,8 +142,8 @@ struct Problem {
 
 // Limits measured by injection: injected_limits.hpp says how.
 struct InjectionOptions {
-  int injections = 0;           ///< injections in each check batch at a fitted size, >= 0 (0: Fisher limits only)
-  int ladder_injections = 10;   ///< injections per ladder size, >= 1
+  int injections = 0;           ///< injections in each check batch at a fitted size (fewer once its verdict is settled), >= 0 (0: Fisher limits only)
+  int ladder_injections = 10;   ///< injections per ladder size (fewer once its verdict is settled), >= 1
   int max_ladder = 6;           ///< most ladder sizes per parameter, >= 2
   double max_multiple = 32;     ///< [-] largest multiple of the Fisher limit tried, > 1; beyond it: not reached
   std::uint64_t seed = 1;       ///< seed of the injections' noise streams

@@ -86,17 +86,64 @@ struct Bootstrap {
   }
 };
 
-// Run `n` injections at size a on `threads` threads; returns (named, detected) counts.
-std::pair<int, int> batch(const Bootstrap& b, const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e,
-                          std::size_t j, std::size_t batch_id, double a, int n, const InjectionOptions& io) {
+// What a batch of injections has given so far: injections run, named, detected.
+struct Count {
+  int run = 0, named = 0, detected = 0;
+};
+
+// Run injections 0, 1, ... of a batch of at most n at size a, `threads` at a time, until
+// settled(count) says no further injection can change what the batch is run for. The count is
+// taken in index order and cut at the first injection after which it is settled, so it is the
+// same whatever the number of threads (a round's later injections are then dropped unread).
+template <class Settled>
+Count batch(const Bootstrap& b, const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e, std::size_t j,
+            std::size_t batch_id, double a, int n, const InjectionOptions& io, Settled settled) {
   std::vector<std::pair<bool, bool>> out(static_cast<std::size_t>(n));
-  parallel_for(out.size(), io.threads, [&](std::size_t i) {
-    out[i] = b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, static_cast<int>(i)));
-  });
-  int named = 0, detected = 0;
-  for (const auto& [nm, dt] : out) named += nm, detected += dt;
-  return {named, detected};
+  Count c;
+  for (int first = 0; first < n; first += io.threads) {
+    const int m = std::min(io.threads, n - first);
+    parallel_for(static_cast<std::size_t>(m), io.threads, [&](std::size_t k) {
+      const int i = first + static_cast<int>(k);
+      out[static_cast<std::size_t>(i)] = b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, i));
+    });
+    for (int i = first; i < first + m; ++i) {
+      const auto& [nm, dt] = out[static_cast<std::size_t>(i)];
+      ++c.run, c.named += nm, c.detected += dt;
+      if (settled(c)) return c;
+    }
+  }
+  return c;
 }
+
+// A ladder rung's verdicts, "hit rate >= power" for the named and for the detected count, are
+// settled once the hits reach ceil(power n) or the misses exceed n minus that: the rate of the
+// injections run then gives the verdict all n would give.
+struct RungRule {
+  int n, need;
+  RungRule(int n_, double power) : n(n_), need(static_cast<int>(std::ceil(power * n_ - 1e-9))) {}
+  bool settled(int run, int hits) const { return hits >= need || run - hits > n - need; }
+};
+
+// A check batch of n is run for one verdict: does the Clopper-Pearson interval of its hits
+// contain `power`? The counts whose interval does form a set `in`; the verdict is settled once
+// every count the rest of the batch can still give is in it, or none is (the same verdict as the
+// whole batch, from fewer injections).
+struct CheckRule {
+  int n;
+  std::vector<char> in;  // in[h]: the interval of h of n contains power
+  CheckRule(int n_, double power, double conf) : n(n_), in(static_cast<std::size_t>(n_) + 1) {
+    for (int h = 0; h <= n; ++h) {
+      const Interval ci = clopper_pearson(h, n, conf);
+      in[static_cast<std::size_t>(h)] = ci.lo <= power && power <= ci.hi;
+    }
+  }
+  // 1: every final count reachable from (run, hits) is in; 0: none is; -1: not settled
+  int verdict(int run, int hits) const {
+    bool any = false, all = true;
+    for (int h = hits; h <= hits + n - run; ++h) any = any || in[static_cast<std::size_t>(h)], all = all && in[static_cast<std::size_t>(h)];
+    return all ? 1 : !any ? 0 : -1;
+  }
+};
 
 double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 
@@ -105,17 +152,20 @@ double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 // loose (one rung at 7/10 and one at 10/10 make it any steepness), so b1 carries a weak normal
 // prior: a test that detects a with standard error SE has P = Phi(a / SE - z_crit), whose slope
 // in log a at the crossing is a / SE = z_crit + z_p, about 4.8 here; prior N(4.8, 2^2), and
-// b1 >= 0.5. Returns NaN when the ladder never reached p.
-double probit_size(const std::vector<InjectedLimit::Rung>& ladder, bool named, double p) {
+// b1 >= 0.5. Returns log a at the crossing, unclamped; when no rung reached p, extrapolated
+// (the prior's slope carries it beyond the largest size: where the next rung should go).
+double probit_log_crossing(const std::vector<InjectedLimit::Rung>& ladder, bool named, double p) {
   double x_hit = INFINITY, x_miss = -INFINITY;
   for (const auto& r : ladder) {
     const double rate = static_cast<double>(named ? r.named : r.detected) / r.n;
     if (rate >= p) x_hit = std::min(x_hit, std::log(r.size));
     else x_miss = std::max(x_miss, std::log(r.size));
   }
-  if (!std::isfinite(x_hit)) return std::numeric_limits<double>::quiet_NaN();
   const double zp = normal_upper_quantile(1 - p);
-  double b1 = 4, b0 = zp - b1 * (std::isfinite(x_miss) ? 0.5 * (x_hit + x_miss) : x_hit);
+  // start: the crossing between the two nearest rungs, at the lowest hit, or an octave above
+  // the highest miss
+  const double x0 = std::isfinite(x_hit) ? (std::isfinite(x_miss) ? 0.5 * (x_hit + x_miss) : x_hit) : x_miss + std::log(2.0);
+  double b1 = 4, b0 = zp - b1 * x0;
   constexpr double kSlopePrior = 4.8, kSlopePriorSd = 2;
   auto loglik = [&](double c0, double c1) {
     double l = -0.5 * std::pow((c1 - kSlopePrior) / kSlopePriorSd, 2);
@@ -148,8 +198,16 @@ double probit_size(const std::vector<InjectedLimit::Rung>& ladder, bool named, d
     b0 += h * step(0), b1 = std::max(0.5, b1 + h * step(1));
     if (h * step.norm() < 1e-10) break;
   }
-  double x = (zp - b0) / b1;
-  // never beyond the ladder's evidence: within a factor 2 of the sizes tried
+  return (zp - b0) / b1;
+}
+
+// The size hit with probability p (probit_log_crossing), never beyond the ladder's evidence:
+// within a factor 2 of the sizes tried. NaN when the ladder never reached p.
+double probit_size(const std::vector<InjectedLimit::Rung>& ladder, bool named, double p) {
+  bool reached = false;
+  for (const auto& r : ladder) reached = reached || static_cast<double>(named ? r.named : r.detected) / r.n >= p;
+  if (!reached) return std::numeric_limits<double>::quiet_NaN();
+  double x = probit_log_crossing(ladder, named, p);
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& r : ladder) lo = std::min(lo, std::log(r.size)), hi = std::max(hi, std::log(r.size));
   x = std::clamp(x, lo - std::log(2.0), hi + std::log(2.0));
@@ -167,6 +225,17 @@ double fisher_limit(const Design& d, const SearchOptions& o, double m, std::size
   return (z_two_sided(o.alpha / (m * variants)) + normal_upper_quantile(1 - o.power)) * se;
 }
 
+// The ladder's steps: the first step up (or down) goes where the probit (with its prior slope)
+// puts the crossing, at least kMinStep and at most kMaxStep times beyond the sizes tried
+// (doubling at once spent a rung of 10 at twice a size named in 7 of 10, whose crossing lies
+// near 1.2x); a further step in the same direction means the curve is flatter than the prior
+// says (a rival named instead at a plateau of 70 %), and doubles.
+constexpr double kMinStep = 1.25, kMaxStep = 2.0;
+// A fitted size within this of a rung in log needs no rung of its own before its check: a
+// little over half the smallest step (log 1.25 / 2 = 0.112), so a crossing between two rungs a
+// step apart is checked at once, and one inside a wider bracket gets its rung first.
+constexpr double kNearRung = 0.12;
+
 // The ladder, the two fitted sizes and their check batches of one (entry, parameter).
 InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const InjectionOptions& io, std::size_t e,
                           std::size_t j, double fisher) {
@@ -178,23 +247,32 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
   lim.fisher = fisher;
   lim.variant_value = c.scanned() ? c.scan[v] : 0.0;
   std::size_t batch_id = 0;
-  auto rung = [&](double m) {
-    const auto [nm, dt] = batch(b, mu, col, e, j, batch_id++, m * fisher, io.ladder_injections, io);
-    lim.ladder.push_back({m * fisher, io.ladder_injections, nm, dt});
+  // a rung at size a: run until both its verdicts (named, detected rate >= power) are settled
+  const RungRule rr(io.ladder_injections, o.power);
+  auto rung = [&](double a) {
+    const Count k = batch(b, mu, col, e, j, batch_id++, a, io.ladder_injections, io,
+                          [&](const Count& n) { return rr.settled(n.run, n.named) && rr.settled(n.run, n.detected); });
+    lim.ladder.push_back({a, k.run, k.named, k.detected});
   };
   auto reached = [&](bool named, bool at_least) {
     for (const auto& r : lim.ladder)
       if ((static_cast<double>(named ? r.named : r.detected) / r.n >= o.power) == at_least) return true;
     return false;
   };
-  double m_lo = 1, m_hi = 1;
-  rung(1);
+  const double a_max = io.max_multiple * fisher;
+  rung(fisher);
+  int ups = 0, downs = 0;
   while (static_cast<int>(lim.ladder.size()) < io.max_ladder) {
+    double lo = INFINITY, hi = 0;
+    for (const auto& r : lim.ladder) lo = std::min(lo, r.size), hi = std::max(hi, r.size);
     if (!reached(true, true)) {  // named never at power yet: go up
-      if (m_hi * 2 > io.max_multiple) break;
-      rung(m_hi *= 2);
+      if (hi >= a_max) break;
+      const double a = ups++ > 0 ? kMaxStep * hi
+                                 : std::clamp(std::exp(probit_log_crossing(lim.ladder, true, o.power)), kMinStep * hi, kMaxStep * hi);
+      rung(std::min(a_max, a));
     } else if (!reached(false, false)) {  // detected always at power: go down
-      rung(m_lo /= 2);
+      rung(downs++ > 0 ? lo / kMaxStep
+                       : std::clamp(std::exp(probit_log_crossing(lim.ladder, false, o.power)), lo / kMaxStep, lo / kMinStep));
     } else {
       break;
     }
@@ -205,43 +283,49 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
     s.size = std::isnan(a) ? INFINITY : a;
     return s;
   };
-  // one more rung where the named curve is fitted to cross `power` (two rungs an octave apart
-  // leave its slope loose), then the final fits
+  // one more rung where the named curve is fitted to cross `power` unless a rung is near it
+  // (two rungs far apart leave its slope loose), then the final fits
   if (reached(true, true)) {
     const double a = fitted(true).size;
     bool near = false;
-    for (const auto& r : lim.ladder) near = near || std::abs(std::log(a / r.size)) < 0.05;
-    if (std::isfinite(a) && !near) rung(a / fisher);
+    for (const auto& r : lim.ladder) near = near || std::abs(std::log(a / r.size)) < kNearRung;
+    if (std::isfinite(a) && !near) rung(a);
   }
   lim.named = fitted(true);
   lim.detected = fitted(false);
   // The check batches: at the named size, and at the detected size unless within 3 % of it
-  // (then the named batch's detections tell it: one batch, both counts). A check whose
-  // Clopper-Pearson interval excludes `power` joins the ladder, the curve is refitted and checked
-  // again (at most kChecks batches): the size stated is the last one checked.
+  // (then the named batch's detections tell it: one batch, both counts). A batch stops once its
+  // verdict - does the Clopper-Pearson interval of all `injections` contain `power`? - is
+  // settled (CheckRule), and states the injections run, their hits and their interval. A check
+  // whose verdict is "no" joins the ladder, the curve is refitted and checked again (at most
+  // kChecks batches): the size stated is the last one checked.
   constexpr int kChecks = 3;
-  auto set = [&](InjectedSize& s, int hits) {
-    s.n = io.injections;
+  const CheckRule cr(io.injections, o.power, io.conf);
+  auto set = [&](InjectedSize& s, int run, int hits) {
+    s.n = run;
     s.hits = hits;
-    const Interval ci = clopper_pearson(hits, s.n, io.conf);
+    const Interval ci = clopper_pearson(hits, run, io.conf);
     s.lo = ci.lo, s.hi = ci.hi;
   };
   for (int k = 0; k < kChecks && std::isfinite(lim.named.size); ++k) {
-    const auto [nm, dt] = batch(b, mu, col, e, j, batch_id++, lim.named.size, io.injections, io);
-    set(lim.named, nm);
     const bool same = std::abs(lim.detected.size / lim.named.size - 1) < 0.03;
-    if (same) lim.detected.size = lim.named.size, set(lim.detected, dt);
-    if ((lim.named.lo <= o.power && o.power <= lim.named.hi) || k + 1 == kChecks) break;
-    lim.ladder.push_back({lim.named.size, io.injections, nm, dt});
+    const Count n = batch(b, mu, col, e, j, batch_id++, lim.named.size, io.injections, io, [&](const Count& m) {
+      return cr.verdict(m.run, m.named) >= 0 && (!same || cr.verdict(m.run, m.detected) >= 0);
+    });
+    set(lim.named, n.run, n.named);
+    if (same) lim.detected.size = lim.named.size, set(lim.detected, n.run, n.detected);
+    if (cr.verdict(n.run, n.named) == 1 || k + 1 == kChecks) break;
+    lim.ladder.push_back({lim.named.size, n.run, n.named, n.detected});
     lim.named = fitted(true);
     lim.detected = fitted(false);
   }
   const bool detected_done = lim.detected.n > 0 && lim.detected.size == lim.named.size;
   for (int k = 0; k < kChecks && !detected_done && std::isfinite(lim.detected.size); ++k) {
-    const auto [nm, dt] = batch(b, mu, col, e, j, batch_id++, lim.detected.size, io.injections, io);
-    set(lim.detected, dt);
-    if ((lim.detected.lo <= o.power && o.power <= lim.detected.hi) || k + 1 == kChecks) break;
-    lim.ladder.push_back({lim.detected.size, io.injections, nm, dt});
+    const Count n = batch(b, mu, col, e, j, batch_id++, lim.detected.size, io.injections, io,
+                          [&](const Count& m) { return cr.verdict(m.run, m.detected) >= 0; });
+    set(lim.detected, n.run, n.detected);
+    if (cr.verdict(n.run, n.detected) == 1 || k + 1 == kChecks) break;
+    lim.ladder.push_back({lim.detected.size, n.run, n.named, n.detected});
     lim.detected.size = fitted(false).size;
   }
   return lim;

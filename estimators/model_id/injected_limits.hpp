@@ -10,14 +10,17 @@
 //   named     when the entry itself is among the named effects;
 //   detected  when it is named, or a named effect lists it under confounded_with (the report
 //             says the data cannot tell the two apart).
-// The size is found on a ladder of multiples of the Fisher limit (doubling up until the named
-// rate reaches `power`, halving down until the detected rate falls below it, then one rung where
-// the fitted curve crosses it), the rates are fitted by a probit in log a (P(hit | a) =
-// Phi(b0 + b1 log a), penalised maximum likelihood, b1 >= 0.5), and the fitted size is then
-// checked by a fresh batch of injections at it; a batch whose Clopper-Pearson interval excludes
-// `power` joins the ladder and the size is refitted and checked again (at most three batches).
-// The report gives the last batch's count and interval, so the stated limit carries its own
-// evidence.
+// The size is found on a ladder that starts at the Fisher limit: the rates are fitted by a probit
+// in log a (P(hit | a) = Phi(b0 + b1 log a), penalised maximum likelihood, b1 >= 0.5 with a weak
+// prior). Until the named rate reaches `power` the ladder goes up, until the detected rate falls
+// below it down: the first step to where the probit crosses `power` (1.25 to 2 times beyond the
+// sizes tried), each further one a doubling (halving); then one more rung goes where the fitted
+// curve crosses unless a rung lies within 12 % of it. The fitted size is then checked by a fresh batch of injections at it; a
+// batch whose Clopper-Pearson interval excludes `power` joins the ladder and the size is
+// refitted and checked again (at most three batches). Every batch stops as soon as its verdict
+// is settled (a rung's "rate >= power", a check's "interval contains power" over its full
+// size): the same verdict from fewer searches. The report gives the last check's count and
+// interval, so the stated limit carries its own evidence.
 // Scanned entries are injected at their grid's middle point (a step at mid-span).
 // Deterministic: injection i of (entry, parameter, stage) draws from its own seeded stream,
 // whatever the number of threads.
