@@ -421,7 +421,10 @@ std::vector<NoiseParams> noise_confidence_set(const std::vector<double>& t, cons
                                               const std::vector<char>& skip, double q) {
   check_series("noise_confidence_set", t, h, e, X, o, &skip);
   if (!(q > 0)) throw std::invalid_argument("noise_confidence_set: q must be > 0");
-  const NoiseGrid g = grid_of(t, h, e, X, o, skip);
+  return confidence_set_of(grid_of(t, h, e, X, o, skip), q);
+}
+
+std::vector<NoiseParams> confidence_set_of(const NoiseGrid& g, double q) {
   std::vector<NoiseParams> out;
   for (std::size_t i : confidence_indices(g, q)) out.push_back(g.points[i].p);
   if (out.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");

@@ -109,6 +109,10 @@ NoiseFit identify_noise_profile(const std::vector<double>& t, const std::vector<
 /// empty when no model leaves spread.
 std::vector<std::size_t> confidence_indices(const NoiseGrid& g, double q);
 
+/// noise_confidence_set's models ranked from g: those of confidence_indices(g, q), in its order.
+/// Throws DegenerateSeries when no model leaves spread.
+std::vector<NoiseParams> confidence_set_of(const NoiseGrid& g, double q);
+
 /// A likelihood confidence set for the noise model: the models of identify_noise's search grid
 /// (white or nominal, and each (lambda, tau) grid point, the scale s^2 profiled at each) whose
 /// REML log-likelihood, fixed effects exactly X (no trend: those of the test the set serves),

@@ -117,11 +117,7 @@ std::shared_ptr<const NoiseGrid> NoiseMemo::grid(const std::vector<double>& t, c
 std::vector<NoiseParams> NoiseMemo::confidence_set(const std::vector<double>& t, const std::vector<double>& h,
                                                    const Eigen::VectorXd& e, const Eigen::MatrixXd& X,
                                                    const NoiseIdOptions& o, const std::vector<char>& skip, double q) {
-  const std::shared_ptr<const NoiseGrid> g = grid(t, h, e, X, o, skip);
-  std::vector<NoiseParams> out;
-  for (std::size_t i : confidence_indices(*g, q)) out.push_back(g->points[i].p);
-  if (out.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
-  return out;
+  return confidence_set_of(*grid(t, h, e, X, o, skip), q);
 }
 
 std::size_t NoiseMemo::hits() const {
