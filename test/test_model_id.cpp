@@ -6,6 +6,7 @@
 #include "estimators/model_id/noise_id.hpp"
 #include "estimators/model_id/noise_memo.hpp"
 #include "estimators/model_id/progress_clock.hpp"
+#include "estimators/model_id/search_design.hpp"
 #include "test/coloured_noise.hpp"
 #include "estimators/model_id/shown_unit.hpp"
 #include "estimators/model_id/stats.hpp"
@@ -289,6 +290,63 @@ TEST_CASE("effect search: a real step is found at its time") {
   CHECK(r.effects[0].name == "bias_step");
   CHECK(std::abs(r.effects[0].estimate[0] - 3.0) < 3 * r.effects[0].stderr_[0]);
   CHECK(std::abs(r.effects[0].scan_value - 120) < 3 * r.effects[0].scan_se + 4);  // grid step 4 s
+}
+
+TEST_CASE("effect search: of grid points the data cannot tell apart, the first is reported", "[model_id][scan]") {
+  // A scanned entry whose grid points give columns of one span in different units (the step
+  // at 95 s, scaled by the grid's value): their 2 log LR agree but for rounding, which differs
+  // between them, and must not choose the reported point. A 3 m step (6 sigma) is reported at
+  // the grid's first value. (Two points of a real grid do this when the data cannot tell them
+  // apart: a step time or a sweep's end bearing where no observation falls between them.)
+  Synthetic s = make(7, 0, 3.0, 0, 0, 0.5, 88);
+  auto& cat = s.pb.catalogue;
+  cat.erase(std::remove_if(cat.begin(), cat.end(), [](const Candidate& c) { return c.name == "bias_step"; }), cat.end());
+  const std::vector<double> grid{1.7, 2.3, 3.1, 4.9, 6.7, 7.3, 9.1, 11.3};
+  const auto t_s = s.pb.t_s;
+  const auto n = static_cast<Eigen::Index>(t_s.size());
+  cat.push_back({"scaled_step", {"radar", ""}, {"m"}, "a jump", "scale", grid, [t_s, grid, n](std::size_t v) {
+                   Eigen::MatrixXd C(n, 1);
+                   for (Eigen::Index i = 0; i < n; ++i) C(i, 0) = grid[v] * (t_s[static_cast<std::size_t>(i)] >= 95 ? 1.0 : 0.0);
+                   return C;
+                 }});
+  const SearchResult r = search_effects(s.pb, SearchOptions{});
+  REQUIRE(!r.effects.empty());
+  CHECK(r.effects[0].name == "scaled_step");
+  CHECK(r.effects[0].scan_value == grid[0]);
+}
+
+TEST_CASE("added_lr: the likelihood ratio of nested least-squares fits, -1 for columns inside the model", "[model_id]") {
+  // n log(RSS_M / RSS_(M,C)) against the two fits solved directly (QR), to 1e-9 relative: the
+  // projection is exact algebra, its rounding ~1e-14 at these sizes.
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> N(0, 1);
+  const Eigen::Index n = 300;
+  Eigen::MatrixXd M(n, 3), C(n, 2);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / static_cast<double>(n);
+    M(i, 0) = 1, M(i, 1) = t, M(i, 2) = std::sin(7 * t);
+    C(i, 0) = 1e5 * t * t;            // a column in large units beside
+    C(i, 1) = 0.1 * std::cos(11 * t);  // one in small units: the rank must not depend on them
+    y(i) = C(i, 1) / 0.1 + N(rng);
+  }
+  auto rss = [&](const Eigen::MatrixXd& X) {
+    return (y - X * X.colPivHouseholderQr().solve(y)).squaredNorm();
+  };
+  Eigen::MatrixXd MC(n, 5);
+  MC << M, C;
+  const double want = static_cast<double>(n) * std::log(rss(M) / rss(MC));
+  const double got = search_detail::added_lr(M, y, C, static_cast<double>(n));
+  INFO("added_lr " << got << ", by the two fits " << want);
+  CHECK(want > 10);  // the data hold the second column's effect
+  CHECK(std::abs(got - want) < 1e-9 * want);
+  // a column inside span(M) (to rounding), beside an independent one: -1
+  Eigen::MatrixXd inside(n, 2);
+  inside.col(0) = M * Eigen::Vector3d(0.5, -2, 1) + 1e-13 * Eigen::VectorXd::Ones(n);
+  inside.col(1) = C.col(1);
+  CHECK(search_detail::added_lr(M, y, inside, static_cast<double>(n)) == -1);
+  // no column: nothing added
+  CHECK(search_detail::added_lr(M, y, Eigen::MatrixXd(n, 0), static_cast<double>(n)) == 0);
 }
 
 TEST_CASE("effect search: each effect reports the statistic it was kept with") {

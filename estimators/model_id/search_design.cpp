@@ -171,18 +171,27 @@ namespace {
 // rank decision (singular value below 1e-6) does not depend on their units: a whitened drift
 // column (time / sigma, ~1e5 per row) must not push a constant's column (~0.1) below the
 // threshold and out of the basis.
-Eigen::MatrixXd residual_basis(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
+// The columns of A scaled to unit norm, span(Q) projected out.
+Eigen::MatrixXd projected_unit(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
   Eigen::MatrixXd U = A;
   for (Eigen::Index j = 0; j < U.cols(); ++j) {
     const double nj = U.col(j).norm();
     if (nj > 0) U.col(j) /= nj;
   }
-  const Eigen::MatrixXd R = Q.cols() > 0 ? Eigen::MatrixXd(U - Q * (Q.transpose() * U)) : U;
+  return Q.cols() > 0 ? Eigen::MatrixXd(U - Q * (Q.transpose() * U)) : U;
+}
+// The rank threshold on the singular values of projected_unit's columns.
+constexpr double kRankSv = 1e-6;
+// Two 2 log LR closer than this (relative; absolute below 1) are one value: far above the
+// rounding of a likelihood over 1e5 frames (1e-16 per term), far below any evidence.
+constexpr double kTieLr = 1e-9;
+Eigen::MatrixXd residual_basis(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
+  const Eigen::MatrixXd R = projected_unit(Q, A);
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeThinU);
   const auto& s = svd.singularValues();
   Eigen::Index rank = 0;
   for (Eigen::Index i = 0; i < s.size(); ++i)
-    if (s(i) > 1e-6) ++rank;
+    if (s(i) > kRankSv) ++rank;
   return svd.matrixU().leftCols(rank);
 }
 Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {
@@ -195,9 +204,25 @@ Projector::Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double 
     : Q(orthonormal(M)), r(Q.cols() > 0 ? Eigen::VectorXd(y - Q * (Q.transpose() * y)) : y), n(n_used) {}
 
 double Projector::lr(const Eigen::MatrixXd& C) const {
-  const Eigen::MatrixXd B = residual_basis(Q, C);
-  if (B.cols() < C.cols()) return -1;
-  const double rss0 = r.squaredNorm(), drop = (B.transpose() * r).squaredNorm();
+  // The drop in RSS is |B' r|^2 for B an orthonormal basis of C's columns after span(Q) is
+  // projected out (residual_basis). Without forming B (lr runs at every grid point of every
+  // scanned entry: the SVD's basis was most of a pooled search's time): R = projected_unit(Q, C)
+  // = H [T; 0] (Householder, k = C's columns), the singular values of T are R's (rank as
+  // residual_basis decides it), and with rank k, B = H [I; 0] up to a rotation, so
+  // |B' r|^2 = |(H' r)_(1..k)|^2.
+  const Eigen::Index k = C.cols();
+  double drop = 0;
+  if (k > 0) {
+    const Eigen::MatrixXd R = projected_unit(Q, C);
+    if (R.rows() < k) return -1;
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(R);
+    const Eigen::MatrixXd T = qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
+    const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(T).singularValues();
+    if ((sv.array() > kRankSv).count() < k) return -1;
+    const Eigen::VectorXd Hr = qr.householderQ().adjoint() * r;
+    drop = Hr.head(k).squaredNorm();
+  }
+  const double rss0 = r.squaredNorm();
   if (!(rss0 > 0)) return 0;
   return n * std::log(rss0 / std::max(rss0 - drop, 1e-300 * rss0));
 }
@@ -222,7 +247,10 @@ std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P,
   std::size_t arg = 0;
   for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
     const double lr = P.lr(d.Cw[e][v]);
-    if (lr > best) best = lr, arg = v;
+    // Grid points whose columns are the same on the data (no observation between two step times
+    // or sweep ends) give the same 2 log LR up to rounding: the first of them is kept, so the
+    // choice does not hang on the last bits of the arithmetic.
+    if (lr > best + kTieLr * std::max(1.0, std::abs(best))) best = lr, arg = v;
   }
   return {best, arg};
 }
