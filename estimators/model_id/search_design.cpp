@@ -166,11 +166,6 @@ Eigen::MatrixXd raw_model_matrix(const Design& d, const std::vector<std::pair<st
 }
 
 namespace {
-// Orthonormal basis of the columns of A after projecting out span(Q) (Q orthonormal); empty if
-// nothing is left. The columns are scaled to unit norm first (the span is the same), so the
-// rank decision (singular value below 1e-6) does not depend on their units: a whitened drift
-// column (time / sigma, ~1e5 per row) must not push a constant's column (~0.1) below the
-// threshold and out of the basis.
 // The columns of A scaled to unit norm, span(Q) projected out.
 Eigen::MatrixXd projected_unit(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
   Eigen::MatrixXd U = A;
@@ -185,6 +180,11 @@ constexpr double kRankSv = 1e-6;
 // Two 2 log LR closer than this (relative; absolute below 1) are one value: far above the
 // rounding of a likelihood over 1e5 frames (1e-16 per term), far below any evidence.
 constexpr double kTieLr = 1e-9;
+// Orthonormal basis of the columns of A after projecting out span(Q) (Q orthonormal); empty if
+// nothing is left. The columns are scaled to unit norm first (the span is the same), so the
+// rank decision (singular value below 1e-6) does not depend on their units: a whitened drift
+// column (time / sigma, ~1e5 per row) must not push a constant's column (~0.1) below the
+// threshold and out of the basis.
 Eigen::MatrixXd residual_basis(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A) {
   const Eigen::MatrixXd R = projected_unit(Q, A);
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeThinU);
