@@ -126,6 +126,47 @@ TEST_CASE("noise model: whiten_batch gives each model what whiten gives it alone
   CHECK_THROWS_WITH(whiten_batch(t, h, {ps[1]}, skip, two_refs), Catch::Contains("one matrix per noise model"));
 }
 
+TEST_CASE("noise model: whitened_grams is W' W of whiten_batch's W, and its log S sum theirs") {
+  // The REML computes from the Gram matrix accumulated while whitening, never forming W: each
+  // entry must be W' W's to rounding (the same whitened values, summed in another order: a
+  // relative 1e-13 is some 100 times the rounding of 11 terms), and the sum of log S, kept as
+  // one product, the sum of the logs to 1e-13 absolute. Widths 1 to 10 cover the unrolled
+  // kernels (1-8) and the general one; a skipped frame and a model without correlated part too.
+  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
+  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+  const std::vector<char> skip = {0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
+  const auto n = static_cast<Eigen::Index>(t.size());
+  std::vector<NoiseParams> ps;
+  for (double lam : {0.0, 0.6, 0.98}) {
+    NoiseParams p;
+    p.s2 = 1.0, p.lambda = lam, p.tau_s = 1.2, p.nom_share = 0.3, p.nom_tau_s = 4.0;
+    ps.push_back(p);
+  }
+  GainTable table;
+  innovation_gains(t, h, ps, skip, table);
+  REQUIRE(table.sum_logS.size() == ps.size());
+  for (Eigen::Index cols = 1; cols <= 10; ++cols) {
+    Eigen::MatrixXd M(n, cols);
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index c = 0; c < cols; ++c) M(i, c) = std::sin(1.3 * static_cast<double>(i) * (1 + 0.1 * c) + static_cast<double>(c));
+    std::vector<Eigen::MatrixXd> grams;
+    whitened_grams(table, M, grams);
+    for (std::size_t j = 0; j < ps.size(); ++j) {
+      Eigen::MatrixXd W = M;
+      Eigen::VectorXd logS;
+      whiten(t, h, ps[j], skip, W, &logS);
+      const Eigen::MatrixXd G = W.transpose() * W;
+      INFO(cols << " columns, model " << j);
+      CHECK((grams[j] - G).cwiseAbs().maxCoeff() <= 1e-13 * G.cwiseAbs().maxCoeff());
+      CHECK(grams[j] == grams[j].transpose());
+      CHECK(std::abs(table.sum_logS[j] - logS.sum()) < 1e-13);
+    }
+  }
+  Eigen::MatrixXd wrong(n - 1, 2);
+  std::vector<Eigen::MatrixXd> grams;
+  CHECK_THROWS_WITH(whitened_grams(table, wrong, grams), Catch::Contains("rows != number of times"));
+}
+
 namespace {
 // The noise model's covariance built densely (noise_model.hpp):
 // C_ij = mu s2 h_i h_j exp(-|dt| / tau0) + (1 - mu) lambda s2 exp(-|dt| / tau) + delta_ij (1 - mu)(1 - lambda) s2
@@ -1143,6 +1184,57 @@ TEST_CASE("noise identification: the profile grid gives the profile fit, the con
   for (std::size_t i = 0; i < grid.points.size(); i += 13)
     CHECK(grid0.points[i].ml == loglik_ml_at(t, h, e, X0, grid.points[i].p, skip));
   CHECK(grid0.points[0].ml == loglik_ml_at(t, h, e, X0, grid.points[0].p, skip));  // the null
+}
+
+TEST_CASE("noise identification: the grid's REML and ML log-likelihoods are the dense GLS ones, nearly collinear columns too",
+          "[model_id][noise]") {
+  // Each grid point's likelihoods against the dense covariance C (s^2 = 1, the point's structure):
+  //   ML   -1/2 [n log(RSS / n) + log|C| + n (1 + log 2 pi)],
+  //   REML -1/2 [n' log(RSS / n') + log|C| + log|X' C^-1 X| + n' (1 + log 2 pi)],  n' = n - k,
+  // RSS the GLS residual's C^-1 norm. Two designs: well conditioned (the likelihood from the
+  // whitened Gram matrix), and a column within 1e-6 of another's span (the Gram matrix's pivot
+  // under 1e-8: the QR of the whitened columns instead). Tolerance 1e-9 relative: about 1e6
+  // times the rounding, room for the 1e-6 column's condition number.
+  const std::vector<double> h = [] {
+    std::vector<double> v;
+    for (int i = 0; i < 60; ++i) v.push_back(0.6 + i / 60.0);
+    return v;
+  }();
+  std::vector<double> t;
+  for (int i = 0; i < 60; ++i) t.push_back(0.5 * i + (i > 30 ? 3.0 : 0.0));
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g;
+  Eigen::VectorXd e(60);
+  for (auto& v : e) v = g(rng);
+  NoiseIdOptions o;
+  o.nominal_share = 0.25, o.nominal_tau_s = 12;
+  for (double tilt : {1.0, 1e-6}) {
+    Eigen::MatrixXd X(60, 3);
+    for (int i = 0; i < 60; ++i) {
+      const double u = t[static_cast<std::size_t>(i)] / 33;
+      X(i, 0) = 1, X(i, 1) = u, X(i, 2) = 1 + tilt * u * u;  // near 1 + 0 u^2 when tilt is small
+    }
+    const NoiseGrid grid = profile_noise_grid(t, h, e, X, o, {});
+    for (std::size_t i = 0; i < grid.points.size(); i += 17) {
+      NoiseParams p = grid.points[i].p;
+      p.s2 = 1;
+      // dense: C = L L', X and e whitened by L^-1, least squares by Householder QR (stable where
+      // X' C^-1 X is too ill-conditioned to invert)
+      const Eigen::LLT<Eigen::MatrixXd> llt(dense_cov(t, h, p));
+      const Eigen::MatrixXd Xw = llt.matrixL().solve(X);
+      const Eigen::VectorXd ew = llt.matrixL().solve(e);
+      const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Xw);
+      const double rss = (ew - Xw * qr.solve(ew)).squaredNorm(), n = 60, np = 57;
+      double logC = 0, logA = 0;
+      for (int j = 0; j < 60; ++j) logC += 2 * std::log(llt.matrixL()(j, j));
+      for (int j = 0; j < 3; ++j) logA += 2 * std::log(std::abs(qr.matrixQR()(j, j)));
+      const double ml = -0.5 * (n * std::log(rss / n) + logC + n * (1 + std::log(2 * M_PI)));
+      const double reml = -0.5 * (np * std::log(rss / np) + logC + logA + np * (1 + std::log(2 * M_PI)));
+      INFO("tilt " << tilt << ", point " << i << ": lambda " << p.lambda << ", tau " << p.tau_s);
+      CHECK(grid.points[i].ml == Approx(ml).epsilon(1e-9));
+      CHECK(grid.points[i].ll == Approx(reml).epsilon(1e-9));
+    }
+  }
 }
 
 TEST_CASE("effect search: the noise a simulation draws keeps the slow wander the identified noise leaves to its trend",

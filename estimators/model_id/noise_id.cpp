@@ -1,5 +1,6 @@
 #include "estimators/model_id/noise_id.hpp"
 
+#include "estimators/model_id/byte_hash.hpp"
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 namespace rnav {
 
@@ -25,6 +27,15 @@ struct Series {
   const std::vector<double>& h;  ///< nominal component's gains (empty: 1)
   const Eigen::MatrixXd& Xe;     ///< [X | e]
   double tau0;                   ///< the nominal component's correlation time
+  std::pair<std::uint64_t, std::uint64_t> key = frames_key(t, h);  ///< ByteHash of the frames (t, h)
+
+  static std::pair<std::uint64_t, std::uint64_t> frames_key(const std::vector<double>& t, const std::vector<double>& h) {
+    ByteHash k;
+    k.value(t.size()), k.value(h.size());
+    k.bytes(t.data(), t.size() * sizeof(double));
+    k.bytes(h.data(), h.size() * sizeof(double));
+    return k.key();
+  }
 };
 
 // The noise model (lambda, tau, mu) of a series, s^2 = 1.
@@ -37,60 +48,181 @@ NoiseParams model_of(const Series& sr, double mu, double lambda, double tau) {
   return p;
 }
 
-// REML from [X | e] whitened (W) with s^2 = 1 and its log S_i.
-Reml reml_whitened(const Series& sr, const Eigen::MatrixXd& W, const Eigen::VectorXd& logS, const std::vector<char>& skip) {
-  const std::vector<double>& t = sr.t;
+// The REML and ML log-likelihoods, s^2 profiled, from the residual sum of squares of the
+// whitened e on the whitened X (rank columns), log|X~' X~| over them, sum log S_i and n frames.
+Reml reml_of(double rss, double logdet, Eigen::Index rank, double sum_logS, double n) {
+  const double nprime = n - static_cast<double>(rank);
+  if (nprime < 5) return {};
+  if (!(rss > 0)) return {};
+  Reml out;
+  out.s2 = rss / nprime;
+  out.dof = nprime;
+  out.ll = -0.5 * (nprime * std::log(out.s2) + sum_logS + logdet + nprime * (1 + std::log(2 * M_PI)));
+  out.ml = -0.5 * (n * std::log(rss / n) + sum_logS + n * (1 + std::log(2 * M_PI)));
+  return out;
+}
+
+// The frames kept.
+double frames_used(const Series& sr, const std::vector<char>& skip) {
+  double n = 0;
+  for (std::size_t i = 0; i < sr.t.size(); ++i) n += skip.empty() || !skip[i];
+  return n;
+}
+
+// REML from [X | e] whitened (W) with s^2 = 1 and its sum of log S_i, through a rank-revealing QR
+// (the rank: R's diagonal above 1e-10 of its largest).
+Reml reml_whitened(const Series& sr, const Eigen::MatrixXd& W, double sum_logS, const std::vector<char>& skip) {
   const Eigen::Index k = W.cols() - 1;
   const auto X = W.leftCols(k);
   const auto e = W.col(k);
-  double n = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) n += skip.empty() || !skip[i];
   Eigen::Index rank = 0;
-  // the residual and the decomposition kept per thread (this runs about 150 times per noise
-  // identification; their memory is reused)
-  thread_local Eigen::VectorXd r;
-  thread_local Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
-  r = e;
+  Eigen::VectorXd r = e;
   double logdet = 0;  // log|X~' X~| over the rank-revealing R's diagonal
   if (k > 0) {        // (Eigen's QR of an n x 0 matrix is not defined)
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X.rows(), X.cols());
     qr.setThreshold(1e-10);
     qr.compute(X);
     rank = qr.rank();
     r = e - X * qr.solve(e);
     for (Eigen::Index j = 0; j < rank; ++j) logdet += 2 * std::log(std::abs(qr.matrixR()(j, j)));
   }
-  const double nprime = n - static_cast<double>(rank);
-  if (nprime < 5) return {};
-  const double rss = r.squaredNorm();
-  if (!(rss > 0)) return {};
-  Reml out;
-  out.s2 = rss / nprime;
-  out.dof = nprime;
-  out.ll = -0.5 * (nprime * std::log(out.s2) + logS.sum() + logdet + nprime * (1 + std::log(2 * M_PI)));
-  out.ml = -0.5 * (n * std::log(rss / n) + logS.sum() + n * (1 + std::log(2 * M_PI)));
+  return reml_of(r.squaredNorm(), logdet, rank, sum_logS, frames_used(sr, skip));
+}
+
+// The Gram matrix's conditioning below which reml_gram leaves the model to the QR: a pivot of
+// the equilibrated X~' X~ under 1e-8 (a column within 1e-4 of the others' span: the Gram's
+// rounding, about n eps, is then no longer far below it) or a residual under 1e-6 of e~'s
+// squared norm (the subtraction would cost six of the sixteen digits).
+constexpr double kGramPivot = 1e-8, kGramResidual = 1e-6;
+
+// REML from the Gram matrix G = W' W of [X | e] whitened (s^2 = 1): X~' X~ equilibrated and
+// Cholesky factored, L L'; log|X~' X~| = 2 sum log L_jj + 2 sum log ||x~_j||, and
+// RSS = e~' e~ - |L^-1 X~' e~|^2 (the Schur complement). Returns false when G is too close to
+// singular for these digits (kGramPivot, kGramResidual): the caller then takes the QR.
+bool reml_gram(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
+  const Eigen::Index k = G.rows() - 1;
+  const double ee = G(k, k);
+  if (!(ee > 0)) return false;
+  double logdet = 0, rss = ee;
+  if (k > 0) {
+    Eigen::VectorXd d(k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      if (!(G(j, j) > 0)) return false;  // a column all zero once whitened (its frames kept out)
+      d(j) = 1 / std::sqrt(G(j, j));
+    }
+    const Eigen::MatrixXd A = d.asDiagonal() * G.topLeftCorner(k, k) * d.asDiagonal();
+    const Eigen::LLT<Eigen::MatrixXd> llt(A);
+    if (llt.info() != Eigen::Success) return false;
+    const auto L = llt.matrixL();
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double Ljj = llt.matrixLLT()(j, j);
+      if (!(Ljj * Ljj > kGramPivot)) return false;
+      logdet += 2 * std::log(Ljj) - 2 * std::log(d(j));
+    }
+    const Eigen::VectorXd z = L.solve(d.asDiagonal() * G.topRightCorner(k, 1));
+    rss = ee - z.squaredNorm();
+    if (!(rss > kGramResidual * ee)) return false;
+  }
+  out = reml_of(rss, logdet, k, sum_logS, n);
+  return true;
+}
+
+// REML log-likelihood under each model of a gain table with s^2 profiled: from the Gram
+// matrices of [X | e] whitened (whitened_grams), a model too close to singular for them from its
+// whitened matrix's QR.
+std::vector<Reml> reml_table(const Series& sr, const GainTable& table, const std::vector<char>& skip) {
+  thread_local std::vector<Eigen::MatrixXd> grams;  // kept per thread between calls (whiten_batch says why)
+  whitened_grams(table, sr.Xe, grams);
+  const double n = frames_used(sr, skip);
+  std::vector<Reml> out(table.models.size());
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    if (reml_gram(grams[j], table.sum_logS[j], n, out[j])) continue;
+    Eigen::MatrixXd W = sr.Xe;
+    whiten(sr.t, sr.h, table.models[j], skip, W);
+    out[j] = reml_whitened(sr, W, table.sum_logS[j], skip);
+  }
   return out;
 }
 
-// REML log-likelihood at each of the shares lambdas at one tau (and the nominal component's
-// share mu) with s^2 profiled; [X | e] whitened with s^2 = 1, under all the shares at once
-// (whiten_batch: the same values as one at a time).
+// The models of the shares lambdas at one tau (and the nominal component's share mu), s^2 = 1.
+std::vector<NoiseParams> shares(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau) {
+  std::vector<NoiseParams> ps;
+  for (std::size_t j = 0; j < count; ++j) ps.push_back(model_of(sr, mu, lambdas[j], tau));
+  return ps;
+}
+
+// REML log-likelihood at each of the shares lambdas at one tau with s^2 profiled, the models'
+// gains computed afresh (a refinement's models, never asked for twice).
 std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
                               const std::vector<char>& skip) {
-  std::vector<NoiseParams> ps;
-  // the whitened copies and their log S kept per thread between calls (whiten_batch says why)
-  thread_local std::vector<Eigen::MatrixXd> Ws;
-  thread_local std::vector<Eigen::VectorXd> logS;
-  if (Ws.size() < count) Ws.resize(count);
-  std::vector<Eigen::Ref<Eigen::MatrixXd>> refs;
-  for (std::size_t j = 0; j < count; ++j) {
-    Ws[j] = sr.Xe;
-    ps.push_back(model_of(sr, mu, lambdas[j], tau));
-    refs.emplace_back(Ws[j]);
+  thread_local GainTable table;  // kept per thread between calls
+  innovation_gains(sr.t, sr.h, shares(sr, mu, lambdas, count, tau), skip, table);
+  return reml_table(sr, table, skip);
+}
+
+// The gain tables of the models every identification of a series evaluates (the grid's, the
+// null's, white's), kept per thread: they depend on the frame times, h, the frames kept out and
+// the models alone, and one diagnosis identifies the noise of the same few series thousands of
+// times (each candidate's columns, each injection's residuals) - their first pass was half of
+// an injected search's time. Keyed by ByteHash of all they depend on; the least recently used
+// go once the tables exceed kGainCacheBytes. A pure function's values: what is computed is the
+// same whether a table was kept or not.
+class GainCache {
+ public:
+  const GainTable& get(const Series& sr, const std::vector<NoiseParams>& ps, const std::vector<char>& skip) {
+    ByteHash k;
+    k.value(sr.key), k.value(skip.size());
+    k.bytes(skip.data(), skip.size());
+    k.value(ps.size());
+    for (const NoiseParams& p : ps) k.value(p.s2), k.value(p.lambda), k.value(p.tau_s), k.value(p.nom_share), k.value(p.nom_tau_s);
+    const auto key = k.key();
+    ++clock_;
+    auto it = kept_.find(key);
+    if (it != kept_.end()) {
+      it->second.used = clock_;
+      return it->second.table;
+    }
+    while (bytes_ > kGainCacheBytes && !kept_.empty()) {  // the least recently used go
+      auto old = kept_.begin();
+      for (auto i = kept_.begin(); i != kept_.end(); ++i)
+        if (i->second.used < old->second.used) old = i;
+      bytes_ -= old->second.table.bytes();
+      kept_.erase(old);
+    }
+    Kept& kp = kept_[key];
+    innovation_gains(sr.t, sr.h, ps, skip, kp.table);
+    kp.used = clock_;
+    bytes_ += kp.table.bytes();
+    return kp.table;
   }
-  whiten_batch(sr.t, sr.h, ps, skip, refs, &logS);
-  std::vector<Reml> out;
-  for (std::size_t j = 0; j < count; ++j) out.push_back(reml_whitened(sr, Ws[j], logS[j], skip));
-  return out;
+
+ private:
+  // per thread: a landing flight's three channels of 500 frames take about 20 MB, a 2 000-bearing
+  // flight about 25 MB
+  static constexpr std::size_t kGainCacheBytes = std::size_t{128} << 20;
+  struct Kept {
+    GainTable table;
+    std::uint64_t used = 0;
+  };
+  struct KeyHash {
+    std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& k) const { return static_cast<std::size_t>(k.first ^ k.second); }
+  };
+  std::unordered_map<std::pair<std::uint64_t, std::uint64_t>, Kept, KeyHash> kept_;
+  std::size_t bytes_ = 0;
+  std::uint64_t clock_ = 0;
+};
+
+// reml_shares for models every identification evaluates (GainCache).
+std::vector<Reml> reml_kept(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
+                            const std::vector<char>& skip) {
+  thread_local GainCache cache;
+  return reml_table(sr, cache.get(sr, shares(sr, mu, lambdas, count, tau), skip), skip);
+}
+
+// The null model of share mu (no further Gauss-Markov part; mu = 0: white), its gains kept.
+Reml reml_null(const Series& sr, double mu, const std::vector<char>& skip) {
+  const double lambda = 0;
+  return reml_kept(sr, mu, &lambda, 1, 1.0, skip)[0];
 }
 
 // reml_shares at one share lambda.
@@ -286,18 +418,18 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
         out.push_back(grid->points[1 + static_cast<std::size_t>(i) * std::size(grid_lambdas) + j].ml);
       return out;
     }
-    for (const Reml& r : reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip))
+    for (const Reml& r : reml_kept(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip))
       out.push_back(o.profile_ml ? r.ml : r.ll);
     return out;
   };
   for (int round = 0; round < 5; ++round) {
-    const Reml white = reml(sr, 0.0, 0.0, 1.0, skip);
+    const Reml white = reml_null(sr, 0.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
     const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, ltau_lo, ltau_hi);
     const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
     if (o.profile_ml) {
       // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
-      const Reml nom = mu > 0 ? reml(sr, mu, 0.0, 1.0, skip) : white;
+      const Reml nom = mu > 0 ? reml_null(sr, mu, skip) : white;
       fit.params = NoiseParams{};
       fit.params.nom_share = mu, fit.params.nom_tau_s = sr.tau0;
       fit.correlated = corr.ml > nom.ml;
@@ -316,7 +448,7 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     // mean effect the test pays for its scan: alpha split over the tau grid (Bonferroni; the
     // chi2(2) quantile at alpha is -2 log alpha).
     const double q_name = 2 * -std::log(o.alpha_correlated / n_tau);
-    const Reml nominal = mu > 0 ? reml(sr, mu, 0.0, 1.0, skip) : white;
+    const Reml nominal = mu > 0 ? reml_null(sr, mu, skip) : white;
     fit.loglik_nominal = nominal.ll;
     fit.s2_nominal = nominal.s2;
     fit.dof_nominal = nominal.dof;
@@ -371,10 +503,10 @@ NoiseGrid grid_of(const std::vector<double>& t, const std::vector<double>& h, co
     pt.ll = r.ll, pt.ml = r.ml, pt.log_tau = lt;
     g.points.push_back(pt);
   };
-  keep(0.0, 1.0, 0.0, reml(sr, mu, 0.0, 1.0, skip));
+  keep(0.0, 1.0, 0.0, reml_null(sr, mu, skip));
   for (int i = 0; i < n_tau; ++i) {
     const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1), tau = std::exp(lt);
-    const std::vector<Reml> rs = reml_shares(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
+    const std::vector<Reml> rs = reml_kept(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
     for (std::size_t j = 0; j < rs.size(); ++j) keep(grid_lambdas[j], tau, lt, rs[j]);
   }
   return g;

@@ -1,39 +1,8 @@
 #include "estimators/model_id/noise_memo.hpp"
 
-#include <cstring>
+#include "estimators/model_id/byte_hash.hpp"
 
 namespace rnav::search_detail {
-
-namespace {
-
-// Two independent 64-bit hashes of a byte string: FNV-1a, and a multiply-rotate mix of 8-byte
-// words (different constants and structure, so one's collisions are not the other's).
-struct Hasher {
-  std::uint64_t a = 14695981039346656037ull, b = 0x9e3779b97f4a7c15ull;
-  void bytes(const void* p, std::size_t n) {
-    const auto* s = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < n; ++i) a = (a ^ s[i]) * 1099511628211ull;
-    std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-      std::uint64_t w;
-      std::memcpy(&w, s + i, 8);
-      word(w);
-    }
-    std::uint64_t tail = 0;
-    std::memcpy(&tail, s + i, n - i);
-    word(tail ^ (static_cast<std::uint64_t>(n) << 56));
-  }
-  void word(std::uint64_t w) {
-    b ^= w * 0xc2b2ae3d27d4eb4full;
-    b = ((b << 31) | (b >> 33)) * 0x165667b19e3779f9ull;
-  }
-  template <class T>
-  void value(const T& v) {
-    bytes(&v, sizeof v);
-  }
-};
-
-}  // namespace
 
 namespace {
 
@@ -43,7 +12,7 @@ std::pair<std::uint64_t, std::uint64_t> series_key(char tag, double q, const std
                                                    const std::vector<double>& h, const Eigen::VectorXd& e,
                                                    const Eigen::MatrixXd& X, const NoiseIdOptions& o,
                                                    const std::vector<char>* skip) {
-  Hasher k;
+  ByteHash k;
   k.value(tag), k.value(q);
   k.value(t.size()), k.value(h.size()), k.value(e.size());
   k.bytes(t.data(), t.size() * sizeof(double));

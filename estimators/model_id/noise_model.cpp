@@ -49,11 +49,7 @@ void NoiseFilter::update(double nu) {
 
 namespace {
 
-// The innovations filter's gains at one frame (whiten's pass 1).
-struct Gain {
-  double f0 = 0, f = 0, H0 = 1, K0 = 0, K1 = 0, sq = 1;
-  bool skip = false, started = false;
-};
+using Gain = InnovationGain;
 
 // Whiten's pass 2 on the B columns of M from column c on, through the gains g:
 // x- = Phi x+; nu = m - H x-; x+ = x- + K nu; m = nu / sqrt(S). Each recursion is a chain of
@@ -90,17 +86,12 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
   if (logS) *logS = std::move(ls[0]);
 }
 
-// The filter of NoiseFilter written out on scalars, the same operations in the same order, for
-// every column at once without temporaries: the gains depend on the times and h alone, and this
-// loop is most of a search's time (the noise identification whitens [X | e] at every grid point).
-void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
-                  const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
-                  std::vector<Eigen::VectorXd>* logS) {
-  const auto n = static_cast<Eigen::Index>(t.size());
-  const std::size_t J = ps.size();
-  if (Ms.size() != J || J == 0) throw std::invalid_argument("whiten: one matrix per noise model, at least one");
-  for (const auto& M : Ms)
-    if (M.rows() != n) throw std::invalid_argument("whiten: rows != number of times");
+namespace {
+
+// whiten_batch's and whitened_grams' input checks.
+void check_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                 const std::vector<char>& skip) {
+  if (ps.empty()) throw std::invalid_argument("whiten: at least one noise model");
   if (!h.empty() && h.size() != t.size()) throw std::invalid_argument("whiten: gains != number of times");
   if (!skip.empty() && skip.size() != t.size()) throw std::invalid_argument("whiten: skip mask != number of times");
   for (const NoiseParams& p : ps) {
@@ -108,10 +99,41 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
     if (p.tau_s != ps[0].tau_s || p.nom_tau_s != ps[0].nom_tau_s)
       throw std::invalid_argument("whiten: the noise models of one batch must share their correlation times");
   }
+}
+
+// sum_i log S_i kept as a product: a mantissa renormalised (frexp) whenever it leaves
+// [2^-300, 2^300], and a count of powers of 2. One log per model instead of one per frame (the
+// logarithm was a sixth of a noise identification's time); the sum differs from the sum of the
+// logs by rounding only (about n eps relative in the product, n eps absolute in the log).
+struct LogProduct {
+  double m = 1;
+  long e2 = 0;
+  void add(double S) {
+    m *= S;
+    if (m > 0x1p300 || m < 0x1p-300) {
+      int ex = 0;
+      m = std::frexp(m, &ex);
+      e2 += ex;
+    }
+  }
+  double log() const { return std::log(m) + static_cast<double>(e2) * std::log(2.0); }
+};
+
+// Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0, K and
+// sqrt(S), into g[j] for model j. The models' recursions run interleaved (each is a chain of
+// dependent operations, the processor overlaps them) and share the transitions exp(-dt / tau):
+// each model's arithmetic is what it is alone (the same results, bit for bit). Each model's
+// log S_i per frame (logS), or only their sum (sum_logS, as a LogProduct).
+void gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+           const std::vector<char>& skip, std::vector<std::vector<Gain>>& g, std::vector<Eigen::VectorXd>* logS,
+           std::vector<double>* sum_logS) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  const std::size_t J = ps.size();
   if (logS) {
     logS->resize(J);
     for (Eigen::VectorXd& l : *logS) l.setZero(n);
   }
+  std::vector<LogProduct> prod(sum_logS ? J : 0);
   // Per model: q0 = mu s^2, q = (1 - mu) lambda s^2, r = (1 - mu) (1 - lambda) s^2.
   std::vector<double> q0(J), q(J), r(J);
   bool any_q0 = false, any_q = false;
@@ -120,13 +142,6 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
     q0[j] = p.nom_share * p.s2, q[j] = (1 - p.nom_share) * p.lambda * p.s2, r[j] = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
     any_q0 = any_q0 || q0[j] > 0, any_q = any_q || q[j] > 0;
   }
-  // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0,
-  // K and sqrt(S). The models' recursions run interleaved (each is a chain of dependent
-  // operations, the processor overlaps them) and share the transitions exp(-dt / tau): each
-  // model's arithmetic is what it is alone (the same results, bit for bit).
-  // (kept per thread between calls: allocating them on every call, a channel of 2 000 frames
-  // made the kernel map and unmap pages for a third of the run's time)
-  thread_local std::vector<std::vector<Gain>> g;
   if (g.size() < J) g.resize(J);
   for (std::size_t j = 0; j < J; ++j) g[j].assign(static_cast<std::size_t>(n), Gain{});
   std::vector<double> P00(q0), P01(J, 0.0), P10(J, 0.0), P11(q);  // stationary start
@@ -170,9 +185,61 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
                    N10 = A10 * P00[j] + A11 * P10[j], N11 = A10 * P01[j] + A11 * P11[j];
       P00[j] = N00, P11[j] = N11, P01[j] = P10[j] = 0.5 * (N01 + N10);
       if (logS) (*logS)[j](i) = std::log(S);
+      if (sum_logS) prod[j].add(S);
     }
     started = true;
   }
+  if (sum_logS) {
+    sum_logS->resize(J);
+    for (std::size_t j = 0; j < J; ++j) (*sum_logS)[j] = prod[j].log();
+  }
+}
+
+// The Gram matrix W' W of the K columns of M whitened through the gains g (whiten_columns'
+// recursion, each whitened value the same bit for bit), accumulated as the rows are whitened:
+// W itself is never stored. The upper triangle of G (K x K, row-major) is summed, then mirrored.
+template <int K>
+void gram_columns(const std::vector<Gain>& g, const Eigen::MatrixXd& M, double* G) {
+  const double* m[K];
+  double x0[K] = {}, x1[K] = {}, acc[K * (K + 1) / 2] = {};
+  for (int k = 0; k < K; ++k) m[k] = M.col(k).data();
+  const auto n = static_cast<Eigen::Index>(g.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Gain& Gi = g[static_cast<std::size_t>(i)];
+    if (Gi.skip) continue;  // a zero row
+    double w[K];
+    for (int k = 0; k < K; ++k) {
+      if (Gi.started) x0[k] *= Gi.f0, x1[k] *= Gi.f;
+      const double nu = m[k][i] - (Gi.H0 * x0[k] + 1.0 * x1[k]);
+      x0[k] += Gi.K0 * nu, x1[k] += Gi.K1 * nu;
+      w[k] = nu / Gi.sq;
+    }
+    int a = 0;
+    for (int k = 0; k < K; ++k)
+      for (int l = k; l < K; ++l) acc[a++] += w[k] * w[l];
+  }
+  int a = 0;
+  for (int k = 0; k < K; ++k)
+    for (int l = k; l < K; ++l) G[k * K + l] = G[l * K + k] = acc[a++];
+}
+
+}  // namespace
+
+// The filter of NoiseFilter written out on scalars, the same operations in the same order, for
+// every column at once without temporaries: the gains depend on the times and h alone.
+void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                  const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
+                  std::vector<Eigen::VectorXd>* logS) {
+  const auto n = static_cast<Eigen::Index>(t.size());
+  const std::size_t J = ps.size();
+  if (Ms.size() != J || J == 0) throw std::invalid_argument("whiten: one matrix per noise model, at least one");
+  for (const auto& M : Ms)
+    if (M.rows() != n) throw std::invalid_argument("whiten: rows != number of times");
+  check_batch(t, h, ps, skip);
+  // (the tables kept per thread between calls: allocating them on every call, a channel of
+  // 2 000 frames made the kernel map and unmap pages for a third of the run's time)
+  thread_local std::vector<std::vector<Gain>> g;
+  gains(t, h, ps, skip, g, logS, nullptr);
   // Pass 2, each model's columns through its gains (whiten_columns).
   for (std::size_t j = 0; j < J; ++j) {
     Eigen::Ref<Eigen::MatrixXd> M = Ms[j];
@@ -186,6 +253,50 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
       default: break;
     }
   }
+}
+
+void innovation_gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                      const std::vector<char>& skip, GainTable& table) {
+  check_batch(t, h, ps, skip);
+  table.models = ps;
+  gains(t, h, ps, skip, table.gains, nullptr, &table.sum_logS);
+  table.gains.resize(ps.size());
+}
+
+void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vector<Eigen::MatrixXd>& grams) {
+  const Eigen::Index K = M.cols();
+  grams.resize(table.models.size());
+  for (std::size_t j = 0; j < table.models.size(); ++j) {
+    const std::vector<Gain>& g = table.gains[j];
+    if (M.rows() != static_cast<Eigen::Index>(g.size())) throw std::invalid_argument("whiten: rows != number of times");
+    Eigen::MatrixXd& G = grams[j];
+    G.resize(K, K);
+    switch (K) {
+      case 1: gram_columns<1>(g, M, G.data()); break;
+      case 2: gram_columns<2>(g, M, G.data()); break;
+      case 3: gram_columns<3>(g, M, G.data()); break;
+      case 4: gram_columns<4>(g, M, G.data()); break;
+      case 5: gram_columns<5>(g, M, G.data()); break;
+      case 6: gram_columns<6>(g, M, G.data()); break;
+      case 7: gram_columns<7>(g, M, G.data()); break;
+      case 8: gram_columns<8>(g, M, G.data()); break;
+      default: {  // wider: whitened and multiplied
+        Eigen::MatrixXd W = M;
+        Eigen::Index c = 0;
+        for (; c + 4 <= K; c += 4) whiten_columns<4>(g, W, c);
+        for (; c < K; ++c) whiten_columns<1>(g, W, c);
+        G.setZero();
+        G.selfadjointView<Eigen::Lower>().rankUpdate(W.transpose());
+        G = G.selfadjointView<Eigen::Lower>();  // symmetric, bit for bit
+      }
+    }
+  }
+}
+
+std::size_t GainTable::bytes() const {
+  std::size_t b = sizeof(GainTable) + models.size() * sizeof(NoiseParams) + sum_logS.size() * sizeof(double);
+  for (const auto& g : gains) b += g.capacity() * sizeof(InnovationGain);
+  return b;
 }
 
 double predictive_loglik(const std::vector<double>& t, const std::vector<double>& h, const std::vector<double>& e,

@@ -76,6 +76,38 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
                   const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
                   std::vector<Eigen::VectorXd>* logS = nullptr);
 
+/// The innovations filter's gains at one frame under one model (whiten's first pass): they
+/// depend on the frame times, h, the model and the frames kept out alone, never on what is
+/// whitened.
+struct InnovationGain {
+  double f0 = 0, f = 0;  ///< the transitions phi0, phi from the frame before (0 for a part with no variance)
+  double H0 = 1;         ///< h_i
+  double K0 = 0, K1 = 0; ///< the Kalman gain
+  double sq = 1;         ///< sqrt(S_i)
+  bool skip = false;     ///< kept out: whitened to 0, no update
+  bool started = false;  ///< a frame before it updated the state
+};
+
+/// The gains of several models on one series, kept to whiten many matrices (whitened_grams).
+struct GainTable {
+  std::vector<NoiseParams> models;
+  std::vector<std::vector<InnovationGain>> gains;  ///< [model][frame]
+  std::vector<double> sum_logS;  ///< per model: sum over the frames kept of log S_i (one product: the sum of the logs to about n eps)
+  std::size_t bytes() const;     ///< memory held [B]
+};
+
+/// The gain table of the models ps (which must share tau_s and nom_tau_s) at frame times t
+/// (gains h, empty: 1; frames skip kept out, empty: none), as whiten_batch computes it. Throws
+/// std::invalid_argument as whiten_batch.
+void innovation_gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
+                      const std::vector<char>& skip, GainTable& table);
+
+/// What a likelihood of M's last column given the others needs, without forming the whitened
+/// matrices: grams[j] = W_j' W_j, W_j being M whitened under table.models[j] (each whitened value
+/// whiten_batch's, bit for bit; the sums in another order). Throws std::invalid_argument when
+/// M's rows are not the table's frames.
+void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vector<Eigen::MatrixXd>& grams);
+
 /// Sequential (one-step-ahead predictive) log-likelihood of residuals e at times t (gains h,
 /// empty: 1) under p, summed over frames with score[i] (all when empty); every frame conditions
 /// the later ones except those the mixture judges outliers (posterior outlier probability > 1/2).
