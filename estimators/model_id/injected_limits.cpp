@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 namespace rnav {
@@ -214,6 +215,25 @@ double probit_size(const std::vector<InjectedLimit::Rung>& ladder, bool named, d
   return std::exp(x);
 }
 
+// The catalogue's columns are the same in every injected search (only y changes): computed once
+// here, each search's entries read them instead of computing them again (the columns were a
+// tenth of an injected landing search). Only while they take at most kKeptColumnsBytes: a
+// multi-sensor catalogue of per-target entries over 10^5 detections computes them as before.
+constexpr std::size_t kKeptColumnsBytes = std::size_t{256} << 20;
+
+Problem with_columns_kept(const Problem& pb, const Design& d) {
+  std::size_t bytes = 0;
+  for (const Candidate& c : pb.catalogue) bytes += c.variants() * pb.size() * c.params.size() * sizeof(double);
+  if (bytes > kKeptColumnsBytes) return pb;
+  Problem q = pb;
+  for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
+    auto kept = std::make_shared<std::vector<Eigen::MatrixXd>>();
+    for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) kept->push_back(d.raw_columns(e, v));
+    q.catalogue[e].columns = [kept](std::size_t v) { return kept->at(v); };
+  }
+  return q;
+}
+
 // The parameter's Fisher limit: z SE, SE from the entry alone with the nuisance under the
 // identified noise, z = z_(alpha / 2 m v) + z_power (v: the entry's grid size).
 double fisher_limit(const Design& d, const SearchOptions& o, double m, std::size_t e, std::size_t v, std::size_t j) {
@@ -376,7 +396,8 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   inner.score_holdout = false;
   inner.threads = 1;  // the injections run at once instead
   inner.noise_memo = nullptr;  // each injection's data are its own: a shared memo would only grow
-  Bootstrap b{pb, res, inner, d, {}};
+  const Problem fixed_columns = with_columns_kept(pb, d);
+  Bootstrap b{fixed_columns, res, inner, d, {}};
   for (const ChannelNoise& n : res.noise) {
     NoiseParams q = n.fit.params;
     if (!n.outliers_named) q.p_out = 0, q.s_out2 = 0;  // heavy tails only where the report names them
