@@ -230,24 +230,64 @@ Reml reml(const Series& sr, double mu, double lambda, double tau, const std::vec
   return reml_shares(sr, mu, &lambda, 1, tau, skip)[0];
 }
 
-// The refinement's resolution: each golden-section search below stops once its bracket is
-// narrower than this, in log tau (0.1 % of tau) and in logit lambda. Fixed iteration counts
+// The refinement's resolution: each line search below stops once its bracket is narrower than
+// this, in log tau (0.1 % of tau) and in logit lambda. Fixed iteration counts
 // (30 and 40) used to narrow the brackets to 1e-7 and 1e-8: twice the REML evaluations, for
 // maxima whose log-likelihood then differed by less than the decisions' rounding.
 constexpr double kRefineWidth = 1e-3;
 
-// Golden-section maximum of f on [a, b], the bracket narrowed to at most `width`.
+// Brent's maximum of f on [a, b] (Brent 1973, ch. 5: parabolic interpolation through the three
+// best points, a golden-section step whenever the parabola's step is not safely inside the
+// bracket or not shrinking), stopped once x lies within `width` / 2 of the middle of a bracket at
+// most `width` wide. A log-likelihood is smooth near its maximum: the parabola converges in a
+// few evaluations where golden section took one per factor 0.618 of the bracket (15 for log tau,
+// 21 for logit lambda; a noise identification's refinement was half its time). A non-finite
+// value (a model leaving no spread) only ever gets golden steps.
 template <class F>
-double golden_max(F f, double a, double b, double width) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1);
-  // each iteration multiplies the bracket by g: n iterations leave (b - a) g^(n + 1)
-  const int iters = b - a > width ? static_cast<int>(std::ceil(std::log(width / (b - a)) / std::log(g))) - 1 : 0;
-  double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
-  for (int i = 0; i < iters; ++i) {
-    if (fc > fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
-    else a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
+double brent_max(F f, double a, double b, double width) {
+  const double c = 0.5 * (3 - std::sqrt(5.0));  // the golden section's smaller part
+  const double tol = width / 4;                  // |x - xm| <= 2 tol - (b - a) / 2 leaves b - a <= 4 tol
+  double x = a + c * (b - a), w = x, v = x;
+  double fx = f(x), fw = fx, fv = fx;
+  double d = 0, e = 0;  // the last step, and the one before it
+  for (int it = 0; it < 100; ++it) {
+    const double xm = 0.5 * (a + b);
+    if (std::abs(x - xm) <= 2 * tol - 0.5 * (b - a)) break;
+    bool golden = true;
+    if (std::abs(e) > tol && std::isfinite(fx) && std::isfinite(fw) && std::isfinite(fv)) {
+      // the parabola through (x, fx), (w, fw), (v, fv): its vertex at x + p / q
+      const double r = (x - w) * (fx - fv);
+      double q = (x - v) * (fx - fw);
+      double p = (x - v) * q - (x - w) * r;
+      q = 2 * (q - r);
+      if (q > 0) p = -p;
+      q = std::abs(q);
+      const double e_before = e;
+      e = d;
+      // a vertex inside the bracket, by a step under half the step before last
+      if (std::abs(p) < std::abs(0.5 * q * e_before) && p > q * (a - x) && p < q * (b - x)) {
+        d = p / q;
+        const double u = x + d;
+        if (u - a < 2 * tol || b - u < 2 * tol) d = xm >= x ? tol : -tol;
+        golden = false;
+      }
+    }
+    if (golden) {
+      e = x >= xm ? a - x : b - x;
+      d = c * e;
+    }
+    const double u = std::abs(d) >= tol ? x + d : x + (d >= 0 ? tol : -tol);
+    const double fu = f(u);
+    if (fu >= fx) {  // u the new best: the bracket closes on it
+      (u >= x ? a : b) = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+    } else {
+      (u < x ? a : b) = u;
+      if (fu >= fw || w == x) v = w, fv = fw, w = u, fw = fu;
+      else if (fu >= fv || v == x || v == w) v = u, fv = fu;
+    }
   }
-  return fc > fd ? c : d;
+  return x;
 }
 
 // The (lambda, tau) search grid: n_tau log-spaced correlation times by these shares.
@@ -330,9 +370,9 @@ std::pair<double, double> search_lambda_tau(F crit, G crit_grid, double ltau_lo,
   auto logit = [](double x) { return std::log(x / (1 - x)); };
   auto expit = [](double z) { return 1 / (1 + std::exp(-z)); };
   for (int it = 0; it < 2; ++it) {
-    best_lt = golden_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
+    best_lt = brent_max([&](double lt) { return crit(best_lam, std::exp(lt)); },
                          std::max(ltau_lo, best_lt - dlt), std::min(ltau_hi, best_lt + dlt), kRefineWidth);
-    const double z = golden_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
+    const double z = brent_max([&](double z) { return crit(expit(z), std::exp(best_lt)); },
                                 logit(0.01), logit(0.999), kRefineWidth);
     best_lam = expit(z);
   }
