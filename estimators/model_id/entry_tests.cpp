@@ -201,7 +201,8 @@ double EntryTests::fixed(std::size_t e) const {
     }
   }
   const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(d_.pb->y.data(), static_cast<Eigen::Index>(d_.pb->size()));
-  return Projector(d_.whiten_with(raw_, np), d_.whiten_with(y, np), d_.n_used).lr(d_.whiten_with(C, np));
+  const std::vector<GainTable> tables = d_.gain_tables(np);  // once for the three matrices
+  return Projector(d_.whiten_through(raw_, tables), d_.whiten_through(y, tables), d_.n_used).lr(d_.whiten_through(C, tables));
 }
 
 // The noise parameters' uncertainty, after Berger and Boos (1994: a p-value maximised over a

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rnav {
 
@@ -73,6 +74,19 @@ void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, E
       x0[k] += G.K0 * nu, x1[k] += G.K1 * nu;
       m[k][i] = nu / G.sq;
     }
+  }
+}
+
+// Pass 2 on every column of M, four at a time (whiten_columns).
+void whiten_through(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M) {
+  const Eigen::Index cols = M.cols();
+  Eigen::Index c = 0;
+  for (; c + 4 <= cols; c += 4) whiten_columns<4>(g, M, c);
+  switch (cols - c) {
+    case 3: whiten_columns<3>(g, M, c); break;
+    case 2: whiten_columns<2>(g, M, c); break;
+    case 1: whiten_columns<1>(g, M, c); break;
+    default: break;
   }
 }
 
@@ -240,19 +254,8 @@ void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, co
   // 2 000 frames made the kernel map and unmap pages for a third of the run's time)
   thread_local std::vector<std::vector<Gain>> g;
   gains(t, h, ps, skip, g, logS, nullptr);
-  // Pass 2, each model's columns through its gains (whiten_columns).
-  for (std::size_t j = 0; j < J; ++j) {
-    Eigen::Ref<Eigen::MatrixXd> M = Ms[j];
-    const Eigen::Index cols = M.cols();
-    Eigen::Index c = 0;
-    for (; c + 4 <= cols; c += 4) whiten_columns<4>(g[j], M, c);
-    switch (cols - c) {
-      case 3: whiten_columns<3>(g[j], M, c); break;
-      case 2: whiten_columns<2>(g[j], M, c); break;
-      case 1: whiten_columns<1>(g[j], M, c); break;
-      default: break;
-    }
-  }
+  // Pass 2, each model's columns through its gains.
+  for (std::size_t j = 0; j < J; ++j) whiten_through(g[j], Ms[j]);
 }
 
 void innovation_gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
@@ -291,6 +294,12 @@ void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vecto
       }
     }
   }
+}
+
+void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M) {
+  if (j >= table.gains.size()) throw std::invalid_argument("whiten: no model " + std::to_string(j) + " in the gain table");
+  if (M.rows() != static_cast<Eigen::Index>(table.gains[j].size())) throw std::invalid_argument("whiten: rows != number of times");
+  whiten_through(table.gains[j], M);
 }
 
 std::size_t GainTable::bytes() const {

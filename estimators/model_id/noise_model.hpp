@@ -102,6 +102,10 @@ struct GainTable {
 void innovation_gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
                       const std::vector<char>& skip, GainTable& table);
 
+/// M whitened in place under table.models[j]: whiten()'s result, bit for bit, without computing
+/// the gains again. Throws std::invalid_argument when M's rows are not the table's frames.
+void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M);
+
 /// What a likelihood of M's last column given the others needs, without forming the whitened
 /// matrices: grams[j] = W_j' W_j, W_j being M whitened under table.models[j] (each whitened value
 /// whiten_batch's, bit for bit; the sums in another order). Throws std::invalid_argument when

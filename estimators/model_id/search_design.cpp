@@ -104,14 +104,24 @@ Eigen::MatrixXd Design::raw_columns(std::size_t e, std::size_t v) const {
 Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const { return whiten_with(raw, noise); }
 
 Eigen::MatrixXd Design::whiten_with(const Eigen::MatrixXd& raw, const std::vector<NoiseParams>& np) const {
+  return whiten_through(raw, gain_tables(np));
+}
+
+std::vector<GainTable> Design::gain_tables(const std::vector<NoiseParams>& np) const {
   if (np.size() != rows.size()) throw std::logic_error("effect search: one noise model per channel expected");
+  std::vector<GainTable> out(rows.size());
+  for (std::size_t c = 0; c < rows.size(); ++c) innovation_gains(times[c], gains[c], {np[c]}, skip[c], out[c]);
+  return out;
+}
+
+Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
   for (std::size_t c = 0; c < rows.size(); ++c) {
     const auto m = static_cast<Eigen::Index>(rows[c].size());
     Eigen::MatrixXd B(m, raw.cols());
     for (Eigen::Index r = 0; r < m; ++r) B.row(r) = raw.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)]));
     if (B.isZero(0)) continue;
-    rnav::whiten(times[c], gains[c], np[c], skip[c], B);
+    rnav::whiten(tables[c], 0, B);
     for (Eigen::Index r = 0; r < m; ++r) out.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)])) = B.row(r);
   }
   return out;
@@ -127,11 +137,13 @@ void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std
       if (!skip[c].empty() && skip[c][r]) used[rows[c][r]] = 0;
   n_used = 0;
   for (char u : used) n_used += u;
-  yw = whiten(Eigen::Map<const Eigen::VectorXd>(p.y.data(), static_cast<Eigen::Index>(p.size())));
-  Nw = p.nuisance.cols() > 0 ? whiten(p.nuisance) : Eigen::MatrixXd(static_cast<Eigen::Index>(p.size()), 0);
+  // each channel's gains once for the residuals, the nuisance and every entry's columns
+  const std::vector<GainTable> tables = gain_tables(noise);
+  yw = whiten_through(Eigen::Map<const Eigen::VectorXd>(p.y.data(), static_cast<Eigen::Index>(p.size())), tables);
+  Nw = p.nuisance.cols() > 0 ? whiten_through(p.nuisance, tables) : Eigen::MatrixXd(static_cast<Eigen::Index>(p.size()), 0);
   Cw.assign(p.catalogue.size(), {});
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
-    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten(raw_columns(e, v)));
+    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten_through(raw_columns(e, v), tables));
 }
 
 Eigen::MatrixXd model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen) {

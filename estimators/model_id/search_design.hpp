@@ -45,6 +45,12 @@ struct Design {
   Eigen::MatrixXd whiten(const Eigen::MatrixXd& raw) const;
   /// The same under other noise models (one per channel; the design's outlier flags).
   Eigen::MatrixXd whiten_with(const Eigen::MatrixXd& raw, const std::vector<NoiseParams>& np) const;
+  /// Each channel's filter gains under np[c] (the design's outlier flags), to whiten many
+  /// matrices under the same models (whiten_through).
+  std::vector<GainTable> gain_tables(const std::vector<NoiseParams>& np) const;
+  /// A raw n_obs x k matrix whitened channel by channel through gain_tables' tables: whiten_with's
+  /// result, bit for bit.
+  Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const;
   /// Raw columns of entry e at grid point v (checked shape).
   Eigen::MatrixXd raw_columns(std::size_t e, std::size_t v) const;
 };
