@@ -324,6 +324,33 @@ TEST_CASE("effect search: the physical cause is named, the scanned step listed a
   CHECK(named == 5);
 }
 
+TEST_CASE("effect search: effects_only reports the same effects and confounding, and nothing else", "[model_id][injection]") {
+  // What an injected search reads (named effects and confounded_with) must not depend on the
+  // report's later parts it skips: a range gain that lists the step as confounded, and a step.
+  for (const Synthetic& s : {make(3, 3e-3, 0, 8.0, 0, 0.5), make(7, 0, 3.0, 8.0, 0, 0.5)}) {
+    SearchOptions full, only;
+    full.score_holdout = only.score_holdout = false;
+    only.effects_only = true;
+    const SearchResult a = search_effects(s.pb, full), b = search_effects(s.pb, only);
+    REQUIRE(!a.effects.empty());
+    REQUIRE(a.effects.size() == b.effects.size());
+    for (std::size_t i = 0; i < a.effects.size(); ++i) {
+      INFO(a.effects[i].name);
+      CHECK(a.effects[i].entry == b.effects[i].entry);
+      CHECK(a.effects[i].variant == b.effects[i].variant);
+      CHECK(a.effects[i].estimate == b.effects[i].estimate);
+      CHECK(a.effects[i].kept_lr == b.effects[i].kept_lr);
+      REQUIRE(a.effects[i].confounded_with.size() == b.effects[i].confounded_with.size());
+      for (std::size_t k = 0; k < a.effects[i].confounded_with.size(); ++k)
+        CHECK(a.effects[i].confounded_with[k].entry == b.effects[i].confounded_with[k].entry);
+    }
+    CHECK(!a.detection_limits.empty());  // the full report has its limits and noise findings
+    CHECK(!a.noise.empty());
+    CHECK(b.detection_limits.empty());   // effects_only: none
+    CHECK(b.noise.empty());
+  }
+}
+
 TEST_CASE("effect search: a real step is found at its time") {
   const Synthetic s = make(7, 0, 3.0, 8.0, 0, 0.5);
   const SearchResult r = search_effects(s.pb, SearchOptions{});

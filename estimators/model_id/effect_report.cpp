@@ -377,6 +377,7 @@ void report(const Design& d, const SearchOptions& o, const Chosen& chosen, const
   Eigen::Index col = q;
   for (std::size_t s = 0; s < chosen.size(); ++s)
     res.effects.push_back(chosen_effect(d, o, chosen, kept_lr, fin, cov, m, s, col));
+  if (o.effects_only) return;
 
   detection_limits(d, o, m, res);
 

@@ -392,7 +392,7 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
   o.progress = progress;
   if (o.progress) o.progress("report: estimates, confounding, limits and held-out gain");
   search_detail::report(d, o, chosen, kept_lr, fits, res);
-  if (o.injection.injections > 0) res.injected = measure_injected_limits(pb, res, o, o.injection);
+  if (o.injection.injections > 0 && !o.effects_only) res.injected = measure_injected_limits(pb, res, o, o.injection);
   return res;
 }
 

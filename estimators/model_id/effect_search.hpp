@@ -216,6 +216,11 @@ struct SearchOptions {
   /// Score the held-out frames: the named effects refitted on the estimation frames alone
   /// (those the window does not determine left out, holdout_min_z) predict the rest.
   bool score_holdout = true;
+  /// Report the named effects alone (estimates, evidence, confounded_with): no detection limits,
+  /// noise findings, outliers, unexplained covariates, scope answers or injected limits (left
+  /// empty). What an injected search reads (injected_limits.hpp): the effects do not depend on
+  /// the rest.
+  bool effects_only = false;
   /// An effect is left out of the held-out prediction (the window does not determine it) when,
   /// fitted on the estimation frames, its largest |estimate / SE| is below this, or its
   /// predicted contribution on the held-out frames is below this many of that prediction's own

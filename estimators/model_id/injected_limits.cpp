@@ -394,6 +394,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   inner.progress = nullptr;  // the searches inside: their own lines would drown the limits'
   inner.injection.injections = 0;
   inner.score_holdout = false;
+  inner.effects_only = true;  // the verdict reads the named effects and their confounding alone
   inner.threads = 1;  // the injections run at once instead
   inner.noise_memo = nullptr;  // each injection's data are its own: a shared memo would only grow
   const Problem fixed_columns = with_columns_kept(pb, d);
