@@ -34,10 +34,17 @@ import sys
 from rnav import figures
 
 PROG = "plot_prl.py"
-plt = figures.pyplot(PROG)
-import matplotlib.patches  # noqa: E402  (after figures.pyplot: it checks them and sets Agg)
-import matplotlib.ticker  # noqa: E402
-import numpy as np  # noqa: E402
+# matplotlib and numpy, imported by load_plotting() once the arguments are parsed: --help needs
+# neither (their import was nine tenths of its half second)
+plt = np = matplotlib = None
+
+
+def load_plotting():
+    global plt, np, matplotlib
+    plt = figures.pyplot(PROG)  # checks them and sets Agg
+    import matplotlib.patches  # noqa: F401
+    import matplotlib.ticker  # noqa: F401
+    import numpy as np
 
 COORDS = ("x", "z", "y")
 COORD_NAME = {"x": "X (along the runway axis)", "z": "Z (lateral)", "y": "Y (vertical)"}
@@ -563,6 +570,7 @@ def main(argv):
     ap.add_argument("--smooth", type=float, default=15.0,
                     help="running-mean window for the mean-error curves [s] (default 15)")
     args = ap.parse_args(argv)
+    load_plotting()
     d = args.dir
     try:
         ts = read_csv(os.path.join(d, "stats_time.csv"), TIME_COLS)
