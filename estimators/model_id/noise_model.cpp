@@ -209,32 +209,70 @@ void gains(const std::vector<double>& t, const std::vector<double>& h, const std
   }
 }
 
+// Two doubles in one SSE2 register (GCC's vector extension; element-wise IEEE arithmetic, each
+// lane's result what the scalar operation gives).
+typedef double v2d __attribute__((vector_size(16)));
+
 // The Gram matrix W' W of the K columns of M whitened through the gains g (whiten_columns'
 // recursion, each whitened value the same bit for bit), accumulated as the rows are whitened:
-// W itself is never stored. The upper triangle of G (K x K, row-major) is summed, then mirrored.
+// W itself is never stored. The columns run in pairs, one pair per vector register (an odd last
+// column alone); per frame the products of pairs p <= q accumulate as
+// (w_2p w_2q, w_2p+1 w_2q+1) and (w_2p w_2q+1, w_2p+1 w_2q): every entry of the upper triangle
+// once (the diagonal pair's second product twice, read once).
 template <int K>
 void gram_columns(const std::vector<Gain>& g, const Eigen::MatrixXd& M, double* G) {
+  constexpr int P = K / 2;           // column pairs
+  constexpr bool odd = K % 2 == 1;   // a last column alone
+  constexpr int NP = P * (P + 1) / 2;
   const double* m[K];
-  double x0[K] = {}, x1[K] = {}, acc[K * (K + 1) / 2] = {};
   for (int k = 0; k < K; ++k) m[k] = M.col(k).data();
+  v2d x0[P > 0 ? P : 1] = {}, x1[P > 0 ? P : 1] = {}, same[NP > 0 ? NP : 1] = {}, cross[NP > 0 ? NP : 1] = {},
+      last[P > 0 ? P : 1] = {};
+  double y0 = 0, y1 = 0, last2 = 0;  // the odd column's state and its square's sum
   const auto n = static_cast<Eigen::Index>(g.size());
   for (Eigen::Index i = 0; i < n; ++i) {
     const Gain& Gi = g[static_cast<std::size_t>(i)];
     if (Gi.skip) continue;  // a zero row
-    double w[K];
-    for (int k = 0; k < K; ++k) {
-      if (Gi.started) x0[k] *= Gi.f0, x1[k] *= Gi.f;
-      const double nu = m[k][i] - (Gi.H0 * x0[k] + 1.0 * x1[k]);
-      x0[k] += Gi.K0 * nu, x1[k] += Gi.K1 * nu;
-      w[k] = nu / Gi.sq;
+    v2d w[P > 0 ? P : 1];
+    const v2d f0 = {Gi.f0, Gi.f0}, f = {Gi.f, Gi.f}, H0 = {Gi.H0, Gi.H0}, K0 = {Gi.K0, Gi.K0}, K1 = {Gi.K1, Gi.K1},
+              sq = {Gi.sq, Gi.sq}, one = {1.0, 1.0};
+    for (int p = 0; p < P; ++p) {
+      if (Gi.started) x0[p] *= f0, x1[p] *= f;
+      const v2d mv = {m[2 * p][i], m[2 * p + 1][i]};
+      const v2d nu = mv - (H0 * x0[p] + one * x1[p]);
+      x0[p] += K0 * nu, x1[p] += K1 * nu;
+      w[p] = nu / sq;
+    }
+    double wl = 0;
+    if (odd) {
+      if (Gi.started) y0 *= Gi.f0, y1 *= Gi.f;
+      const double nu = m[K - 1][i] - (Gi.H0 * y0 + 1.0 * y1);
+      y0 += Gi.K0 * nu, y1 += Gi.K1 * nu;
+      wl = nu / Gi.sq;
+      last2 += wl * wl;
     }
     int a = 0;
-    for (int k = 0; k < K; ++k)
-      for (int l = k; l < K; ++l) acc[a++] += w[k] * w[l];
+    for (int p = 0; p < P; ++p) {
+      for (int q = p; q < P; ++q, ++a) {
+        const v2d sw = {w[q][1], w[q][0]};
+        same[a] += w[p] * w[q];
+        cross[a] += w[p] * sw;
+      }
+      if (odd) last[p] += w[p] * v2d{wl, wl};
+    }
   }
+  auto set = [&](int r, int c, double v) { G[r * K + c] = G[c * K + r] = v; };
   int a = 0;
-  for (int k = 0; k < K; ++k)
-    for (int l = k; l < K; ++l) G[k * K + l] = G[l * K + k] = acc[a++];
+  for (int p = 0; p < P; ++p) {
+    for (int q = p; q < P; ++q, ++a) {
+      set(2 * p, 2 * q, same[a][0]);
+      set(2 * p + 1, 2 * q + 1, same[a][1]);
+      set(2 * p, 2 * q + 1, cross[a][0]);
+      if (q != p) set(2 * p + 1, 2 * q, cross[a][1]);
+    }
+    if (odd) set(2 * p, K - 1, last[p][0]), set(2 * p + 1, K - 1, last[p][1]);
+  }
+  if (odd) set(K - 1, K - 1, last2);
 }
 
 }  // namespace
