@@ -60,11 +60,18 @@ TEST_CASE("stats: DerSimonian-Laird pooling against values worked by hand") {
   CHECK_THROWS_AS(dersimonian_laird({1, 2}, {1, std::nan("")}), std::invalid_argument);
 }
 
+namespace {
+// The whitening tests' series: eleven irregular frames with a gap, and a nominal component's
+// gains growing along them.
+const std::vector<double> kWhitenT = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
+const std::vector<double> kWhitenH = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+}  // namespace
+
 TEST_CASE("noise model: whitened columns are the same, bit for bit, however many are whitened together") {
   // whiten() runs its columns through the filter several at a time (interleaved recursions); each
   // column's arithmetic must be what it is alone: 1 to 9 columns, a skipped frame, a gain.
-  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
-  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+  const std::vector<double>& t = kWhitenT;
+  const std::vector<double>& h = kWhitenH;
   const std::vector<char> skip = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
   NoiseParams p;
   p.s2 = 2.0, p.lambda = 0.7, p.tau_s = 1.5, p.nom_share = 0.35, p.nom_tau_s = 5.0;
@@ -89,8 +96,8 @@ TEST_CASE("noise model: whiten_batch gives each model what whiten gives it alone
   // shared transitions): each model's columns and log S must be whiten()'s exactly, including a
   // white share (lambda 0, no transition of its own) beside correlated ones, and a model without
   // the nominal component beside ones with it.
-  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
-  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+  const std::vector<double>& t = kWhitenT;
+  const std::vector<double>& h = kWhitenH;
   const std::vector<char> skip = {0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0};
   const auto n = static_cast<Eigen::Index>(t.size());
   std::vector<NoiseParams> ps;
@@ -132,8 +139,8 @@ TEST_CASE("noise model: whitened_grams is W' W of whiten_batch's W, and its log 
   // relative 1e-13 is some 100 times the rounding of 11 terms), and the sum of log S, kept as
   // one product, the sum of the logs to 1e-13 absolute. Widths 1 to 10 cover the unrolled
   // kernels (1-8) and the general one; a skipped frame and a model without correlated part too.
-  const std::vector<double> t = {0, 0.3, 0.9, 1.0, 1.7, 4.0, 4.2, 4.9, 5.5, 6.0, 6.4};
-  const std::vector<double> h = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1.6, 2.5, 2.6};
+  const std::vector<double>& t = kWhitenT;
+  const std::vector<double>& h = kWhitenH;
   const std::vector<char> skip = {0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
   const auto n = static_cast<Eigen::Index>(t.size());
   std::vector<NoiseParams> ps;
