@@ -138,7 +138,7 @@ std::vector<Reml> reml_table(const Series& sr, const GainTable& table, const std
   for (std::size_t j = 0; j < out.size(); ++j) {
     if (reml_gram(grams[j], table.sum_logS[j], n, out[j])) continue;
     Eigen::MatrixXd W = sr.Xe;
-    whiten(sr.t, sr.h, table.models[j], skip, W);
+    whiten(table, j, W);  // the table's gains: whiten()'s values without computing them again
     out[j] = reml_whitened(sr, W, table.sum_logS[j], skip);
   }
   return out;

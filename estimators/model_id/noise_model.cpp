@@ -323,9 +323,7 @@ void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vecto
       case 8: gram_columns<8>(g, M, G.data()); break;
       default: {  // wider: whitened and multiplied
         Eigen::MatrixXd W = M;
-        Eigen::Index c = 0;
-        for (; c + 4 <= K; c += 4) whiten_columns<4>(g, W, c);
-        for (; c < K; ++c) whiten_columns<1>(g, W, c);
+        whiten_through(g, W);
         G.setZero();
         G.selfadjointView<Eigen::Lower>().rankUpdate(W.transpose());
         G = G.selfadjointView<Eigen::Lower>();  // symmetric, bit for bit
