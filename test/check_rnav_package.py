@@ -10,8 +10,11 @@
     and what it writes reads back equal;
   * `python3 -m rnav show` lists a folder's tables, exits 2 naming a bad file; with numpy made
     unimportable `import rnav` raises an ImportError naming the interpreter, and `-m rnav`
-    prints one line, no traceback.
-Usage: PYTHONPATH=SOURCE_DIR/scripts check_rnav_package.py SOURCE_DIR (ctest sets PYTHONPATH)
+    prints one line, no traceback;
+  * lcmlog.holds_close (scripts/run stops its recorder by it) finds a run's SIM_WINDOW CLOSE
+    amid other traffic, from a start inside an event, and not another run's, another command,
+    one before the start, nor one the file cuts short.
+Usage: PYTHONPATH=SOURCE_DIR/scripts check_rnav_package.py SOURCE_DIR BUILD_DIR (ctest sets PYTHONPATH)
 """
 import os
 import shutil
@@ -24,6 +27,7 @@ import rnav
 from rnav import csvio
 
 SRC = os.path.abspath(sys.argv[1])
+os.environ["RNAV_BUILD"] = os.path.abspath(sys.argv[2])  # its generated message types (lcmlog)
 
 bad = []
 T = tempfile.mkdtemp(prefix="rnav_pkg.")
@@ -105,6 +109,41 @@ try:
                          env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if out.returncode != 2 or "Traceback" in out.stdout or "rnav: error: rnav needs numpy" not in out.stdout:
         bad.append("-m rnav without numpy: %d %s" % (out.returncode, out.stdout[-400:]))
+    # lcmlog.holds_close on a hand-made recording: another run's traffic (bytes of no type on
+    # TRAFFIC_X, SIM_WINDOW of run 8), this run's (7) FINISH, then its CLOSE, then more traffic
+    from rnav import lcmlog
+    window = {c.__name__: c for c in lcmlog.message_types().values()}["sim_window_t"]
+
+    def event(num, channel, data):
+        head = lcmlog._HEADER.pack(lcmlog.SYNC, num, 1000 + num, len(channel), len(data))
+        return head + channel.encode("ascii") + data
+
+    def command(cmd, run_id):
+        m = window()
+        m.command, m.run_id = cmd, run_id
+        return m.encode()
+
+    CLOSE, FINISH = 6, 2
+    parts = [event(1, "TRAFFIC_X", b"SIM_WINDOW" * 3), event(2, "SIM_WINDOW", command(CLOSE, 8)),
+             event(3, "SIM_WINDOW", command(FINISH, 7))]
+    at_close = sum(len(x) for x in parts)
+    parts += [event(4, "SIM_WINDOW", command(CLOSE, 7)), event(5, "TRAFFIC_X", b"\x00" * 40)]
+    whole = b"".join(parts)
+    log = os.path.join(T, "close.lcmlog")
+
+    def holds(data, run_id, start=0):
+        with open(log, "wb") as f:
+            f.write(data)
+        return lcmlog.holds_close(log, run_id, start)
+
+    checks = {"the run's CLOSE": holds(whole, 7), "from a byte inside the event before it": holds(whole, 7, at_close - 5),
+              "not another run's": not holds(whole, 9), "not FINISH": not holds(b"".join(parts[:3]), 7),
+              "not before the start": not holds(whole, 7, at_close + 1),
+              "not cut short": not holds(whole[:at_close + len(parts[3]) - 1], 7),
+              "another run's CLOSE": holds(whole, 8)}
+    for what, ok in checks.items():
+        if not ok:
+            bad.append("lcmlog.holds_close: " + what)
 finally:
     shutil.rmtree(T, ignore_errors=True)
 

@@ -55,7 +55,7 @@ CONTROL_CHANNELS = ("SIM_WINDOW", "SIM_ACK", "SIM_SCENARIO")
 LOG_COLUMNS = ("log_event", "log_utime")
 WINDOW_COLUMNS = ("realization", "attempt", "window", "window_utime_begin", "window_utime_end")
 _ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-_START, _FINISH, _ABORT, _RESEND = 1, 2, 3, 4  # sim_window_t commands
+_START, _FINISH, _ABORT, _RESEND, _CLOSE = 1, 2, 3, 4, 6  # sim_window_t commands
 _ACK_OK = 1                         # node_ack_t status
 
 
@@ -123,6 +123,37 @@ def events(path):
                 raise LogError("%s: the channel name is not ASCII (corrupt)" % at) from None
             yield Event(off, num, utime, channel, f.read(dlen))
             off, ordinal, last = off + need, ordinal + 1, num
+
+
+def holds_close(path, run_id, start=0):
+    """Whether the recording `path` from byte `start` on holds SIM_WINDOW CLOSE of run `run_id`.
+
+    CLOSE is the clock's last message of a run that completed (lcmtypes/sim_window_t.lcm): the
+    recorder reads one socket in arrival order and writes in that order, so once the CLOSE is in
+    the file every message the run sent before it is too. The file may be one lcm-logger is still
+    writing (its end cut inside an event), `start` a byte inside an event: only complete events
+    are read, each found by its channel name and checked by its header (sync word, lengths) and
+    its type's fingerprint."""
+    with open(path, "rb") as f:
+        f.seek(max(0, start))
+        tail = f.read()
+    name = b"SIM_WINDOW"
+    cls = None
+    at = tail.find(name)
+    while at >= 0:
+        head = at - _HEADER.size
+        if head >= 0:
+            sync, _, _, clen, dlen = _HEADER.unpack_from(tail, head)
+            data = tail[at + clen:at + clen + dlen]
+            if sync == SYNC and clen == len(name) and dlen > 8 and len(data) == dlen:
+                if cls is None:
+                    cls = {c.__name__: c for c in message_types().values()}["sim_window_t"]
+                if data[:8] == cls._get_packed_fingerprint():
+                    msg = cls.decode(data)
+                    if msg.command == _CLOSE and msg.run_id == run_id:
+                        return True
+        at = tail.find(name, at + 1)
+    return False
 
 
 _PUBLISHED = re.compile(r"^[a-z_]+: published ((?:[A-Z0-9_]+=[0-9]+ ?)+)$")
