@@ -1,9 +1,10 @@
 // The fuzz targets without libFuzzer (any compiler): replay every file of the seed corpus,
 // then mutate them (bit flips, byte changes, cuts, copies, insertions of boundary numbers) with
-// a fixed-seed generator for a given time. A crash ends the process with a signal, as it would
-// under libFuzzer; the input that caused it is written first to ./crash-input (by the signal
-// handler, with async-signal-safe calls only).
-// Usage: fuzz_TARGET CORPUS_DIR [--seconds S (default 5)] [--seed N (default 1)]
+// a fixed-seed generator: a given number of mutated inputs (the same inputs on any machine,
+// however loaded: a crash in the test suite replays with the same command), or for a given time.
+// A crash ends the process with a signal, as it would under libFuzzer; the input that caused it
+// is written first to ./crash-input (by the signal handler, with async-signal-safe calls only).
+// Usage: fuzz_TARGET CORPUS_DIR [--inputs N | --seconds S (default --seconds 5)] [--seed N (default 1)]
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -91,19 +93,30 @@ void mutate(std::vector<std::uint8_t>& v, std::mt19937_64& rng) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << "usage: " << argv[0] << " CORPUS_DIR [--seconds S] [--seed N]\n";
+    std::cerr << "usage: " << argv[0] << " CORPUS_DIR [--inputs N | --seconds S] [--seed N]\n";
     return 2;
   }
   double seconds = 5;
+  long inputs = -1;  // mutated inputs to run; -1: for `seconds` instead
   std::uint64_t seed = 1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--seconds") seconds = std::stod(argv[i + 1]);
-    else if (a == "--seed") seed = std::stoull(argv[i + 1]);
-    else {
-      std::cerr << argv[0] << ": unknown option " << a << "\n";
+    try {
+      if (a == "--seconds") seconds = std::stod(argv[i + 1]);
+      else if (a == "--inputs") inputs = std::stol(argv[i + 1]);
+      else if (a == "--seed") seed = std::stoull(argv[i + 1]);
+      else {
+        std::cerr << argv[0] << ": unknown option " << a << "\n";
+        return 2;
+      }
+    } catch (const std::exception&) {
+      std::cerr << argv[0] << ": " << a << " takes a number, got '" << argv[i + 1] << "'\n";
       return 2;
     }
+  }
+  if (!(seconds > 0) || inputs < -1) {
+    std::cerr << argv[0] << ": --seconds must be > 0 and --inputs >= 0\n";
+    return 2;
   }
   std::vector<std::vector<std::uint8_t>> corpus;
   for (const auto& e : std::filesystem::directory_iterator(argv[1]))
@@ -119,13 +132,15 @@ int main(int argc, char** argv) {
     ++runs;
   }
   std::mt19937_64 rng(seed);
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto end = t0 + std::chrono::duration<double>(seconds);
+  for (long k = 0; inputs >= 0 ? k < inputs : std::chrono::steady_clock::now() < end; ++k) {
     std::vector<std::uint8_t> in = corpus[rng() % corpus.size()];
     mutate(in, rng);
     run(in);
     ++runs;
   }
-  std::cout << argv[0] << ": " << runs << " inputs (" << corpus.size() << " seeds) in " << seconds << " s, no crash\n";
+  const double spent_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << argv[0] << ": " << runs << " inputs (" << corpus.size() << " seeds) in " << spent_s << " s, no crash\n";
   return 0;
 }
