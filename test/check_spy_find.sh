@@ -25,6 +25,8 @@ in_private_net '
   timeout 20 scripts/spy --duration 2 >"$1/none.out" 2>"$1/none.err"; echo $? >"$1/none.rc"
   timeout 20 scripts/spy --gui >"$1/gui.out" 2>"$1/gui.err"; echo $? >"$1/gui.rc"
   DISPLAY=:9999 timeout 60 scripts/spy --gui --host >"$1/gui2.out" 2>"$1/gui2.err"; echo $? >"$1/gui2.rc"
+  # a and b at 40 x real time (about 12 s: a outlives the three spy sessions below); c at 100 x
+  # (about 6 s: its terminal view prints once a second)
   start() { scripts/run paper --realtime --speed 40 --realizations 1 --no-plots --out "$1/$2" >"$1/$2.log" 2>&1 & }
   start "$1" a; A=$!
   start "$1" b; B=$!
@@ -38,7 +40,7 @@ in_private_net '
   wait "$A"; echo $? >"$1/a.rc"
   ls "$RNAV_RUNS_DIR" >"$1/left"
   timeout 20 scripts/spy --duration 2 >/dev/null 2>"$1/after.err"; echo $? >"$1/after.rc"
-  scripts/run paper --realtime --speed 40 --realizations 1 --no-plots --spy --out "$1/c" >"$1/c.out" 2>"$1/c.err"
+  scripts/run paper --realtime --speed 100 --realizations 1 --no-plots --spy --out "$1/c" >"$1/c.out" 2>"$1/c.err"
   echo $? >"$1/c.rc"
 ' "$SRC" "$T"
 
