@@ -358,6 +358,46 @@ TEST_CASE("effect search: effects_only reports the same effects and confounding,
   }
 }
 
+TEST_CASE("effect search: a projector's remembered 2 log LRs are its own, and a new noise starts afresh", "[model_id]") {
+  // Projector::entry_lr remembers each answer in the design's LrMemo (the search asks the same
+  // model about the same entries in several places): the numbers must be exactly lr's, the same
+  // on a second ask, and a set_noise must not hand the projections of the noise before to a
+  // projector made under the new one.
+  const Synthetic s = make(3, 3e-3, 3.0, 8.0, 0, 0.5);
+  search_detail::Design d(s.pb);
+  const std::size_t n_ch = d.rows.size();
+  NoiseParams white;
+  white.s2 = 1;
+  NoiseParams slow = white;
+  slow.lambda = 0.9, slow.tau_s = 20;
+  d.set_noise(std::vector<NoiseParams>(n_ch, white), std::vector<std::vector<char>>(n_ch));
+  const search_detail::Projector P = search_detail::projector_of(d, {});
+  const search_detail::Projector plain(search_detail::model_matrix(d, {}), d.yw, d.n_used);
+  std::vector<std::vector<double>> before(d.Cw.size());
+  for (std::size_t e = 0; e < d.Cw.size(); ++e)
+    for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
+      const double first = P.entry_lr(d, e, v);
+      CHECK(first == plain.lr(d.Cw[e][v]));
+      CHECK(P.entry_lr(d, e, v) == first);  // the memo's answer
+      before[e].push_back(first);
+    }
+  d.set_noise(std::vector<NoiseParams>(n_ch, slow), std::vector<std::vector<char>>(n_ch));
+  const search_detail::Projector P2 = search_detail::projector_of(d, {});
+  const search_detail::Projector plain2(search_detail::model_matrix(d, {}), d.yw, d.n_used);
+  int differ = 0;
+  for (std::size_t e = 0; e < d.Cw.size(); ++e)
+    for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
+      const double now = P2.entry_lr(d, e, v);
+      CHECK(now == plain2.lr(d.Cw[e][v]));
+      differ += now != before[e][v];
+    }
+  CHECK(differ > 0);  // the slow noise changes the answers: the memo of the white one was not read
+  // a model with an entry in it is its own key
+  const search_detail::Projector P3 = search_detail::projector_of(d, {{0, 0}});
+  const search_detail::Projector plain3(search_detail::model_matrix(d, {{0, 0}}), d.yw, d.n_used);
+  CHECK(P3.entry_lr(d, 1, 0) == plain3.lr(d.Cw[1][0]));
+}
+
 TEST_CASE("effect search: a real step is found at its time") {
   const Synthetic s = make(7, 0, 3.0, 8.0, 0, 0.5);
   const SearchResult r = search_effects(s.pb, SearchOptions{});

@@ -29,10 +29,10 @@ Chosen without(const Chosen& c, std::size_t s) {
 // least the grid step / sqrt(12).
 double scan_se(const Design& d, const Projector& P, std::size_t e, std::size_t v0) {
   const Candidate& c = d.pb->catalogue[e];
-  const double top = P.lr(d.Cw[e][v0]);
+  const double top = P.entry_lr(d, e, v0);
   std::size_t lo = v0, hi = v0;
-  while (lo > 0 && P.lr(d.Cw[e][lo - 1]) >= top - 1) --lo;
-  while (hi + 1 < c.scan.size() && P.lr(d.Cw[e][hi + 1]) >= top - 1) ++hi;
+  while (lo > 0 && P.entry_lr(d, e, lo - 1) >= top - 1) --lo;
+  while (hi + 1 < c.scan.size() && P.entry_lr(d, e, hi + 1) >= top - 1) ++hi;
   const double step = c.scan.size() > 1 ? std::abs(c.scan[1] - c.scan[0]) : 0.0;
   return std::max(0.5 * std::abs(c.scan[hi] - c.scan[lo]), step / std::sqrt(12.0));
 }
@@ -41,9 +41,9 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
                  std::size_t s) {
   const Problem& p = *d.pb;
   const Chosen rest = without(chosen, s);
-  const Projector P(model_matrix(d, rest), d.yw, d.n_used);
+  const Projector P = projector_of(d, rest);
   const auto [e, v] = chosen[s];
-  const double lr_self = P.lr(d.Cw[e][v]);
+  const double lr_self = P.entry_lr(d, e, v);
   for (std::size_t f = 0; f < p.catalogue.size(); ++f) {
     if (f == e || p.catalogue[f].scope_only ||
         std::any_of(chosen.begin(), chosen.end(), [&](const auto& c) { return c.first == f; }))
@@ -93,8 +93,8 @@ FoundEffect chosen_effect(const Design& d, const SearchOptions& o, const Chosen&
   }
   col += static_cast<Eigen::Index>(c.params.size());
   const Chosen rest = without(chosen, s);
-  const Projector P(model_matrix(d, rest), d.yw, d.n_used);
-  fe.lr = P.lr(d.Cw[e][v]);
+  const Projector P = projector_of(d, rest);
+  fe.lr = P.entry_lr(d, e, v);
   const double k = static_cast<double>(c.params.size());
   // log10 of the Bonferroni-adjusted p of a 2 log LR, at most 0 (p = 1)
   auto log10_adjusted = [&](double lr) {

@@ -105,7 +105,7 @@ bool swap_for_better(const Design& d, const SearchOptions& o, double m_family, c
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     Chosen rest = chosen;
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    const search_detail::Projector P(search_detail::model_matrix(d, rest), d.yw, d.n_used);
+    const search_detail::Projector P = search_detail::projector_of(d, rest);
     EntryTests tests(d, rest, fits, o.noise, o.null_set_q);
     const auto [e, v] = chosen[i];
     const double own = tests.profile_lr(e, v) - aic(e);
@@ -146,7 +146,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     return bonferroni_log_p(lr, static_cast<double>(p.catalogue[e].params.size()), static_cast<double>(d.Cw[e].size()), m_family);
   };
   for (int step = 0; step < o.max_effects; ++step) {
-    const search_detail::Projector P(search_detail::model_matrix(d, chosen), d.yw, d.n_used);
+    const search_detail::Projector P = search_detail::projector_of(d, chosen);
     EntryTests tests(d, chosen, fits, o.noise, o.null_set_q);
     // The candidates are ranked on one footing: each entry at its best grid point by its GLS
     // 2 log LR under the noise identified under the null (the same noise model for every

@@ -3,6 +3,7 @@
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
@@ -130,6 +131,7 @@ Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::ve
 void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std::vector<char>>& sk) {
   noise = np;
   skip = sk;
+  lr_memo = std::make_shared<LrMemo>();  // the projections under the noise before are kept by their projectors only
   const Problem& p = *pb;
   used.assign(p.size(), 1);
   for (std::size_t c = 0; c < rows.size(); ++c)
@@ -239,6 +241,29 @@ double Projector::lr(const Eigen::MatrixXd& C) const {
   return n * std::log(rss0 / std::max(rss0 - drop, 1e-300 * rss0));
 }
 
+double Projector::entry_lr(const Design& d, std::size_t e, std::size_t v) const {
+  if (!memo) return lr(d.Cw[e][v]);
+  {
+    const std::lock_guard<std::mutex> lock(memo->m);
+    std::vector<std::vector<double>>& per = memo->lr[model];
+    if (per.empty()) per.resize(d.Cw.size());
+    std::vector<double>& ev = per[e];
+    if (ev.empty()) ev.assign(d.Cw[e].size(), std::numeric_limits<double>::quiet_NaN());
+    if (!std::isnan(ev[v])) return ev[v];
+  }
+  const double x = lr(d.Cw[e][v]);  // outside the lock: the same value whoever computes it first
+  const std::lock_guard<std::mutex> lock(memo->m);
+  memo->lr[model][e][v] = x;
+  return x;
+}
+
+Projector projector_of(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& model) {
+  Projector P(model_matrix(d, model), d.yw, d.n_used);
+  P.memo = d.lr_memo;
+  P.model = model;
+  return P;
+}
+
 double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen::MatrixXd& C, double n) {
   return Projector(M, y, n).lr(C);
 }
@@ -258,7 +283,7 @@ std::pair<double, std::size_t> best_variant(const Design& d, const Projector& P,
   double best = -1;
   std::size_t arg = 0;
   for (std::size_t v = 0; v < d.Cw[e].size(); ++v) {
-    const double lr = P.lr(d.Cw[e][v]);
+    const double lr = P.entry_lr(d, e, v);
     // Grid points whose columns are the same on the data (no observation between two step times
     // or sweep ends) give the same 2 log LR up to rounding: the first of them is kept, so the
     // choice does not hang on the last bits of the arithmetic.
@@ -277,7 +302,7 @@ Rival rival(const Design& d, const Projector& P, std::size_t e, std::size_t v, s
   const double k = static_cast<double>(d.pb->catalogue[f].params.size());
   const bool passes =
       r.lr > 0 && bonferroni_log_p(r.lr, k, static_cast<double>(d.Cw[f].size()), m_family) < std::log(alpha);
-  r.same = r.corr > confound_corr || (passes && P.lr(d.Cw[e][v]) - r.lr < as_well_margin(std::max(d.Cw[e].size(), d.Cw[f].size())));
+  r.same = r.corr > confound_corr || (passes && P.entry_lr(d, e, v) - r.lr < as_well_margin(std::max(d.Cw[e].size(), d.Cw[f].size())));
   return r;
 }
 

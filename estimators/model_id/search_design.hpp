@@ -5,7 +5,11 @@
 #include "estimators/model_id/effect_search.hpp"
 #include "estimators/model_id/noise_memo.hpp"
 
+#include <map>
 #include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
 
 namespace rnav::search_detail {
 
@@ -22,6 +26,17 @@ struct Ols {
 };
 Ols ols(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, const std::vector<char>& mask = {}, bool basic = false);
 
+/// The 2 log LRs of catalogue grid points given a model (Projector::entry_lr), kept under one
+/// noise: the search asks the same model about the same entries in several places (forward
+/// selection's ranking; the rivals in the swap and in the report's confounding, given the other
+/// chosen entries) and each time computed the same numbers again (the projections were a third
+/// of a pooled multi-sensor diagnosis). Per model (the chosen (entry, grid point) pairs spanning
+/// it, in order), per entry, per grid point; NaN: not computed yet.
+struct LrMemo {
+  std::mutex m;
+  std::map<std::vector<std::pair<std::size_t, std::size_t>>, std::vector<std::vector<double>>> lr;
+};
+
 struct Design {
   const Problem* pb = nullptr;
   std::vector<std::vector<std::size_t>> rows;   ///< per channel: observation indices in time order
@@ -36,6 +51,8 @@ struct Design {
   double n_used = 0;
   /// the noise fits of this search's tests, remembered (shared by copies and threads)
   std::shared_ptr<NoiseMemo> memo = std::make_shared<NoiseMemo>();
+  /// the 2 log LRs given each model under the current noise (a fresh one at each set_noise)
+  std::shared_ptr<LrMemo> lr_memo = std::make_shared<LrMemo>();
 
   /// Index the channels (checks sizes, finiteness and time order).
   explicit Design(const Problem& p);
@@ -68,7 +85,15 @@ struct Projector {
   double n = 0;
   Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used);
   double lr(const Eigen::MatrixXd& C) const;
+  /// lr of entry e's whitened columns at grid point v (d.Cw[e][v]), remembered in the design's
+  /// LrMemo when the projector was made by projector_of (the same number either way).
+  double entry_lr(const Design& d, std::size_t e, std::size_t v) const;
+  std::shared_ptr<LrMemo> memo;                            ///< where entry_lr remembers (none: it does not)
+  std::vector<std::pair<std::size_t, std::size_t>> model;  ///< the chosen pairs M is made of (memo's key)
 };
+
+/// The projector of model_matrix(d, model), its entry_lr remembered in d.lr_memo.
+Projector projector_of(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& model);
 
 /// 2 log LR of adding columns C to the model spanned by M (whitened), scale profiled:
 /// n log(RSS_M / RSS_(M,C)); -1 if C is (nearly) inside span(M).
