@@ -400,18 +400,80 @@ def ex_shards(tmp):
 UAV_TABLE_RUNS = 3  # the commands of each UAV estimator table's block: one ctest test each
 
 
-def uav_estimator_table(tmp, first_command, what, part):
+# The particle filter's table quotes runs of 200 realizations (about 40 s of CPU each, the suite's
+# longest tests when each ran in full). The suite checks its rows against a record of those runs
+# instead (test/data/uav_pf/OUT: their summary.json, and the rows of realizations.csv at the
+# evaluation time), and runs each command with RECORD_SAMPLE realizations: their rows must equal
+# the record's first RECORD_SAMPLE byte for byte (a realization's numbers do not depend on how
+# many are run: its random streams are (seed, realization)'s), and the record's summary must agree
+# with its own rows (RMSE, mean NEES, runs). test/data/uav_pf/README.md says how it is made.
+RECORD_SAMPLE = 20
+RECORD_AGREE = 1e-8  # relative: the summary against the rows' 9-significant-digit text
+
+
+def eval_rows(path, below=None):
+    """The header and the rows at the evaluation time (at_eval 1) of a realizations.csv, those of
+    realizations below `below` only when given; each row as its text."""
+    with open(path) as f:
+        header = f.readline()
+        cols = header.rstrip("\n").split(",")
+        ia, ir = cols.index("at_eval"), cols.index("realization")
+        rows = [l for l in f if l.split(",")[ia] == "1" and (below is None or int(l.split(",")[ir]) < below)]
+    return header, rows
+
+
+def check_record(record, n_full, fresh_csv, what):
+    """The record of a full run (test/data/uav_pf/OUT) against its own rows, and the fresh sample
+    run's rows against the record's first RECORD_SAMPLE realizations; its summary returned."""
+    summary = json.load(open(os.path.join(record, "summary.json")))
+    header, rows = eval_rows(os.path.join(record, "eval_rows.csv"))
+    cols = header.rstrip("\n").split(",")
+    ie, ip, inn = cols.index("estimator"), cols.index("pos_err_m"), cols.index("nees")
+    if summary["realizations"] != n_full:
+        fail("%s: the record %s has %d realizations, the command runs %d" % (what, record, summary["realizations"], n_full))
+    for name, e in summary["estimators"].items():
+        mine = [r.split(",") for r in rows if r.split(",")[ie] == name]
+        if len(mine) != e["runs"] or e["runs"] != n_full:
+            fail("%s %s: the record holds %d rows, its summary %d runs of %d" % (what, name, len(mine), e["runs"], n_full))
+            continue
+        rmse = (sum(float(r[ip]) ** 2 for r in mine) / len(mine)) ** 0.5
+        nees = sum(float(r[inn]) for r in mine) / len(mine)
+        for field, got in (("rmse_pos_m", rmse), ("nees_mean", nees)):
+            if abs(got / e[field] - 1) > RECORD_AGREE:
+                fail("%s %s: the record's summary says %s %.10g, its rows give %.10g" % (what, name, field, e[field], got))
+    fresh_header, fresh = eval_rows(fresh_csv)
+    _, first = eval_rows(os.path.join(record, "eval_rows.csv"), RECORD_SAMPLE)
+    if fresh_header != header or fresh != first or len(first) != RECORD_SAMPLE * len(summary["estimators"]):
+        diff = next((i for i, (a, b) in enumerate(zip(fresh, first)) if a != b), min(len(fresh), len(first)))
+        fail("%s: the first %d realizations no longer give the recorded rows (%s; first difference at row %d: "
+             "%s); run the block's commands and renew %s (its README)"
+             % (what, RECORD_SAMPLE, "header differs" if fresh_header != header else "%d rows, %d recorded"
+                % (len(fresh), len(first)), diff, (fresh[diff:diff + 1] or ["none"])[0].strip()[:200], record))
+    return summary
+
+
+def uav_estimator_table(tmp, first_command, what, part, record=None):
     """A documentation table of UAV estimators: its block's command number `part` (1-based) runs,
-    and every row naming that command's --out is checked against the summary.json it wrote. The
-    block must hold UAV_TABLE_RUNS commands and every row must name one of their --out folders,
-    so that the parts together run every command and check every row."""
+    and every row naming that command's --out is checked against the summary.json it wrote (with
+    `record`, a folder of records of full runs: the command runs RECORD_SAMPLE realizations, and
+    the rows are checked against the record's summary: check_record). The block must hold
+    UAV_TABLE_RUNS commands and every row must name one of their --out folders, so that the parts
+    together run every command and check every row."""
     lines, after = block_after(first_command)
     cmds = commands(lines)
     if len(cmds) != UAV_TABLE_RUNS:
         raise SystemExit("check_readme: the %s block in %s has %d commands, not %d; update UAV_TABLE_RUNS in "
                          "test/check_readme.py" % (what, WHERE, len(cmds), UAV_TABLE_RUNS))
     outs = [find(r"--out (\S+)", c, "the --out of a %s command" % what).group(1) for c in cmds]
-    run_ok(cmds[part - 1], tmp, "%s example, run %d" % (what, part))
+    cmd = cmds[part - 1]
+    if record:
+        n_full = int(find(r"--realizations (\d+)", cmd, "the --realizations of a %s command" % what).group(1))
+        cmd = cmd.replace("--realizations %d" % n_full, "--realizations %d" % RECORD_SAMPLE, 1)
+    run_ok(cmd, tmp, "%s example, run %d" % (what, part))
+    out_dir = os.path.join(tmp, outs[part - 1])
+    summary = (check_record(os.path.join(record, os.path.basename(outs[part - 1])), n_full,
+                            os.path.join(out_dir, "realizations.csv"), "%s %s" % (what, outs[part - 1]))
+               if record else json.load(open(os.path.join(out_dir, "summary.json"))))
     table = after[after.index("| run (`--out`)"):]
     table = table[:table.index("\n\n")]
     rows = re.findall(r"^\| `(out/[^`]+)` \| `(\w+)` \| ([\d.]+) m \| ([\d.]+) \| ([\d. ]+) \((inside|outside)\) "
@@ -424,7 +486,7 @@ def uav_estimator_table(tmp, first_command, what, part):
     for out, name, rmse, ratio, nees, inside, diverged, runs in rows:
         if out != outs[part - 1]:
             continue
-        e = json.load(open(os.path.join(tmp, out, "summary.json")))["estimators"][name]
+        e = summary["estimators"][name]
         row = "%s table %s %s" % (what, out, name)
         agree(row + " RMSE", rmse, e["rmse_pos_m"])
         agree(row + " RMSE/PCRB", ratio, e["rmse_pos_over_pcrb"])
@@ -435,9 +497,9 @@ def uav_estimator_table(tmp, first_command, what, part):
             fail(row + ": %s quotes %s / %s diverged, the run gives %d / %d" % (WHERE, diverged, runs, e["diverged"], e["runs"]))
 
 
-def uav_table_part(first_command, what, part):
+def uav_table_part(first_command, what, part, record=None):
     """The example checking part `part` of a UAV estimator table (uav_estimator_table)."""
-    return lambda tmp: uav_estimator_table(tmp, first_command, what, part)
+    return lambda tmp: uav_estimator_table(tmp, first_command, what, part, record)
 
 
 UAV_ML = "scripts/run uav --inproc --realizations 200 --seed 1 --set 'tma.estimators=[\"ekf\""   # the batch estimator's table
@@ -450,7 +512,7 @@ EXAMPLES = {"errors": ex_errors, "table2": ex_table2, "diagnose_csv": ex_diagnos
             "replay": ex_replay, "python": ex_python, "python_run": ex_python_run, "shards": ex_shards}
 for k in range(1, UAV_TABLE_RUNS + 1):  # a test per run: each is tens of seconds
     EXAMPLES["uav_ml.%d" % k] = uav_table_part(UAV_ML, "UAV ml", k)
-    EXAMPLES["uav_pf.%d" % k] = uav_table_part(UAV_PF, "UAV pf", k)
+    EXAMPLES["uav_pf.%d" % k] = uav_table_part(UAV_PF, "UAV pf", k, os.path.join(SRC or "", "test", "data", "uav_pf"))
 
 if LIST:
     print("\n".join(EXAMPLES))

@@ -20,7 +20,7 @@ import sys
 
 MODE, SRC = sys.argv[1], os.path.abspath(sys.argv[2])
 DATA = os.path.join(SRC, "test", "data")
-FOLDERS = ["autoferry", "adsb"]  # read by the tests, docs and scripts
+FOLDERS = ["autoferry", "adsb", "uav_pf"]  # read by the tests, docs and scripts
 fails = []
 
 
