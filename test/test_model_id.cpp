@@ -3,6 +3,8 @@
 // identification, familywise false alarms under coloured noise from a generator that is not a
 // Gauss-Markov process, preference of a physical cause over a scanned one, and outliers.
 #include "estimators/model_id/effect_search.hpp"
+#include "estimators/model_id/gram_memo.hpp"
+#include "estimators/model_id/lru_store.hpp"
 #include "estimators/model_id/noise_id.hpp"
 #include "estimators/model_id/noise_memo.hpp"
 #include "estimators/model_id/progress_clock.hpp"
@@ -172,6 +174,124 @@ TEST_CASE("noise model: whitened_grams is W' W of whiten_batch's W, and its log 
   Eigen::MatrixXd wrong(n - 1, 2);
   std::vector<Eigen::MatrixXd> grams;
   CHECK_THROWS_WITH(whitened_grams(table, wrong, grams), Catch::Contains("rows != number of times"));
+}
+
+namespace {
+// Models of one correlation time for the gain tables below: shares lambda (nominal share 0.3).
+std::vector<NoiseParams> models_at(std::initializer_list<double> lambdas) {
+  std::vector<NoiseParams> ps;
+  for (double lam : lambdas) {
+    NoiseParams p;
+    p.s2 = 1.0, p.lambda = lam, p.tau_s = 1.2, p.nom_share = 0.3, p.nom_tau_s = 4.0;
+    ps.push_back(p);
+  }
+  return ps;
+}
+}  // namespace
+
+TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each model, bit for bit") {
+  // Frame-major, the models' recursions interleaved: the arithmetic of each model must still be
+  // whiten()'s (GramMemo's sums rely on it). One model, seven (the unrolled kernels) and three
+  // (the general one); a skipped frame is whitened to 0.
+  const std::vector<char> skip = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
+  const auto n = static_cast<Eigen::Index>(kWhitenT.size());
+  Eigen::VectorXd m(n);
+  for (Eigen::Index i = 0; i < n; ++i) m(i) = std::sin(0.7 * static_cast<double>(i)) + 0.1 * static_cast<double>(i);
+  for (const auto& ps : {models_at({0.5}), models_at({0.0, 0.3, 0.6, 0.8, 0.9, 0.98, 0.995}), models_at({0.2, 0.7, 0.9})}) {
+    GainTable table;
+    innovation_gains(kWhitenT, kWhitenH, ps, skip, table);
+    std::vector<double> w;
+    whiten_each_model(table, m, w);
+    REQUIRE(w.size() == static_cast<std::size_t>(n) * ps.size());
+    for (std::size_t j = 0; j < ps.size(); ++j) {
+      Eigen::MatrixXd alone = m;
+      whiten(table, j, alone);
+      INFO(ps.size() << " models, model " << j);
+      for (Eigen::Index i = 0; i < n; ++i) CHECK(w[static_cast<std::size_t>(i) * ps.size() + j] == alone(i, 0));
+    }
+  }
+  GainTable table;
+  innovation_gains(kWhitenT, kWhitenH, models_at({0.5}), skip, table);
+  std::vector<double> w;
+  CHECK_THROWS_WITH(whiten_each_model(table, Eigen::VectorXd::Zero(n - 1), w), Catch::Contains("rows != number of times"));
+}
+
+TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whether computed or read") {
+  // The landing diagnosis's likelihoods come from these matrices; a memo that changed one bit
+  // would change its reports. Each width 1-8 (whitened_grams' unrolled kernels, whose sums
+  // GramMemo's must repeat in the same order), with 7 models (its unrolled sums) and 3; then the
+  // same matrices with one column changed (the others' entries read, the new ones computed), a
+  // column twice, and a memo so small that its generations turn on every call.
+  // The memo serves series of kMinFrames frames and more: irregular times, gains h, two frames
+  // kept out.
+  const Eigen::Index n = GramMemo::kMinFrames + 40;
+  std::vector<double> t, h;
+  std::vector<char> skip(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t.push_back(0.5 * static_cast<double>(i) + 0.2 * std::sin(static_cast<double>(i)));
+    h.push_back(0.5 + 0.002 * static_cast<double>(i));
+  }
+  skip[4] = skip[100] = 1;
+  for (const auto& ps : {models_at({0.0, 0.3, 0.6, 0.8, 0.9, 0.98, 0.995}), models_at({0.2, 0.7, 0.9})}) {
+    GainTable table;
+    innovation_gains(t, h, ps, skip, table);
+    const GramMemo::Key table_key{ps.size(), 17};  // any key naming this table
+    GramMemo memo(std::size_t{1} << 20), tiny(1);
+    for (Eigen::Index cols = 1; cols <= GramMemo::kMaxColumns; ++cols) {
+      Eigen::MatrixXd M(n, cols);
+      for (Eigen::Index i = 0; i < n; ++i)
+        for (Eigen::Index c = 0; c < cols; ++c) M(i, c) = std::sin(1.3 * static_cast<double>(i) * (1 + 0.1 * c) + static_cast<double>(c));
+      Eigen::MatrixXd changed = M, twice = M;
+      changed.col(cols - 1) *= 1.7;
+      twice.col(0) = M.col(cols - 1);
+      for (const Eigen::MatrixXd* X : {&M, &changed, &twice}) {
+        std::vector<GramMemo::Key> keys;
+        for (Eigen::Index c = 0; c < cols; ++c) keys.push_back(GramMemo::column_key(*X, c));
+        std::vector<Eigen::MatrixXd> expected, got, got_tiny;
+        whitened_grams(table, *X, expected);
+        const std::size_t read_before = memo.entries_read();
+        memo.grams(table, table_key, *X, keys, got);
+        tiny.grams(table, table_key, *X, keys, got_tiny);
+        INFO(ps.size() << " models, " << cols << " columns, matrix " << (X == &M ? "first" : X == &changed ? "changed" : "twice"));
+        if (X == &changed && cols > 1) CHECK(memo.entries_read() > read_before);  // the unchanged columns' entries
+        REQUIRE(got.size() == ps.size());
+        for (std::size_t j = 0; j < ps.size(); ++j) {
+          CHECK((got[j].array() == expected[j].array()).all());
+          CHECK((got_tiny[j].array() == expected[j].array()).all());
+        }
+      }
+    }
+    // refused: too wide, too short, a key missing
+    Eigen::MatrixXd wide = Eigen::MatrixXd::Ones(n, GramMemo::kMaxColumns + 1);
+    std::vector<GramMemo::Key> keys(static_cast<std::size_t>(wide.cols()));
+    std::vector<Eigen::MatrixXd> got;
+    CHECK_FALSE(GramMemo::serves(table, wide));
+    CHECK(GramMemo::serves(table, wide.leftCols(3)));
+    CHECK_FALSE(GramMemo::serves(table, wide.topLeftCorner(GramMemo::kMinFrames - 1, 3)));
+    CHECK_THROWS_WITH(memo.grams(table, table_key, wide, keys, got), Catch::Contains("are served"));
+    keys.resize(2);
+    CHECK_THROWS_WITH(memo.grams(table, table_key, wide.leftCols(3), keys, got), Catch::Contains("one key per column"));
+  }
+}
+
+TEST_CASE("kept values: a value used since the last turn stays, one unused for two turns goes") {
+  // LruStore's two generations: budget 100 B, so the young one turns once it would pass 50 B.
+  LruStore<int> store(100);
+  auto key = [](int i) { return LruStore<int>::Key{static_cast<std::uint64_t>(i), 1}; };
+  for (int i = 0; i < 5; ++i) store.insert(key(i), i, 10);  // young: 0-4 (50 B)
+  CHECK(store.bytes() == 50);
+  store.insert(key(5), 5, 10);  // a turn: 0-4 old, 5 young
+  REQUIRE(store.find(key(1)) != nullptr);  // used: back into the young generation
+  CHECK(*store.find(key(1)) == 1);
+  CHECK(store.insert(key(1), 99, 10) == 1);  // a key kept keeps its value
+  for (int i = 6; i < 9; ++i) store.insert(key(i), i, 10);  // young: 5, 1, 6, 7, 8 (50 B)
+  store.insert(key(9), 9, 10);  // a turn: the old 0, 2, 3, 4 go
+  CHECK(store.find(key(0)) == nullptr);
+  CHECK(store.find(key(4)) == nullptr);
+  CHECK(store.find(key(1)) != nullptr);
+  CHECK(store.find(key(8)) != nullptr);
+  CHECK(store.size() == 6);
+  CHECK(store.bytes() == 60);
 }
 
 namespace {

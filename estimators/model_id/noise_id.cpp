@@ -1,6 +1,8 @@
 #include "estimators/model_id/noise_id.hpp"
 
 #include "estimators/model_id/byte_hash.hpp"
+#include "estimators/model_id/gram_memo.hpp"
+#include "estimators/model_id/lru_store.hpp"
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
@@ -29,6 +31,7 @@ struct Series {
   const Eigen::MatrixXd& Xe;     ///< [X | e]
   double tau0;                   ///< the nominal component's correlation time
   std::pair<std::uint64_t, std::uint64_t> key = frames_key(t, h);  ///< ByteHash of the frames (t, h)
+  mutable std::vector<GramMemo::Key> col_keys = {};  ///< GramMemo::column_key of Xe's columns, once asked for
 
   static std::pair<std::uint64_t, std::uint64_t> frames_key(const std::vector<double>& t, const std::vector<double>& h) {
     ByteHash k;
@@ -129,11 +132,10 @@ bool reml_gram(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
 }
 
 // REML log-likelihood under each model of a gain table with s^2 profiled: from the Gram
-// matrices of [X | e] whitened (whitened_grams), a model too close to singular for them from its
-// whitened matrix's QR.
-std::vector<Reml> reml_table(const Series& sr, const GainTable& table, const std::vector<char>& skip) {
-  thread_local std::vector<Eigen::MatrixXd> grams;  // kept per thread between calls (whiten_batch says why)
-  whitened_grams(table, sr.Xe, grams);
+// matrices of [X | e] whitened under them (grams[j] under model j), a model too close to
+// singular for them from its whitened matrix's QR.
+std::vector<Reml> reml_from_grams(const Series& sr, const GainTable& table, const std::vector<Eigen::MatrixXd>& grams,
+                                  const std::vector<char>& skip) {
   const double n = frames_used(sr, skip);
   std::vector<Reml> out(table.models.size());
   for (std::size_t j = 0; j < out.size(); ++j) {
@@ -143,6 +145,13 @@ std::vector<Reml> reml_table(const Series& sr, const GainTable& table, const std
     out[j] = reml_whitened(sr, W, table.sum_logS[j], skip);
   }
   return out;
+}
+
+// reml_from_grams with the Gram matrices computed (whitened_grams).
+std::vector<Reml> reml_table(const Series& sr, const GainTable& table, const std::vector<char>& skip) {
+  thread_local std::vector<Eigen::MatrixXd> grams;  // kept per thread between calls (whiten_batch says why)
+  whitened_grams(table, sr.Xe, grams);
+  return reml_from_grams(sr, table, grams, skip);
 }
 
 // The models of the shares lambdas at one tau (and the nominal component's share mu), s^2 = 1.
@@ -170,56 +179,47 @@ std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas
 // same whether a table was kept or not.
 class GainCache {
  public:
-  const GainTable& get(const Series& sr, const std::vector<NoiseParams>& ps, const std::vector<char>& skip) {
+  using Key = LruStore<GainTable>::Key;
+  /// The gains of models ps on the series, frames skip kept out, and their key.
+  std::pair<Key, const GainTable*> get(const Series& sr, const std::vector<NoiseParams>& ps, const std::vector<char>& skip) {
     ByteHash k;
     k.value(sr.key), k.value(skip.size());
     k.bytes(skip.data(), skip.size());
     k.value(ps.size());
     for (const NoiseParams& p : ps) k.value(p.s2), k.value(p.lambda), k.value(p.tau_s), k.value(p.nom_share), k.value(p.nom_tau_s);
-    const auto key = k.key();
-    auto it = index_.find(key);
-    if (it != index_.end()) {
-      kept_.splice(kept_.begin(), kept_, it->second);  // now the most recently used
-      return it->second->table;
-    }
-    // the least recently used go, from the list's back: O(1) each (a linear scan for the oldest,
-    // as before, was a fifteenth of a pooled multi-sensor diagnosis, whose many series churn)
-    while (bytes_ > kGainCacheBytes && !kept_.empty()) {
-      bytes_ -= kept_.back().table.bytes();
-      index_.erase(kept_.back().key);
-      kept_.pop_back();
-    }
-    kept_.emplace_front();
-    Kept& kp = kept_.front();
-    kp.key = key;
-    innovation_gains(sr.t, sr.h, ps, skip, kp.table);
-    bytes_ += kp.table.bytes();
-    index_.emplace(key, kept_.begin());
-    return kp.table;
+    const Key key = k.key();
+    if (const GainTable* kept = kept_.find(key)) return {key, kept};
+    // (those not used lately go a generation at a time, LruStore: a linear scan for the
+    // oldest was a fifteenth of a pooled multi-sensor diagnosis, whose many series churn)
+    GainTable table;
+    innovation_gains(sr.t, sr.h, ps, skip, table);
+    const std::size_t bytes = table.bytes();
+    return {key, &kept_.insert(key, std::move(table), bytes)};
   }
 
  private:
   // per thread: a landing flight's three channels of 500 frames take about 20 MB, a 2 000-bearing
   // flight about 25 MB
   static constexpr std::size_t kGainCacheBytes = std::size_t{128} << 20;
-  using Key = std::pair<std::uint64_t, std::uint64_t>;
-  struct Kept {
-    Key key;
-    GainTable table;
-  };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const { return static_cast<std::size_t>(k.first ^ k.second); }
-  };
-  std::list<Kept> kept_;  // most recently used first
-  std::unordered_map<Key, std::list<Kept>::iterator, KeyHash> index_;
-  std::size_t bytes_ = 0;
+  LruStore<GainTable> kept_{kGainCacheBytes};
 };
 
 // reml_shares for models every identification evaluates (GainCache).
+// Their whitened Gram matrices from the entries remembered per pair of columns (GramMemo): the
+// same values, bit for bit.
 std::vector<Reml> reml_kept(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
                             const std::vector<char>& skip) {
   thread_local GainCache cache;
-  return reml_table(sr, cache.get(sr, shares(sr, mu, lambdas, count, tau), skip), skip);
+  // per thread: the whitened columns and as much for the entries (a landing search's three
+  // channels of 500 frames under the grid touch about 3 000 columns of 28 kB)
+  thread_local GramMemo grams_kept(std::size_t{96} << 20);
+  const auto [key, table] = cache.get(sr, shares(sr, mu, lambdas, count, tau), skip);
+  if (!GramMemo::serves(*table, sr.Xe)) return reml_table(sr, *table, skip);
+  if (sr.col_keys.empty())
+    for (Eigen::Index c = 0; c < sr.Xe.cols(); ++c) sr.col_keys.push_back(GramMemo::column_key(sr.Xe, c));
+  thread_local std::vector<Eigen::MatrixXd> grams;
+  grams_kept.grams(*table, key, sr.Xe, sr.col_keys, grams);
+  return reml_from_grams(sr, *table, grams, skip);
 }
 
 // The null model of share mu (no further Gauss-Markov part; mu = 0: white), its gains kept.

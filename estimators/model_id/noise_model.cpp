@@ -56,6 +56,15 @@ using Gain = InnovationGain;
 // x- = Phi x+; nu = m - H x-; x+ = x- + K nu; m = nu / sqrt(S). Each recursion is a chain of
 // dependent operations; B of them interleaved overlap in the processor (four at once run about
 // as fast as one). Each column's arithmetic is the same whatever B (the same results, bit for bit).
+// One frame of it on one column, state (x0, x1): the whitened value (0 for a frame kept out).
+inline double whiten_step(const Gain& G, double m, double& x0, double& x1) {
+  if (G.skip) return 0;
+  if (G.started) x0 *= G.f0, x1 *= G.f;
+  const double nu = m - (G.H0 * x0 + 1.0 * x1);
+  x0 += G.K0 * nu, x1 += G.K1 * nu;
+  return nu / G.sq;
+}
+
 template <int B>
 void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, Eigen::Index c) {
   double* m[B];
@@ -64,16 +73,19 @@ void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, E
   const auto n = static_cast<Eigen::Index>(g.size());
   for (Eigen::Index i = 0; i < n; ++i) {
     const Gain& G = g[static_cast<std::size_t>(i)];
-    for (int k = 0; k < B; ++k) {
-      if (G.skip) {
-        m[k][i] = 0;
-        continue;
-      }
-      if (G.started) x0[k] *= G.f0, x1[k] *= G.f;
-      const double nu = m[k][i] - (G.H0 * x0[k] + 1.0 * x1[k]);
-      x0[k] += G.K0 * nu, x1[k] += G.K1 * nu;
-      m[k][i] = nu / G.sq;
-    }
+    for (int k = 0; k < B; ++k) m[k][i] = whiten_step(G, m[k][i], x0[k], x1[k]);
+  }
+}
+
+// One column m through the gains of J models (J <= kMaxEach), frame-major: w[i * J + j] under
+// model j. Whiten's pass 2 (whiten_step) on each model, the models' recursions interleaved.
+constexpr std::size_t kMaxEach = 16;
+template <std::size_t J>
+void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen::Index n, double* w) {
+  double x0[J] = {}, x1[J] = {};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::size_t j = 0; j < J; ++j) w[ui * J + j] = whiten_step(g[j][ui], m[i], x0[j], x1[j]);
   }
 }
 
@@ -329,6 +341,27 @@ void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vecto
         G = G.selfadjointView<Eigen::Lower>();  // symmetric, bit for bit
       }
     }
+  }
+}
+
+void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w) {
+  const std::size_t J = table.gains.size();
+  const Eigen::Index n = m.size();
+  for (const auto& g : table.gains)
+    if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("whiten: rows != number of times");
+  if (J > kMaxEach) throw std::invalid_argument("whiten: at most " + std::to_string(kMaxEach) + " models at once");
+  w.resize(static_cast<std::size_t>(n) * J);
+  switch (J) {  // the models' count fixed at compile time: their states stay in registers
+    case 1: whiten_each<1>(table.gains, m.data(), n, w.data()); break;
+    case 7: whiten_each<7>(table.gains, m.data(), n, w.data()); break;
+    default:
+      for (std::size_t j = 0; j < J; ++j) {  // one model at a time, written into its place
+        double x0 = 0, x1 = 0;
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const auto ui = static_cast<std::size_t>(i);
+          w[ui * J + j] = whiten_step(table.gains[j][ui], m(i), x0, x1);
+        }
+      }
   }
 }
 

@@ -106,6 +106,11 @@ void innovation_gains(const std::vector<double>& t, const std::vector<double>& h
 /// the gains again. Throws std::invalid_argument when M's rows are not the table's frames.
 void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M);
 
+/// Column m whitened under every model of the table, frame-major: w[i * J + j] under
+/// table.models[j] (J models, at most 16), each value whiten(table, j, m)'s bit for bit.
+/// Throws std::invalid_argument when m's rows are not the table's frames or J > 16.
+void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w);
+
 /// What a likelihood of M's last column given the others needs, without forming the whitened
 /// matrices: grams[j] = W_j' W_j, W_j being M whitened under table.models[j] (each whitened value
 /// whiten_batch's, bit for bit; the sums in another order). Throws std::invalid_argument when

@@ -1,0 +1,142 @@
+#include "estimators/model_id/gram_memo.hpp"
+
+#include "estimators/model_id/byte_hash.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace rnav {
+
+namespace {
+
+// What an entry of the memo holds beyond its sums: the key, the list's and the index's nodes.
+constexpr std::size_t kEntryOverhead = 96;
+
+// One entry under each of J models from two columns whitened frame-major (w[i * J + j]): the
+// sum over the frames of wa wb in frame order from 0, the models' sums interleaved. A frame kept
+// out is whitened to 0: its product adds +0, which changes no sum (a sum from +0 is never -0).
+// Two doubles in one SSE2 register (GCC's vector extension; element-wise IEEE arithmetic, each
+// lane's result what the scalar operation gives).
+typedef double v2d __attribute__((vector_size(16)));
+
+template <std::size_t J>
+void sums(const double* wa, const double* wb, Eigen::Index n, std::array<double, GramMemo::kMaxModels>& s) {
+  constexpr std::size_t P = J / 2;  // models in pairs, one pair per register (an odd last alone)
+  v2d acc[P > 0 ? P : 1] = {};
+  double last = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double* ra = wa + static_cast<std::size_t>(i) * J;
+    const double* rb = wb + static_cast<std::size_t>(i) * J;
+    for (std::size_t p = 0; p < P; ++p) acc[p] += v2d{ra[2 * p], ra[2 * p + 1]} * v2d{rb[2 * p], rb[2 * p + 1]};
+    if (J % 2 == 1) last += ra[J - 1] * rb[J - 1];
+  }
+  for (std::size_t p = 0; p < P; ++p) s[2 * p] = acc[p][0], s[2 * p + 1] = acc[p][1];
+  if (J % 2 == 1) s[J - 1] = last;
+}
+
+// The same for any J <= kMaxModels.
+void sums_any(const double* wa, const double* wb, Eigen::Index n, std::size_t J,
+              std::array<double, GramMemo::kMaxModels>& s) {
+  s.fill(0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double* ra = wa + static_cast<std::size_t>(i) * J;
+    const double* rb = wb + static_cast<std::size_t>(i) * J;
+    for (std::size_t j = 0; j < J; ++j) s[j] += ra[j] * rb[j];
+  }
+}
+
+}  // namespace
+
+GramMemo::GramMemo(std::size_t budget_bytes) : columns_(budget_bytes), entries_(budget_bytes) {
+  if (budget_bytes == 0) throw std::invalid_argument("GramMemo: the budget must be > 0 bytes");
+}
+
+bool GramMemo::serves(const GainTable& table, const Eigen::MatrixXd& M) {
+  return !table.models.empty() && table.models.size() <= kMaxModels && M.cols() >= 1 && M.cols() <= kMaxColumns &&
+         M.rows() >= kMinFrames;
+}
+
+GramMemo::Key GramMemo::column_key(const Eigen::MatrixXd& M, Eigen::Index c) {
+  ByteHash k;
+  k.value(M.rows());
+  k.bytes(M.col(c).data(), static_cast<std::size_t>(M.rows()) * sizeof(double));
+  return k.key();
+}
+
+void GramMemo::grams(const GainTable& table, const Key& table_key, const Eigen::MatrixXd& M,
+                     const std::vector<Key>& col_keys, std::vector<Eigen::MatrixXd>& grams) {
+  if (!serves(table, M))
+    throw std::invalid_argument("GramMemo: " + std::to_string(table.models.size()) + " models and " +
+                                std::to_string(M.cols()) + " columns: at most " + std::to_string(kMaxModels) + " and " +
+                                std::to_string(kMaxColumns) + " are served");
+  const Eigen::Index K = M.cols(), n = M.rows();
+  const std::size_t J = table.models.size();
+  for (const auto& g : table.gains)
+    if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("GramMemo: rows != number of times");
+  if (col_keys.size() != static_cast<std::size_t>(K)) throw std::invalid_argument("GramMemo: one key per column needed");
+  grams.resize(J);
+  for (Eigen::MatrixXd& G : grams) G.resize(K, K);
+  auto set = [&](Eigen::Index a, Eigen::Index b, const Sums& s) {
+    for (std::size_t j = 0; j < J; ++j) grams[j](a, b) = grams[j](b, a) = s[j];
+  };
+  // the entries kept; the missing ones listed
+  std::vector<Missing>& missing = missing_;
+  missing.clear();
+  for (Eigen::Index a = 0; a < K; ++a)
+    for (Eigen::Index b = a; b < K; ++b) {
+      // w_a w_b = w_b w_a exactly, summed in the same order: one entry for both orders
+      const Key& ka = col_keys[static_cast<std::size_t>(a)];
+      const Key& kb = col_keys[static_cast<std::size_t>(b)];
+      ByteHash k;
+      k.value(table_key), k.value(std::min(ka, kb)), k.value(std::max(ka, kb));
+      if (const Sums* s = entries_.find(k.key())) {
+        set(a, b, *s);
+        ++read_;
+      } else {
+        missing.push_back({a, b, k.key()});
+      }
+    }
+  if (missing.empty()) return;
+  // the columns the missing entries need, whitened under every model (kept, or whitened now)
+  std::vector<Whitened>& w = w_;
+  std::vector<Key>& wkey = wkey_;
+  std::vector<Eigen::Index>& to_whiten = to_whiten_;
+  std::vector<char>& needed = needed_;
+  w.assign(static_cast<std::size_t>(K), nullptr);
+  wkey.resize(static_cast<std::size_t>(K));
+  to_whiten.clear();
+  needed.assign(static_cast<std::size_t>(K), 0);
+  for (const Missing& m : missing) needed[static_cast<std::size_t>(m.a)] = needed[static_cast<std::size_t>(m.b)] = 1;
+  for (Eigen::Index c = 0; c < K; ++c) {
+    const auto uc = static_cast<std::size_t>(c);
+    if (!needed[uc]) continue;
+    ByteHash k;
+    k.value(table_key), k.value(col_keys[uc]);
+    wkey[uc] = k.key();
+    if (const Whitened* kept = columns_.find(wkey[uc])) w[uc] = *kept;
+    else to_whiten.push_back(c);
+  }
+  for (const Eigen::Index c : to_whiten) {
+    const auto uc = static_cast<std::size_t>(c);
+    auto out = std::make_shared<std::vector<double>>();
+    whiten_each_model(table, M.col(c), *out);
+    w[uc] = out;
+    columns_.insert(wkey[uc], w[uc], out->size() * sizeof(double) + kEntryOverhead);
+  }
+  for (const Missing& mi : missing) {
+    const double* wa = w[static_cast<std::size_t>(mi.a)]->data();
+    const double* wb = w[static_cast<std::size_t>(mi.b)]->data();
+    Sums s{};
+    switch (J) {  // the models' count fixed at compile time: their sums stay in registers
+      case 1: sums<1>(wa, wb, n, s); break;
+      case 7: sums<7>(wa, wb, n, s); break;
+      default: sums_any(wa, wb, n, J, s);
+    }
+    set(mi.a, mi.b, s);
+    entries_.insert(mi.key, s, sizeof(Sums) + kEntryOverhead);
+    ++computed_;
+  }
+}
+
+}  // namespace rnav

@@ -1,0 +1,80 @@
+// Internal to noise identification (noise_id.cpp): the Gram matrices of [X | e] whitened under
+// each model of a kept gain table, from entries remembered per pair of columns.
+//
+// Why: a diagnosis identifies the noise of the same few series thousands of times, each time
+// under the same grid of models (their gain tables kept) and with columns mostly seen before:
+// the nuisance and the chosen effects beside each candidate's columns, the same catalogue
+// columns beside each injection's residuals. The whitened Gram matrices were over a third of a
+// 500-plot landing diagnosis's time, and about one entry in four was new.
+#pragma once
+
+#include "estimators/model_id/lru_store.hpp"
+#include "estimators/model_id/noise_model.hpp"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace rnav {
+
+/// One thread's memo (not locked).
+class GramMemo {
+ public:
+  using Key = std::pair<std::uint64_t, std::uint64_t>;
+  /// Wider matrices are left to whitened_grams (whose sums then run in another order).
+  static constexpr Eigen::Index kMaxColumns = 8;
+  static constexpr std::size_t kMaxModels = 8;  ///< models per table served
+  /// Shorter series are left to whitened_grams: their sums cost less than the lookups (the nine
+  /// Autoferry recordings pooled, many short series among them: 29.1 s with this bound, 29.9 s
+  /// without, 28.1 s with no memo at all).
+  static constexpr Eigen::Index kMinFrames = 200;
+
+  /// budget_bytes: what the kept whitened columns may hold, and as much for the kept entries.
+  explicit GramMemo(std::size_t budget_bytes);
+
+  /// Whether grams() serves this table and matrix: at most kMaxModels models, kMaxColumns
+  /// columns, at least kMinFrames frames.
+  static bool serves(const GainTable& table, const Eigen::MatrixXd& M);
+
+  /// The key of one column's values (col_keys of grams()).
+  static Key column_key(const Eigen::MatrixXd& M, Eigen::Index c);
+
+  /// grams[j] = W_j' W_j, W_j being M whitened under table.models[j]: whitened_grams(table, M,
+  /// grams)'s values bit for bit. Each entry is the sum over the frames of w_a w_b in frame order
+  /// from 0, w whitened by whiten(table, j, .), as whitened_grams sums it for up to kMaxColumns
+  /// columns; an entry is computed once per (table, column a, column b) and then read.
+  /// table_key: a key of everything the table's gains depend on (frames, gains h, frames kept
+  /// out, models); col_keys[c] = column_key(M, c). Throws std::invalid_argument unless
+  /// serves(table, M), and when M's rows are not the table's frames or col_keys is not one per
+  /// column.
+  void grams(const GainTable& table, const Key& table_key, const Eigen::MatrixXd& M, const std::vector<Key>& col_keys,
+             std::vector<Eigen::MatrixXd>& grams);
+
+  std::size_t entries_computed() const { return computed_; }  ///< entries summed (not read)
+  std::size_t entries_read() const { return read_; }          ///< entries read from the memo
+
+ private:
+  using Sums = std::array<double, kMaxModels>;  ///< one entry under each model
+  /// A column whitened under every model, frame-major: w[i * J + j].
+  using Whitened = std::shared_ptr<const std::vector<double>>;
+  LruStore<Whitened> columns_;
+  LruStore<Sums> entries_;
+  std::size_t computed_ = 0, read_ = 0;
+  // one call's scratch, kept between calls (a memo serves one thread)
+  struct Missing {
+    Eigen::Index a, b;
+    Key key;
+  };
+  std::vector<Missing> missing_;
+  std::vector<Whitened> w_;
+  std::vector<Key> wkey_;
+  std::vector<Eigen::Index> to_whiten_;
+  std::vector<char> needed_;
+};
+
+}  // namespace rnav
