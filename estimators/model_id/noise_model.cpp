@@ -145,6 +145,95 @@ struct LogProduct {
   double log() const { return std::log(m) + static_cast<double>(e2) * std::log(2.0); }
 };
 
+// One model's Riccati recursion: its noise parts and the covariance P of its state (a, g).
+struct Riccati {
+  double q0 = 0, q = 0, r = 0;           // mu s^2, (1 - mu) lambda s^2, (1 - mu) (1 - lambda) s^2
+  double P00 = 0, P01 = 0, P10 = 0, P11 = 0;
+  Riccati() = default;
+  explicit Riccati(const NoiseParams& p)
+      : q0(p.nom_share * p.s2), q((1 - p.nom_share) * p.lambda * p.s2), r((1 - p.nom_share) * (1 - p.lambda) * p.s2),
+        P00(q0), P11(q) {}  // stationary start
+
+  // One frame with gain h_i = H0 (after a frame that updated the state when `started`, the
+  // transitions e0, e from it): every field of G, and S_i returned.
+  double step(Gain& G, double H0, bool started, double e0, double e) {
+    const double H1 = 1.0;
+    G.H0 = H0;
+    G.started = started;
+    G.skip = false;
+    const double f0 = started && q0 > 0 ? e0 : 0.0, f = started && q > 0 ? e : 0.0;
+    G.f0 = f0, G.f = f;
+    if (started) {
+      // x- = Phi x+, P- = Phi P+ Phi + diag(q0 (1 - phi0^2), q (1 - phi^2))
+      P00 = f0 * f0 * P00 + q0 * (1 - f0 * f0);
+      P11 = f * f * P11 + q * (1 - f * f);
+      P01 = P10 = f0 * f * P01;
+    }
+    // S = H P- H' + r; K = P- H' / S
+    const double HP0 = H0 * P00 + H1 * P10, HP1 = H0 * P01 + H1 * P11;
+    const double S = std::max(HP0 * H0 + HP1 * H1 + r, 1e-300);
+    const double K0 = (P00 * H0 + P01 * H1) / S, K1 = (P10 * H0 + P11 * H1) / S;
+    G.K0 = K0, G.K1 = K1;
+    G.sq = std::sqrt(S);
+    // P+ = (I - K H) P-, symmetrised
+    const double A00 = 1 - K0 * H0, A01 = -K0 * H1, A10 = -K1 * H0, A11 = 1 - K1 * H1;
+    const double N00 = A00 * P00 + A01 * P10, N01 = A00 * P01 + A01 * P11, N10 = A10 * P00 + A11 * P10,
+                 N11 = A10 * P01 + A11 * P11;
+    P00 = N00, P11 = N11, P01 = P10 = 0.5 * (N01 + N10);
+    return S;
+  }
+};
+
+// The frames of a series and the transitions between them, shared by its models.
+struct Frames {
+  const std::vector<double>& t;
+  const std::vector<double>& h;
+  const std::vector<char>& skip;
+  double nom_tau_s, tau_s;  // the models' common correlation times
+  bool any_q0, any_q;       // some model has a nominal part, a further part
+
+  // The models' recursions through the frames, interleaved (each a chain of dependent
+  // operations: the processor overlaps them; each model's arithmetic is what it is alone). N > 0:
+  // J = N models, their states copied to the stack (off the gains' memory, which the compiler
+  // must otherwise assume a gain's store may change); N = 0: any J, in place.
+  template <std::size_t N>
+  void run(Riccati* models, std::size_t J, std::vector<std::vector<Gain>>& g, std::vector<Eigen::VectorXd>* logS,
+           std::vector<LogProduct>& prod) const {
+    Riccati local[N > 0 ? N : 1];
+    Riccati* st = models;
+    if (N > 0) {
+      for (std::size_t j = 0; j < N; ++j) local[j] = models[j];
+      st = local;
+    }
+    const std::size_t JJ = N > 0 ? N : J;
+    const auto n = static_cast<Eigen::Index>(t.size());
+    double t_prev = 0, dt_prev = NAN, e0 = 0, e = 0;
+    bool started = false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      if (!skip.empty() && skip[ui]) {  // no sample of the noise process: no update
+        for (std::size_t j = 0; j < JJ; ++j) g[j][ui] = Gain{}, g[j][ui].skip = true;
+        continue;
+      }
+      const double H0 = h.empty() ? 1.0 : h[ui];
+      if (started) {
+        const double dt = t[ui] - t_prev;
+        if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
+          e0 = any_q0 ? std::exp(-dt / nom_tau_s) : 0.0, e = any_q ? std::exp(-dt / tau_s) : 0.0;
+          dt_prev = dt;
+        }
+      }
+      t_prev = t[ui];
+      for (std::size_t j = 0; j < JJ; ++j) {
+        const double S = st[j].step(g[j][ui], H0, started, e0, e);
+        if (logS) (*logS)[j](i) = std::log(S);
+        if (!prod.empty()) prod[j].add(S);
+      }
+      started = true;
+    }
+  }
+};
+
 // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0, K and
 // sqrt(S), into g[j] for model j. The models' recursions run interleaved (each is a chain of
 // dependent operations, the processor overlaps them) and share the transitions exp(-dt / tau):
@@ -160,60 +249,19 @@ void gains(const std::vector<double>& t, const std::vector<double>& h, const std
     for (Eigen::VectorXd& l : *logS) l.setZero(n);
   }
   std::vector<LogProduct> prod(sum_logS ? J : 0);
-  // Per model: q0 = mu s^2, q = (1 - mu) lambda s^2, r = (1 - mu) (1 - lambda) s^2.
-  std::vector<double> q0(J), q(J), r(J);
+  std::vector<Riccati> models(J);
   bool any_q0 = false, any_q = false;
   for (std::size_t j = 0; j < J; ++j) {
-    const NoiseParams& p = ps[j];
-    q0[j] = p.nom_share * p.s2, q[j] = (1 - p.nom_share) * p.lambda * p.s2, r[j] = (1 - p.nom_share) * (1 - p.lambda) * p.s2;
-    any_q0 = any_q0 || q0[j] > 0, any_q = any_q || q[j] > 0;
+    models[j] = Riccati(ps[j]);
+    any_q0 = any_q0 || models[j].q0 > 0, any_q = any_q || models[j].q > 0;
   }
   if (g.size() < J) g.resize(J);
-  for (std::size_t j = 0; j < J; ++j) g[j].assign(static_cast<std::size_t>(n), Gain{});
-  std::vector<double> P00(q0), P01(J, 0.0), P10(J, 0.0), P11(q);  // stationary start
-  double t_prev = 0, dt_prev = NAN, e0 = 0, e = 0;
-  bool started = false;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    if (!skip.empty() && skip[ui]) {  // no sample of the noise process: no update
-      for (std::size_t j = 0; j < J; ++j) g[j][ui].skip = true;
-      continue;
-    }
-    const double H0 = h.empty() ? 1.0 : h[ui], H1 = 1.0;
-    if (started) {
-      // x- = Phi x+, P- = Phi P+ Phi + diag(q0 (1 - phi0^2), q (1 - phi^2))
-      const double dt = t[ui] - t_prev;
-      if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
-        e0 = any_q0 ? std::exp(-dt / ps[0].nom_tau_s) : 0.0, e = any_q ? std::exp(-dt / ps[0].tau_s) : 0.0;
-        dt_prev = dt;
-      }
-    }
-    t_prev = t[ui];
-    for (std::size_t j = 0; j < J; ++j) {
-      Gain& G = g[j][ui];
-      G.H0 = H0;
-      G.started = started;
-      if (started) {
-        G.f0 = q0[j] > 0 ? e0 : 0.0, G.f = q[j] > 0 ? e : 0.0;
-        const double f0 = G.f0, f = G.f;
-        P00[j] = f0 * f0 * P00[j] + q0[j] * (1 - f0 * f0);
-        P11[j] = f * f * P11[j] + q[j] * (1 - f * f);
-        P01[j] = P10[j] = f0 * f * P01[j];
-      }
-      // S = H P- H' + r; K = P- H' / S
-      const double HP0 = H0 * P00[j] + H1 * P10[j], HP1 = H0 * P01[j] + H1 * P11[j];
-      const double S = std::max(HP0 * H0 + HP1 * H1 + r[j], 1e-300);
-      G.K0 = (P00[j] * H0 + P01[j] * H1) / S, G.K1 = (P10[j] * H0 + P11[j] * H1) / S;
-      G.sq = std::sqrt(S);
-      // P+ = (I - K H) P-, symmetrised
-      const double A00 = 1 - G.K0 * H0, A01 = -G.K0 * H1, A10 = -G.K1 * H0, A11 = 1 - G.K1 * H1;
-      const double N00 = A00 * P00[j] + A01 * P10[j], N01 = A00 * P01[j] + A01 * P11[j],
-                   N10 = A10 * P00[j] + A11 * P10[j], N11 = A10 * P01[j] + A11 * P11[j];
-      P00[j] = N00, P11[j] = N11, P01[j] = P10[j] = 0.5 * (N01 + N10);
-      if (logS) (*logS)[j](i) = std::log(S);
-      if (sum_logS) prod[j].add(S);
-    }
-    started = true;
+  for (std::size_t j = 0; j < J; ++j) g[j].resize(static_cast<std::size_t>(n));  // every field written below
+  Frames fr{t, h, skip, ps[0].nom_tau_s, ps[0].tau_s, any_q0, any_q};
+  switch (J) {  // the models' count fixed at compile time: their states stay off the gains' memory
+    case 1: fr.run<1>(models.data(), J, g, logS, prod); break;
+    case 7: fr.run<7>(models.data(), J, g, logS, prod); break;
+    default: fr.run<0>(models.data(), J, g, logS, prod);
   }
   if (sum_logS) {
     sum_logS->resize(J);
