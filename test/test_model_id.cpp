@@ -7,6 +7,7 @@
 #include "estimators/model_id/lru_store.hpp"
 #include "estimators/model_id/noise_id.hpp"
 #include "estimators/model_id/noise_memo.hpp"
+#include "estimators/model_id/parallel_for.hpp"
 #include "estimators/model_id/progress_clock.hpp"
 #include "estimators/model_id/search_design.hpp"
 #include "test/coloured_noise.hpp"
@@ -17,7 +18,9 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cmath>
 #include <mutex>
 #include <random>
@@ -272,6 +275,41 @@ TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whethe
     keys.resize(2);
     CHECK_THROWS_WITH(memo.grams(table, table_key, wide.leftCols(3), keys, got), Catch::Contains("one key per column"));
   }
+}
+
+TEST_CASE("parallel_for: each index once, nested calls, the lowest index's error, helpers kept between calls") {
+  // Each index once, also with calls nested inside (a call that finds no idle helper starts one,
+  // so nested calls cannot wait for each other).
+  std::vector<std::atomic<int>> seen(40);
+  parallel_for(seen.size(), 2, [&](std::size_t i) {
+    parallel_for(3, 2, [&](std::size_t) { ++seen[i]; });
+  });
+  for (std::size_t i = 0; i < seen.size(); ++i) CHECK(seen[i] == 3);
+  // The error of the lowest index, whatever the scheduling.
+  for (int rep = 0; rep < 20; ++rep)
+    CHECK_THROWS_WITH(parallel_for(6, 3, [](std::size_t i) { if (i >= 2) throw std::runtime_error("index " + std::to_string(i)); }),
+                      "index 2");
+  // A helper keeps what it keeps per thread between calls (why the pool exists: a noise
+  // identification's gain tables and Gram entries). Two indices that wait for each other run on
+  // two threads: this one and a helper; the helper's thread-local count of its calls reaches 2
+  // in the second call only if it is the same thread (a thread started per call counts 1).
+  thread_local int calls_here = 0;
+  const auto main_id = std::this_thread::get_id();
+  int helper_calls = 0;
+  for (int call = 0; call < 2; ++call) {
+    std::mutex m;
+    std::condition_variable cv;
+    int arrived = 0;
+    parallel_for(2, 2, [&](std::size_t) {
+      std::unique_lock<std::mutex> lock(m);
+      ++calls_here;
+      if (std::this_thread::get_id() != main_id) helper_calls = calls_here;
+      ++arrived;
+      cv.notify_all();
+      cv.wait(lock, [&] { return arrived == 2; });
+    });
+  }
+  CHECK(helper_calls == 2);
 }
 
 TEST_CASE("kept values: a value used since the last turn stays, one unused for two turns goes") {
