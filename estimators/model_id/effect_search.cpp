@@ -387,7 +387,11 @@ SearchResult search_effects(const Problem& pb, const SearchOptions& o_in) {
     const bool settled = next.chosen == chosen;
     chosen = next.chosen;
     kept_lr = std::move(next.kept_lr);
-    if (settled && round > 0) break;
+    // Settled after a round that re-identified the noise with what the round before chose. The
+    // first round settles at once when it chose nothing: the next would identify the noise with
+    // the same columns (none), get the same fits, and select the same (the entries refused here
+    // stay refused there, as they were in this round's last selection): the same result again.
+    if (settled && (round > 0 || chosen.empty())) break;
   }
   o.progress = progress;
   if (o.progress) o.progress("report: estimates, confounding, limits and held-out gain");
