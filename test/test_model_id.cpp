@@ -4,7 +4,7 @@
 // Gauss-Markov process, preference of a physical cause over a scanned one, and outliers.
 #include "estimators/model_id/effect_search.hpp"
 #include "estimators/model_id/gram_memo.hpp"
-#include "estimators/model_id/lru_store.hpp"
+#include "estimators/model_id/generation_store.hpp"
 #include "estimators/model_id/noise_id.hpp"
 #include "estimators/model_id/noise_memo.hpp"
 #include "estimators/model_id/parallel_for.hpp"
@@ -194,8 +194,8 @@ std::vector<NoiseParams> models_at(std::initializer_list<double> lambdas) {
 
 TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each model, bit for bit") {
   // Frame-major, the models' recursions interleaved: the arithmetic of each model must still be
-  // whiten()'s (GramMemo's sums rely on it). One model, seven (the unrolled kernels) and three
-  // (the general one); a skipped frame is whitened to 0.
+  // whiten()'s (GramMemo's sums rely on it). One model, seven (the grid's and the refinement's
+  // counts) and three; a skipped frame is whitened to 0.
   const std::vector<char> skip = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
   const auto n = static_cast<Eigen::Index>(kWhitenT.size());
   Eigen::VectorXd m(n);
@@ -222,7 +222,8 @@ TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each mod
 TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whether computed or read") {
   // The landing diagnosis's likelihoods come from these matrices; a memo that changed one bit
   // would change its reports. Each width 1-8 (whitened_grams' unrolled kernels, whose sums
-  // GramMemo's must repeat in the same order), with 7 models (its unrolled sums) and 3; then the
+  // GramMemo's must repeat in the same order), with 7 models (two per register, the last alone)
+  // and 3; then the
   // same matrices with one column changed (the others' entries read, the new ones computed), a
   // column twice, and a memo so small that its generations turn on every call.
   // The memo serves series of kMinFrames frames and more: irregular times, gains h, two frames
@@ -313,9 +314,9 @@ TEST_CASE("parallel_for: each index once, nested calls, the lowest index's error
 }
 
 TEST_CASE("kept values: a value used since the last turn stays, one unused for two turns goes") {
-  // LruStore's two generations: budget 100 B, so the young one turns once it would pass 50 B.
-  LruStore<int> store(100);
-  auto key = [](int i) { return LruStore<int>::Key{static_cast<std::uint64_t>(i), 1}; };
+  // GenerationStore's two generations: budget 100 B, so the young one turns once it would pass 50 B.
+  GenerationStore<int> store(100);
+  auto key = [](int i) { return GenerationStore<int>::Key{static_cast<std::uint64_t>(i), 1}; };
   for (int i = 0; i < 5; ++i) store.insert(key(i), i, 10);  // young: 0-4 (50 B)
   CHECK(store.bytes() == 50);
   store.insert(key(5), 5, 10);  // a turn: 0-4 old, 5 young

@@ -9,19 +9,20 @@
 
 namespace rnav {
 
-/// Two generations (a least-recently-used order approximated at the cost of one hash lookup):
+/// Two generations (a least-recently-used order approximated at the cost of one hash lookup;
+/// not an exact LRU: a whole generation goes at once):
 /// values go into the young one; a value found in the old one moves to the young one; once the
 /// young one holds half the budget, it becomes the old one and the old one's values go. A value
 /// used since the last such turn is kept; one unused for two turns is gone. (An exact order, a
 /// list spliced on every use, cost three more cache misses per lookup, a tenth of a diagnosis
 /// whose Gram entries are looked up millions of times.)
 template <class V>
-class LruStore {
+class GenerationStore {
  public:
   using Key = std::pair<std::uint64_t, std::uint64_t>;
 
   /// budget_bytes: the bytes the values may hold before the oldest go, > 0.
-  explicit LruStore(std::size_t budget_bytes) : half_(budget_bytes / 2) {}
+  explicit GenerationStore(std::size_t budget_bytes) : half_(budget_bytes / 2) {}
 
   /// The value kept under key; nullptr when none is. Valid until the next insert or find.
   V* find(const Key& key) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rnav {
 
@@ -35,16 +36,14 @@ void sums(const double* wa, const double* wb, Eigen::Index n, std::array<double,
   if (J % 2 == 1) s[J - 1] = last;
 }
 
-// The same for any J <= kMaxModels.
-void sums_any(const double* wa, const double* wb, Eigen::Index n, std::size_t J,
-              std::array<double, GramMemo::kMaxModels>& s) {
-  s.fill(0);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double* ra = wa + static_cast<std::size_t>(i) * J;
-    const double* rb = wb + static_cast<std::size_t>(i) * J;
-    for (std::size_t j = 0; j < J; ++j) s[j] += ra[j] * rb[j];
-  }
+// sums<J> for J = 1 .. kMaxModels, the models' count fixed at compile time (their sums stay in
+// registers).
+using SumsFn = void (*)(const double*, const double*, Eigen::Index, std::array<double, GramMemo::kMaxModels>&);
+template <std::size_t... Js>
+constexpr std::array<SumsFn, sizeof...(Js)> sums_table(std::index_sequence<Js...>) {
+  return {&sums<Js + 1>...};
 }
+constexpr auto kSums = sums_table(std::make_index_sequence<GramMemo::kMaxModels>{});
 
 }  // namespace
 
@@ -128,11 +127,7 @@ void GramMemo::grams(const GainTable& table, const Key& table_key, const Eigen::
     const double* wa = w[static_cast<std::size_t>(mi.a)]->data();
     const double* wb = w[static_cast<std::size_t>(mi.b)]->data();
     Sums s{};
-    switch (J) {  // the models' count fixed at compile time: their sums stay in registers
-      case 1: sums<1>(wa, wb, n, s); break;
-      case 7: sums<7>(wa, wb, n, s); break;
-      default: sums_any(wa, wb, n, J, s);
-    }
+    kSums[J - 1](wa, wb, n, s);
     set(mi.a, mi.b, s);
     entries_.insert(mi.key, s, sizeof(Sums) + kEntryOverhead);
     ++computed_;

@@ -8,7 +8,7 @@
 // 500-plot landing diagnosis's time, and about one entry in four was new.
 #pragma once
 
-#include "estimators/model_id/lru_store.hpp"
+#include "estimators/model_id/generation_store.hpp"
 #include "estimators/model_id/noise_model.hpp"
 
 #include <Eigen/Dense>
@@ -62,8 +62,8 @@ class GramMemo {
   using Sums = std::array<double, kMaxModels>;  ///< one entry under each model
   /// A column whitened under every model, frame-major: w[i * J + j].
   using Whitened = std::shared_ptr<const std::vector<double>>;
-  LruStore<Whitened> columns_;
-  LruStore<Sums> entries_;
+  GenerationStore<Whitened> columns_;
+  GenerationStore<Sums> entries_;
   std::size_t computed_ = 0, read_ = 0;
   // one call's scratch, kept between calls (a memo serves one thread)
   struct Missing {

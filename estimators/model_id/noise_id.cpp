@@ -2,7 +2,7 @@
 
 #include "estimators/model_id/byte_hash.hpp"
 #include "estimators/model_id/gram_memo.hpp"
-#include "estimators/model_id/lru_store.hpp"
+#include "estimators/model_id/generation_store.hpp"
 #include "estimators/model_id/stats.hpp"
 
 #include <algorithm>
@@ -174,12 +174,12 @@ std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas
 // null's, white's), kept per thread: they depend on the frame times, h, the frames kept out and
 // the models alone, and one diagnosis identifies the noise of the same few series thousands of
 // times (each candidate's columns, each injection's residuals) - their first pass was half of
-// an injected search's time. Keyed by ByteHash of all they depend on; the least recently used
-// go once the tables exceed kGainCacheBytes. A pure function's values: what is computed is the
+// an injected search's time. Keyed by ByteHash of all they depend on; once the tables exceed
+// kGainCacheBytes, those not used for two generations go (GenerationStore). A pure function's values: what is computed is the
 // same whether a table was kept or not.
 class GainCache {
  public:
-  using Key = LruStore<GainTable>::Key;
+  using Key = GenerationStore<GainTable>::Key;
   /// The gains of models ps on the series, frames skip kept out, and their key.
   std::pair<Key, const GainTable*> get(const Series& sr, const std::vector<NoiseParams>& ps, const std::vector<char>& skip) {
     ByteHash k;
@@ -189,8 +189,8 @@ class GainCache {
     for (const NoiseParams& p : ps) k.value(p.s2), k.value(p.lambda), k.value(p.tau_s), k.value(p.nom_share), k.value(p.nom_tau_s);
     const Key key = k.key();
     if (const GainTable* kept = kept_.find(key)) return {key, kept};
-    // (those not used lately go a generation at a time, LruStore: a linear scan for the
-    // oldest was a fifteenth of a pooled multi-sensor diagnosis, whose many series churn)
+    // (those not used lately go a generation at a time: a linear scan for the oldest was a
+    // fifteenth of a pooled multi-sensor diagnosis, whose many series churn)
     GainTable table;
     innovation_gains(sr.t, sr.h, ps, skip, table);
     const std::size_t bytes = table.bytes();
@@ -201,7 +201,7 @@ class GainCache {
   // per thread: a landing flight's three channels of 500 frames take about 20 MB, a 2 000-bearing
   // flight about 25 MB
   static constexpr std::size_t kGainCacheBytes = std::size_t{128} << 20;
-  LruStore<GainTable> kept_{kGainCacheBytes};
+  GenerationStore<GainTable> kept_{kGainCacheBytes};
 };
 
 // reml_shares for models every identification evaluates (GainCache).

@@ -1,8 +1,10 @@
 #include "estimators/model_id/noise_model.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rnav {
 
@@ -88,6 +90,15 @@ void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen
     for (std::size_t j = 0; j < J; ++j) w[ui * J + j] = whiten_step(g[j][ui], m[i], x0[j], x1[j]);
   }
 }
+
+// whiten_each<J> for J = 1 .. kMaxEach, the models' count fixed at compile time (their states
+// stay in registers).
+using WhitenEachFn = void (*)(const std::vector<std::vector<Gain>>&, const double*, Eigen::Index, double*);
+template <std::size_t... Js>
+constexpr std::array<WhitenEachFn, sizeof...(Js)> whiten_each_table(std::index_sequence<Js...>) {
+  return {&whiten_each<Js + 1>...};
+}
+constexpr auto kWhitenEach = whiten_each_table(std::make_index_sequence<kMaxEach>{});
 
 // Pass 2 on every column of M, four at a time (whiten_columns).
 void whiten_through(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M) {
@@ -399,18 +410,7 @@ void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::Vec
     if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("whiten: rows != number of times");
   if (J > kMaxEach) throw std::invalid_argument("whiten: at most " + std::to_string(kMaxEach) + " models at once");
   w.resize(static_cast<std::size_t>(n) * J);
-  switch (J) {  // the models' count fixed at compile time: their states stay in registers
-    case 1: whiten_each<1>(table.gains, m.data(), n, w.data()); break;
-    case 7: whiten_each<7>(table.gains, m.data(), n, w.data()); break;
-    default:
-      for (std::size_t j = 0; j < J; ++j) {  // one model at a time, written into its place
-        double x0 = 0, x1 = 0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const auto ui = static_cast<std::size_t>(i);
-          w[ui * J + j] = whiten_step(table.gains[j][ui], m(i), x0, x1);
-        }
-      }
-  }
+  if (J > 0) kWhitenEach[J - 1](table.gains, m.data(), n, w.data());
 }
 
 void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M) {
