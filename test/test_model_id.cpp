@@ -1064,6 +1064,51 @@ TEST_CASE("injected limits: the stated naming size is named at about the stated 
   CHECK(L1.ladder.size() == L.ladder.size());
 }
 
+TEST_CASE("injected limits: parameters measured one per thread give what one thread gives", "[model_id][injection]") {
+  // Two parameters on two threads run at once, each batch one injection at a time; on one
+  // thread one after the other. Each parameter must get the same ladder, sizes and counts (its
+  // injections draw from their own streams); a thread's kept state leaking into another's
+  // search, or a count cut out of index order, would change them. The progress gives one line
+  // per parameter as it is done, counted 1 and 2 whichever finishes first.
+  const Synthetic s = make(23, 0, 0, 0, 0, 0.5);
+  SearchOptions o;
+  o.injection.injections = 10;
+  o.injection.ladder_injections = 5;
+  o.injection.entries = {"range_gain", "bias_drift"};
+  std::vector<std::string> lines;
+  std::mutex m;
+  o.injection.progress = [&](const std::string& l) {
+    const std::lock_guard<std::mutex> lock(m);
+    lines.push_back(l);
+  };
+  o.injection.threads = 2;
+  const SearchResult r2 = search_effects(s.pb, o);
+  o.injection.threads = 1;
+  o.injection.progress = nullptr;
+  const SearchResult r1 = search_effects(s.pb, o);
+  REQUIRE(r2.injected.size() == 2);
+  REQUIRE(r1.injected.size() == 2);
+  for (const auto& [entry, params] : r1.injected)
+    for (const auto& [param, L1] : params) {
+      INFO(entry << " " << param);
+      const InjectedLimit& L2 = r2.injected.at(entry).at(param);
+      CHECK(L2.named.size == L1.named.size);
+      CHECK(L2.named.n == L1.named.n);
+      CHECK(L2.named.hits == L1.named.hits);
+      CHECK(L2.detected.size == L1.detected.size);
+      REQUIRE(L2.ladder.size() == L1.ladder.size());
+      for (std::size_t k = 0; k < L1.ladder.size(); ++k) {
+        CHECK(L2.ladder[k].size == L1.ladder[k].size);
+        CHECK(L2.ladder[k].n == L1.ladder[k].n);
+        CHECK(L2.ladder[k].named == L1.ladder[k].named);
+        CHECK(L2.ladder[k].detected == L1.ladder[k].detected);
+      }
+    }
+  REQUIRE(lines.size() == 3);
+  CHECK_THAT(lines[1], Catch::StartsWith("1 of 2, "));
+  CHECK_THAT(lines[2], Catch::StartsWith("2 of 2, "));
+}
+
 TEST_CASE("injected limits: an unknown entry is named, 0 injections keep the Fisher limits", "[model_id][injection]") {
   const Synthetic s = make(22, 0, 0, 0, 0, 0.5);
   SearchOptions o;

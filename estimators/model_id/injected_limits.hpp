@@ -22,8 +22,9 @@
 // size): the same verdict from fewer searches. The report gives the last check's count and
 // interval, so the stated limit carries its own evidence.
 // Scanned entries are injected at their grid's middle point (a step at mid-span).
-// Deterministic: injection i of (entry, parameter, stage) draws from its own seeded stream,
-// whatever the number of threads.
+// The parameters are measured at once, one per thread (with fewer parameters than threads, a
+// parameter's injections share the threads). Deterministic: injection i of (entry, parameter,
+// stage) draws from its own seeded stream, whatever the number of threads.
 #pragma once
 
 #include "estimators/model_id/effect_search.hpp"
