@@ -117,12 +117,21 @@ Count batch(const Bootstrap& b, const Eigen::VectorXd& mu, const Eigen::VectorXd
   return c;
 }
 
-// A ladder rung's verdicts, "hit rate >= power" for the named and for the detected count, are
-// settled once the hits reach ceil(power n) or the misses exceed n minus that: the rate of the
-// injections run then gives the verdict all n would give.
+// The verdict "hit rate >= power" of `hits` of n injections: the one rule the rungs stop on, the
+// ladder climbs on and the probit's starting bracket reads.
+bool at_power(int hits, int n, double power) { return static_cast<double>(hits) / n >= power; }
+bool at_power(const InjectedLimit::Rung& r, bool named, double power) {
+  return at_power(named ? r.named : r.detected, r.n, power);
+}
+
+// A ladder rung's verdicts, at_power for the named and for the detected count, are settled once
+// the hits reach `need` (the fewest of n at power) or the misses exceed n minus that: the rate of
+// the injections run then gives the verdict all n would give.
 struct RungRule {
   int n, need;
-  RungRule(int n_, double power) : n(n_), need(static_cast<int>(std::ceil(power * n_ - 1e-9))) {}
+  RungRule(int n_, double power) : n(n_), need(n_ + 1) {
+    for (int h = n; h >= 0 && at_power(h, n, power); --h) need = h;
+  }
   bool settled(int run, int hits) const { return hits >= need || run - hits > n - need; }
 };
 
@@ -159,8 +168,7 @@ double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
 double probit_log_crossing(const std::vector<InjectedLimit::Rung>& ladder, bool named, double p) {
   double x_hit = INFINITY, x_miss = -INFINITY;
   for (const auto& r : ladder) {
-    const double rate = static_cast<double>(named ? r.named : r.detected) / r.n;
-    if (rate >= p) x_hit = std::min(x_hit, std::log(r.size));
+    if (at_power(r, named, p)) x_hit = std::min(x_hit, std::log(r.size));
     else x_miss = std::max(x_miss, std::log(r.size));
   }
   const double zp = normal_upper_quantile(1 - p);
@@ -207,7 +215,7 @@ double probit_log_crossing(const std::vector<InjectedLimit::Rung>& ladder, bool 
 // within a factor 2 of the sizes tried. NaN when the ladder never reached p.
 double probit_size(const std::vector<InjectedLimit::Rung>& ladder, bool named, double p) {
   bool reached = false;
-  for (const auto& r : ladder) reached = reached || static_cast<double>(named ? r.named : r.detected) / r.n >= p;
+  for (const auto& r : ladder) reached = reached || at_power(r, named, p);
   if (!reached) return std::numeric_limits<double>::quiet_NaN();
   double x = probit_log_crossing(ladder, named, p);
   double lo = INFINITY, hi = -INFINITY;
@@ -277,7 +285,7 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
   };
   auto reached = [&](bool named, bool at_least) {
     for (const auto& r : lim.ladder)
-      if ((static_cast<double>(named ? r.named : r.detected) / r.n >= o.power) == at_least) return true;
+      if (at_power(r, named, o.power) == at_least) return true;
     return false;
   };
   const double a_max = io.max_multiple * fisher;
