@@ -65,7 +65,7 @@ struct Bootstrap {
   }
 
   // One injection: named, detected.
-  std::pair<bool, bool> run(const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e, double a,
+  InjectionHit run(const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e, double a,
                             std::uint64_t seed) const {
     std::mt19937_64 rng(seed);
     Problem q = pb;
@@ -98,19 +98,18 @@ struct Count {
 // taken in index order and cut at the first injection after which it is settled, so it is the
 // same whatever the number of threads (a round's later injections are then dropped unread).
 template <class Settled>
-Count batch(const Bootstrap& b, const Eigen::VectorXd& mu, const Eigen::VectorXd& col, std::size_t e, std::size_t j,
-            std::size_t batch_id, double a, int n, const InjectionOptions& io, Settled settled) {
-  std::vector<std::pair<bool, bool>> out(static_cast<std::size_t>(n));
+Count batch(const InjectionDraw& draw, std::size_t batch_id, double a, int n, int threads, Settled settled) {
+  std::vector<InjectionHit> out(static_cast<std::size_t>(n));
   Count c;
-  for (int first = 0; first < n; first += io.threads) {
-    const int m = std::min(io.threads, n - first);
-    parallel_for(static_cast<std::size_t>(m), io.threads, [&](std::size_t k) {
+  for (int first = 0; first < n; first += threads) {
+    const int m = std::min(threads, n - first);
+    parallel_for(static_cast<std::size_t>(m), threads, [&](std::size_t k) {
       const int i = first + static_cast<int>(k);
-      out[static_cast<std::size_t>(i)] = b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, i));
+      out[static_cast<std::size_t>(i)] = draw(a, batch_id, i);
     });
     for (int i = first; i < first + m; ++i) {
-      const auto& [nm, dt] = out[static_cast<std::size_t>(i)];
-      ++c.run, c.named += nm, c.detected += dt;
+      const InjectionHit& h = out[static_cast<std::size_t>(i)];
+      ++c.run, c.named += h.named, c.detected += h.detected;
       if (settled(c)) return c;
     }
   }
@@ -265,27 +264,26 @@ constexpr double kMinStep = 1.25, kMaxStep = 2.0;
 // step apart is checked at once, and one inside a wider bracket gets its rung first.
 constexpr double kNearRung = 0.12;
 
-// The ladder, the two fitted sizes and their check batches of one (entry, parameter).
-InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const InjectionOptions& io, std::size_t e,
-                          std::size_t j, double fisher) {
-  const Candidate& c = b.pb.catalogue[e];
-  const std::size_t v = c.variants() / 2;
-  const Eigen::VectorXd mu = b.base(e);
-  const Eigen::VectorXd col = b.d.raw_columns(e, v).col(static_cast<Eigen::Index>(j));
+}  // namespace
+
+InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double power, const InjectionOptions& io) {
+  check(io);
+  if (!(fisher > 0) || !std::isfinite(fisher)) throw std::invalid_argument("injected limits: the Fisher limit must be finite and > 0");
+  if (!(power > 0 && power < 1)) throw std::invalid_argument("injected limits: power must be in (0, 1)");
+  if (io.injections < 1) throw std::invalid_argument("injected limits: a ladder needs injections >= 1 per check");
   InjectedLimit lim;
   lim.fisher = fisher;
-  lim.variant_value = c.scanned() ? c.scan[v] : 0.0;
   std::size_t batch_id = 0;
   // a rung at size a: run until both its verdicts (named, detected rate >= power) are settled
-  const RungRule rr(io.ladder_injections, o.power);
+  const RungRule rr(io.ladder_injections, power);
   auto rung = [&](double a) {
-    const Count k = batch(b, mu, col, e, j, batch_id++, a, io.ladder_injections, io,
+    const Count k = batch(draw, batch_id++, a, io.ladder_injections, io.threads,
                           [&](const Count& n) { return rr.settled(n.run, n.named) && rr.settled(n.run, n.detected); });
     lim.ladder.push_back({a, k.run, k.named, k.detected});
   };
   auto reached = [&](bool named, bool at_least) {
     for (const auto& r : lim.ladder)
-      if (at_power(r, named, o.power) == at_least) return true;
+      if (at_power(r, named, power) == at_least) return true;
     return false;
   };
   const double a_max = io.max_multiple * fisher;
@@ -297,18 +295,18 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
     if (!reached(true, true)) {  // named never at power yet: go up
       if (hi >= a_max) break;
       const double a = ups++ > 0 ? kMaxStep * hi
-                                 : std::clamp(std::exp(probit_log_crossing(lim.ladder, true, o.power)), kMinStep * hi, kMaxStep * hi);
+                                 : std::clamp(std::exp(probit_log_crossing(lim.ladder, true, power)), kMinStep * hi, kMaxStep * hi);
       rung(std::min(a_max, a));
     } else if (!reached(false, false)) {  // detected always at power: go down
       rung(downs++ > 0 ? lo / kMaxStep
-                       : std::clamp(std::exp(probit_log_crossing(lim.ladder, false, o.power)), lo / kMaxStep, lo / kMinStep));
+                       : std::clamp(std::exp(probit_log_crossing(lim.ladder, false, power)), lo / kMaxStep, lo / kMinStep));
     } else {
       break;
     }
   }
   auto fitted = [&](bool named) {
     InjectedSize s;
-    const double a = probit_size(lim.ladder, named, o.power);
+    const double a = probit_size(lim.ladder, named, power);
     s.size = std::isnan(a) ? INFINITY : a;
     return s;
   };
@@ -329,7 +327,7 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
   // whose verdict is "no" joins the ladder, the curve is refitted and checked again (at most
   // kChecks batches): the size stated is the last one checked.
   constexpr int kChecks = 3;
-  const CheckRule cr(io.injections, o.power, io.conf);
+  const CheckRule cr(io.injections, power, io.conf);
   auto set = [&](InjectedSize& s, int run, int hits) {
     s.n = run;
     s.hits = hits;
@@ -338,7 +336,7 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
   };
   for (int k = 0; k < kChecks && std::isfinite(lim.named.size); ++k) {
     const bool same = std::abs(lim.detected.size / lim.named.size - 1) < 0.03;
-    const Count n = batch(b, mu, col, e, j, batch_id++, lim.named.size, io.injections, io, [&](const Count& m) {
+    const Count n = batch(draw, batch_id++, lim.named.size, io.injections, io.threads, [&](const Count& m) {
       return cr.verdict(m.run, m.named) >= 0 && (!same || cr.verdict(m.run, m.detected) >= 0);
     });
     set(lim.named, n.run, n.named);
@@ -350,13 +348,30 @@ InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const Inje
   }
   const bool detected_done = lim.detected.n > 0 && lim.detected.size == lim.named.size;
   for (int k = 0; k < kChecks && !detected_done && std::isfinite(lim.detected.size); ++k) {
-    const Count n = batch(b, mu, col, e, j, batch_id++, lim.detected.size, io.injections, io,
+    const Count n = batch(draw, batch_id++, lim.detected.size, io.injections, io.threads,
                           [&](const Count& m) { return cr.verdict(m.run, m.detected) >= 0; });
     set(lim.detected, n.run, n.detected);
     if (cr.verdict(n.run, n.detected) == 1 || k + 1 == kChecks) break;
     lim.ladder.push_back({lim.detected.size, n.run, n.named, n.detected});
     lim.detected.size = fitted(false).size;
   }
+  return lim;
+}
+
+namespace {
+
+// The ladder of one (entry, parameter): its injections into the bootstrap's data.
+InjectedLimit measure_one(const Bootstrap& b, const SearchOptions& o, const InjectionOptions& io, std::size_t e,
+                          std::size_t j, double fisher) {
+  const Candidate& c = b.pb.catalogue[e];
+  const std::size_t v = c.variants() / 2;
+  const Eigen::VectorXd mu = b.base(e);
+  const Eigen::VectorXd col = b.d.raw_columns(e, v).col(static_cast<Eigen::Index>(j));
+  const InjectionDraw draw = [&](double a, std::size_t batch_id, int i) {
+    return b.run(mu, col, e, a, stream_seed(io.seed, e, j, batch_id, i));
+  };
+  InjectedLimit lim = measure_ladder(draw, fisher, o.power, io);
+  lim.variant_value = c.scanned() ? c.scan[v] : 0.0;
   return lim;
 }
 

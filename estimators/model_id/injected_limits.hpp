@@ -29,10 +29,29 @@
 
 #include "estimators/model_id/effect_search.hpp"
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace rnav {
+
+/// What one injection gave: the entry named, or detected (named, or a named effect confounded with it).
+struct InjectionHit {
+  bool named = false, detected = false;
+};
+/// One injection at size a [parameter unit]: injection i (from 0) of batch batch_id (the batches
+/// of one ladder numbered from 0 in the order run). Must depend on (a, batch_id, i) alone, and be
+/// safe to call from several threads at once.
+using InjectionDraw = std::function<InjectionHit(double a, std::size_t batch_id, int i)>;
+
+/// The ladder, fitted sizes and check batches of one parameter (above), its injections drawn by
+/// `draw`: measure_injected_limits runs it with draw = a whole search on bootstrapped data; a
+/// study of the ladder itself may give a known hit curve. fisher: the ladder's first size, finite
+/// and > 0; power: the rate the limits are stated at, (0, 1); io: the batch sizes, conf, and
+/// io.threads injections at a time (io.injections >= 1). variant_value is left 0.
+/// Throws std::invalid_argument on bad input.
+InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double power, const InjectionOptions& io);
 
 /// Measure the limits of the problem `pb` whose search gave `res` under options `o`
 /// (o.injection is ignored inside: the injected searches measure no limits themselves).
