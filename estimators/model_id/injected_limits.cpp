@@ -155,8 +155,6 @@ struct CheckRule {
   }
 };
 
-double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
-
 // The size hit with probability p by the probit P(hit | a) = Phi(b0 + b1 log a) fitted to the
 // ladder by penalised maximum likelihood (Fisher scoring). A few rungs of ten leave the slope
 // loose (one rung at 7/10 and one at 10/10 make it any steepness), so b1 carries a weak normal
@@ -467,8 +465,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   parallel_for(jobs.size(), std::max(1, io.threads / per_job), [&](std::size_t k) {
     const Job& jb = jobs[k];
     const Candidate& c = pb.catalogue[jb.e];
-    const InjectedLimit L = measure_one(b, o, one, jb.e, jb.j, jb.fisher);
-    found[k] = L;
+    const InjectedLimit& L = found[k] = measure_one(b, o, one, jb.e, jb.j, jb.fisher);
     if (!io.progress) return;
     const std::lock_guard<std::mutex> lock(progress_m);
     ++done;

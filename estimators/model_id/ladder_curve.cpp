@@ -2,17 +2,12 @@
 
 #include "estimators/model_id/stats.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 
 namespace rnav {
-
-namespace {
-
-double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
-
-}  // namespace
 
 LadderOutcome ladder_on_curve(const HitCurve& k, double power, const InjectionOptions& io, std::uint64_t seed) {
   if (!(k.slope > 0) || !std::isfinite(k.slope)) throw std::invalid_argument("hit curve: slope must be finite and > 0");
@@ -22,7 +17,9 @@ LadderOutcome ladder_on_curve(const HitCurve& k, double power, const InjectionOp
   const double zp = normal_upper_quantile(1 - power);
   // P(hit | a) = Phi(slope log(a / a_p) + z_p): power at a = a_p
   auto rate = [&](double a, double a_p) { return a > 0 && std::isfinite(a) ? normal_cdf(k.slope * std::log(a / a_p) + zp) : 0.0; };
+  std::atomic<int> drawn{0};  // every injection the ladder ran (threads may draw at once)
   const InjectionDraw draw = [&](double a, std::size_t b, int i) {
+    ++drawn;
     std::seed_seq ss{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), static_cast<std::uint32_t>(b),
                      static_cast<std::uint32_t>(i)};
     std::mt19937_64 rng(ss);
@@ -31,8 +28,7 @@ LadderOutcome ladder_on_curve(const HitCurve& k, double power, const InjectionOp
   };
   const InjectedLimit L = measure_ladder(draw, 1.0, power, io);
   LadderOutcome out;
-  out.injections = L.named.n + (L.detected.size != L.named.size ? L.detected.n : 0);
-  for (const auto& r : L.ladder) out.injections += r.n;
+  out.injections = drawn;
   out.named_rate = rate(L.named.size, k.a_named);
   out.detected_rate = rate(L.detected.size, k.a_detected);
   return out;

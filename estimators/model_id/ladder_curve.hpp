@@ -25,7 +25,8 @@ struct HitCurve {
 struct LadderOutcome {
   double named_rate = 0;     ///< the curve's named rate at the stated named size (0 when none was stated)
   double detected_rate = 0;  ///< the curve's detected rate at the stated detected size (0 when none)
-  int injections = 0;        ///< injections run: every rung and every check batch
+  int injections = 0;        ///< injections drawn: every rung and every check batch (with io.threads > 1, also
+                             ///< those a settled batch's round drew and left unread)
 };
 
 /// The ladder of io (its Fisher limit 1) on curve k at rate `power`, injection i of batch b drawn

@@ -175,8 +175,8 @@ std::vector<Reml> reml_shares(const Series& sr, double mu, const double* lambdas
 // the models alone, and one diagnosis identifies the noise of the same few series thousands of
 // times (each candidate's columns, each injection's residuals) - their first pass was half of
 // an injected search's time. Keyed by ByteHash of all they depend on; once the tables exceed
-// kGainCacheBytes, those not used for two generations go (GenerationStore). A pure function's values: what is computed is the
-// same whether a table was kept or not.
+// kGainCacheBytes, those not used for two generations go (GenerationStore). A pure function's
+// values: what is computed is the same whether a table was kept or not.
 class GainCache {
  public:
   using Key = GenerationStore<GainTable>::Key;

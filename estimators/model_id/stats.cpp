@@ -53,6 +53,8 @@ double bonferroni_log_p(double lr, double k, double grid, double m_family) {
   return log_chi2_sf(lr, k) + std::log(grid) + std::log(m_family);
 }
 
+double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+
 double normal_upper_quantile(double p) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument("normal_upper_quantile: p must be in (0, 1)");
   // Bisection on erfc (monotone); 200 halvings of [-40, 40] reach double precision.

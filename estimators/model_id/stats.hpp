@@ -21,6 +21,8 @@ double log_chi2_sf(double x, double k);
 /// entry, split over its grid):  log p_adj = log chi2_sf(lr, k) + log grid + log m.  Not
 /// capped at 0 (log 1): the caller compares it with log alpha or caps it for display.
 double bonferroni_log_p(double lr, double k, double grid, double m_family);
+/// Standard normal distribution function Phi(z) = P(Z <= z) = erfc(-z / sqrt 2) / 2.
+double normal_cdf(double z);
 /// Upper normal quantile: z with P(Z > z) = p, p in (0, 1).
 double normal_upper_quantile(double p);
 /// Two-sided normal quantile: z with P(|Z| > z) = p, p in (0, 1).
