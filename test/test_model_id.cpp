@@ -28,6 +28,7 @@
 #include <random>
 #include <set>
 #include <thread>
+#include <tuple>
 
 using namespace rnav;
 using rnav::test::CascadeNoise;
@@ -623,6 +624,30 @@ TEST_CASE("added_lr: the likelihood ratio of nested least-squares fits, -1 for c
   CHECK(search_detail::added_lr(M, y, inside, static_cast<double>(n)) == -1);
   // no column: nothing added
   CHECK(search_detail::added_lr(M, y, Eigen::MatrixXd(n, 0), static_cast<double>(n)) == 0);
+  // Projector::lr answers from the Gram matrix of the projected unit columns where that is well
+  // conditioned and from their QR elsewhere: each regime against the two fits. A column almost
+  // inside span(M) (its projected unit column 0.003 long: the Gram matrix's eigenvalue 1e-5), and
+  // columns that explain all but 1e-6 of the residual's sum of squares (RSS_(M,C) = RSS_M - drop
+  // would keep 6 fewer digits), each to 1e-9 relative as above.
+  Eigen::MatrixXd near(n, 1);
+  Eigen::VectorXd wiggle(n);
+  for (Eigen::Index i = 0; i < n; ++i) wiggle(i) = std::cos(23.0 * static_cast<double>(i) / static_cast<double>(n));
+  const Eigen::VectorXd in_M = M * Eigen::Vector3d(1, 2, -1);
+  near.col(0) = in_M + 0.003 * in_M.norm() * wiggle.normalized();
+  const Eigen::VectorXd y_near = y + 400 * near.col(0);
+  const Eigen::VectorXd y_all = C * Eigen::Vector2d(2e-5, 30) + 1e-3 * y;  // C explains all but the small noise
+  for (const auto& [Cx, yx, what] : {std::tuple<Eigen::MatrixXd, Eigen::VectorXd, const char*>{near, y_near, "nearly inside"},
+                                     std::tuple<Eigen::MatrixXd, Eigen::VectorXd, const char*>{C, y_all, "explains all"}}) {
+    Eigen::MatrixXd MX(n, M.cols() + Cx.cols());
+    MX << M, Cx;
+    auto rss_of = [&](const Eigen::MatrixXd& X) { return (yx - X * X.colPivHouseholderQr().solve(yx)).squaredNorm(); };
+    const double r0 = rss_of(M), r1 = rss_of(MX);
+    const double w = static_cast<double>(n) * std::log(r0 / r1);
+    const double g = search_detail::added_lr(M, yx, Cx, static_cast<double>(n));
+    INFO(what << ": added_lr " << g << ", by the two fits " << w << ", RSS ratio " << r1 / r0);
+    CHECK(w > 10);
+    CHECK(std::abs(g - w) < 1e-9 * w);
+  }
 }
 
 TEST_CASE("effect search: each effect reports the statistic it was kept with") {

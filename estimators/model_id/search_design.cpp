@@ -146,6 +146,9 @@ void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std
   Cw.assign(p.catalogue.size(), {});
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
     for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten_through(raw_columns(e, v), tables));
+  Cg.assign(p.catalogue.size(), {});
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e)
+    for (const Eigen::MatrixXd& C : Cw[e]) Cg[e].push_back(unit_gram(C));
 }
 
 Eigen::MatrixXd model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen) {
@@ -214,10 +217,70 @@ Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {
 }
 }  // namespace
 
-Projector::Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used)
-    : Q(orthonormal(M)), r(Q.cols() > 0 ? Eigen::VectorXd(y - Q * (Q.transpose() * y)) : y), n(n_used) {}
+UnitGram unit_gram(const Eigen::MatrixXd& C) {
+  UnitGram g;
+  g.inv_norm.resize(C.cols());
+  for (Eigen::Index j = 0; j < C.cols(); ++j) {
+    const double nj = C.col(j).norm();
+    g.inv_norm(j) = nj > 0 ? 1 / nj : 0.0;
+  }
+  const Eigen::Index k = C.cols();
+  g.UU.resize(k, k);
+  // (dot products: a general matrix product's packing costs more than its work at these widths)
+  for (Eigen::Index i = 0; i < k; ++i)
+    for (Eigen::Index j = 0; j <= i; ++j) g.UU(i, j) = g.UU(j, i) = C.col(i).dot(C.col(j)) * g.inv_norm(i) * g.inv_norm(j);
+  return g;
+}
 
-double Projector::lr(const Eigen::MatrixXd& C) const {
+namespace {
+// V = Q' U, U = C diag(inv_norm), by dot products (see unit_gram).
+Eigen::MatrixXd basis_products(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& C, const Eigen::VectorXd& inv_norm) {
+  Eigen::MatrixXd V(Q.cols(), C.cols());
+  for (Eigen::Index j = 0; j < C.cols(); ++j)
+    for (Eigen::Index i = 0; i < Q.cols(); ++i) V(i, j) = Q.col(i).dot(C.col(j)) * inv_norm(j);
+  return V;
+}
+}  // namespace
+
+Projector::Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used)
+    : Q(orthonormal(M)), r(Q.cols() > 0 ? Eigen::VectorXd(y - Q * (Q.transpose() * y)) : y), Qr(Q.transpose() * r), n(n_used) {}
+
+double Projector::lr(const Eigen::MatrixXd& C) const { return lr(C, unit_gram(C)); }
+
+// The smallest eigenvalue of the projected unit columns' Gram matrix (their smallest singular
+// value squared) below which lr leaves the answer to lr_qr: its relative error, about
+// n eps / lambda_min, stays under 1e-12 above it, far below kTieLr.
+constexpr double kGramConditioned = 1e-2;
+// The share of the residual's sum of squares the columns may explain for lr's Gram path: beyond
+// it RSS_(M,C) = RSS_M - drop keeps few of drop's digits and lr_qr answers.
+constexpr double kGramDrop = 0.999;
+
+double Projector::lr(const Eigen::MatrixXd& C, const UnitGram& g) const {
+  // With U the unit columns and V = Q' U, the projected columns R = U - Q V have R' R = U' U - V' V
+  // and b = R' r = U' r - V' Q' r (Q' r is r's rounding: a model that explains y to 1e-7, as a
+  // reference track's, leaves it at 1e-9 of r); the drop in RSS is b' (R' R)^-1 b. (From y instead,
+  // U' y - V' Q' y would lose the digits y has beyond r.)
+  const Eigen::Index k = C.cols();
+  if (k == 0) return lr_qr(C);
+  Eigen::MatrixXd S = g.UU;
+  Eigen::VectorXd b(k);
+  for (Eigen::Index j = 0; j < k; ++j) b(j) = C.col(j).dot(r) * g.inv_norm(j);
+  if (Q.cols() > 0) {
+    const Eigen::MatrixXd V = basis_products(Q, C, g.inv_norm);
+    S.noalias() -= V.transpose() * V;
+    b.noalias() -= V.transpose() * Qr;  // r's rounding inside span(Q), as R' r has it
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S);
+  if (!(es.eigenvalues().minCoeff() > kGramConditioned)) return lr_qr(C);
+  const Eigen::VectorXd z = es.eigenvectors().transpose() * b;
+  const double drop = z.cwiseAbs2().cwiseQuotient(es.eigenvalues()).sum();
+  const double rss0 = r.squaredNorm();
+  if (!(rss0 > 0)) return 0;
+  if (!(drop < kGramDrop * rss0)) return lr_qr(C);
+  return n * std::log(rss0 / (rss0 - drop));
+}
+
+double Projector::lr_qr(const Eigen::MatrixXd& C) const {
   // The drop in RSS is |B' r|^2 for B an orthonormal basis of C's columns after span(Q) is
   // projected out (residual_basis). Without forming B (lr runs at every grid point of every
   // scanned entry: the SVD's basis was most of a pooled search's time): R = projected_unit(Q, C)
@@ -242,7 +305,7 @@ double Projector::lr(const Eigen::MatrixXd& C) const {
 }
 
 double Projector::entry_lr(const Design& d, std::size_t e, std::size_t v) const {
-  if (!memo) return lr(d.Cw[e][v]);
+  if (!memo) return lr(d.Cw[e][v], d.Cg[e][v]);
   {
     const std::lock_guard<std::mutex> lock(memo->m);
     std::vector<std::vector<double>>& per = memo->lr[model];
@@ -251,7 +314,7 @@ double Projector::entry_lr(const Design& d, std::size_t e, std::size_t v) const 
     if (ev.empty()) ev.assign(d.Cw[e].size(), std::numeric_limits<double>::quiet_NaN());
     if (!std::isnan(ev[v])) return ev[v];
   }
-  const double x = lr(d.Cw[e][v]);  // outside the lock: the same value whoever computes it first
+  const double x = lr(d.Cw[e][v], d.Cg[e][v]);  // outside the lock: the same value whoever computes it first
   const std::lock_guard<std::mutex> lock(memo->m);
   memo->lr[model][e][v] = x;
   return x;

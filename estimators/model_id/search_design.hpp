@@ -37,6 +37,15 @@ struct LrMemo {
   std::map<std::vector<std::pair<std::size_t, std::size_t>>, std::vector<std::vector<double>>> lr;
 };
 
+/// A whitened block C's columns scaled to unit norm, U = C diag(inv_norm): what a projection of
+/// them needs besides their products with the model's basis and residual (Projector::lr), the
+/// same under every model.
+struct UnitGram {
+  Eigen::VectorXd inv_norm;  ///< 1 / |C_j| (0 for a zero column)
+  Eigen::MatrixXd UU;        ///< U' U
+};
+UnitGram unit_gram(const Eigen::MatrixXd& C);
+
 struct Design {
   const Problem* pb = nullptr;
   std::vector<std::vector<std::size_t>> rows;   ///< per channel: observation indices in time order
@@ -47,6 +56,7 @@ struct Design {
   Eigen::VectorXd yw;                           ///< whitened residuals
   Eigen::MatrixXd Nw;                           ///< whitened nuisance
   std::vector<std::vector<Eigen::MatrixXd>> Cw; ///< [entry][grid point] whitened columns
+  std::vector<std::vector<UnitGram>> Cg;        ///< [entry][grid point] unit_gram(Cw)
   std::vector<char> used;                       ///< per observation: not skipped
   double n_used = 0;
   /// the noise fits of this search's tests, remembered (shared by copies and threads)
@@ -82,14 +92,21 @@ Eigen::MatrixXd raw_model_matrix(const Design& d, const std::vector<std::pair<st
 struct Projector {
   Eigen::MatrixXd Q;   ///< orthonormal basis of span(M)
   Eigen::VectorXd r;   ///< y minus its projection
+  Eigen::VectorXd Qr;  ///< Q' r: r's rounding inside span(M)
   double n = 0;
   Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used);
   double lr(const Eigen::MatrixXd& C) const;
-  /// lr of entry e's whitened columns at grid point v (d.Cw[e][v]), remembered in the design's
-  /// LrMemo when the projector was made by projector_of (the same number either way).
+  /// lr(C) with C's unit_gram given.
+  double lr(const Eigen::MatrixXd& C, const UnitGram& g) const;
+  /// lr of entry e's whitened columns at grid point v (d.Cw[e][v], with d.Cg[e][v]), remembered
+  /// in the design's LrMemo when the projector was made by projector_of (the same number either way).
   double entry_lr(const Design& d, std::size_t e, std::size_t v) const;
   std::shared_ptr<LrMemo> memo;                            ///< where entry_lr remembers (none: it does not)
   std::vector<std::pair<std::size_t, std::size_t>> model;  ///< the chosen pairs M is made of (memo's key)
+
+ private:
+  /// lr by the Householder QR of the projected unit columns (any conditioning).
+  double lr_qr(const Eigen::MatrixXd& C) const;
 };
 
 /// The projector of model_matrix(d, model), its entry_lr remembered in d.lr_memo.
