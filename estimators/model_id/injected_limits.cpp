@@ -417,6 +417,7 @@ InjectedLimits measure_injected_limits(const Problem& pb, const SearchResult& re
   inner.injection.injections = 0;
   inner.score_holdout = false;
   inner.effects_only = true;  // the verdict reads the named effects and their confounding alone
+  inner.noise.se_tau = false;  // nor the noise fits' SE of tau
   inner.threads = 1;  // the injections run at once instead
   inner.noise_memo = nullptr;  // each injection's data are its own: a shared memo would only grow
   const Problem fixed_columns = with_columns_kept(pb, d);

@@ -449,9 +449,23 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
   NoiseFit fit;
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
   if (fixed_skip && !fixed_skip->empty()) skip = *fixed_skip;
+  // The refinement's evaluations under this round's flags, remembered: the point it settles on
+  // was evaluated last or nearly so, and is asked for again below (the same arguments, the same
+  // bits).
+  struct Evaluated {
+    double lam, tau;
+    Reml r;
+  };
+  std::vector<Evaluated> seen;
+  auto reml_at = [&](double lam, double tau) {
+    for (auto it = seen.rbegin(); it != seen.rend(); ++it)
+      if (it->lam == lam && it->tau == tau) return it->r;
+    seen.push_back({lam, tau, reml(sr, mu, lam, tau, skip)});
+    return seen.back().r;
+  };
   // the criterion maximised: REML, or the ML likelihood in profile_ml mode
   auto crit = [&](double lam, double tau) {
-    const Reml r = reml(sr, mu, lam, tau, skip);
+    const Reml r = reml_at(lam, tau);
     return o.profile_ml ? r.ml : r.ll;
   };
   auto crit_grid = [&](int i, double tau) {
@@ -466,10 +480,11 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     return out;
   };
   for (int round = 0; round < 5; ++round) {
+    seen.clear();  // the flags changed
     const Reml white = reml_null(sr, 0.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
     const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, ltau_lo, ltau_hi);
-    const Reml corr = reml(sr, mu, best_lam, std::exp(best_lt), skip);
+    const Reml corr = reml_at(best_lam, std::exp(best_lt));
     if (o.profile_ml) {
       // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
       const Reml nom = mu > 0 ? reml_null(sr, mu, skip) : white;
@@ -509,18 +524,23 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
       fit.params.s2 = corr.s2;
       fit.params.lambda = best_lam;
       fit.params.tau_s = std::exp(best_lt);
-      // SE of log tau from the profile curvature (second difference over +-0.1 in log tau)
-      const double dh = 0.1;
-      const double lp = reml(sr, mu, best_lam, std::exp(best_lt + dh), skip).ll,
-                   lm = reml(sr, mu, best_lam, std::exp(best_lt - dh), skip).ll;
-      const double curv = -(lp - 2 * corr.ll + lm) / (dh * dh);
-      fit.se_tau_s = curv > 0 ? fit.params.tau_s / std::sqrt(curv) : fit.params.tau_s;
+      fit.se_tau_s = 0;
+      if (o.se_tau) {
+        // SE of log tau from the profile curvature (second difference over +-0.1 in log tau)
+        const double dh = 0.1;
+        const double lp = reml(sr, mu, best_lam, std::exp(best_lt + dh), skip).ll,
+                     lm = reml(sr, mu, best_lam, std::exp(best_lt - dh), skip).ll;
+        const double curv = -(lp - 2 * corr.ll + lm) / (dh * dh);
+        fit.se_tau_s = curv > 0 ? fit.params.tau_s / std::sqrt(curv) : fit.params.tau_s;
+      }
     } else {
       fit.params.s2 = white.s2;
       fit.params.lambda = 0;
       fit.params.tau_s = 1;
     }
-    fit.loglik_ml = reml(sr, fit.params.nom_share, fit.params.lambda, fit.params.tau_s, skip).ml;
+    // the ML log-likelihood of the model chosen: one of the three evaluated above (a further
+    // part: corr's model; the nominal one alone: nominal's; else white's)
+    fit.loglik_ml = fit.params.lambda > 0 ? corr.ml : mu > 0 ? nominal.ml : white.ml;
     if (!o.flag_outliers || fixed_skip) break;
     const std::vector<char> next = outlier_flags(sr, o, skip, fit);
     if (next == skip) break;

@@ -47,6 +47,9 @@ struct NoiseIdOptions {
   /// the fixed effects X over the noise family: 2 (loglik_ml(X, C) - loglik_ml(X)) is the
   /// likelihood ratio of columns C with the noise re-estimated under both hypotheses.
   bool profile_ml = false;
+  /// Compute NoiseFit::se_tau_s (two more likelihoods per correlated fit); false leaves it 0,
+  /// for searches that never report it (the injected ones).
+  bool se_tau = true;
 };
 
 struct NoiseFit {
@@ -59,7 +62,7 @@ struct NoiseFit {
   double s2_nominal = 0;          ///< REML s^2 under the nominal model's structure (its scale is what noise_scale tests)
   double dof_nominal = 0;         ///< its residual degrees of freedom (frames used minus fixed-effect rank)
   bool departs_nominal = false;   ///< the best correlated model is significantly better than the nominal one
-  double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau
+  double se_tau_s = 0;            ///< [s] SE of tau from the profile curvature in log tau (0 unless NoiseIdOptions::se_tau)
   double z_outlier = 0;           ///< the flag threshold used
   int n = 0;                      ///< frames used (not flagged)
   double loglik_ml = 0;           ///< ML log-likelihood (scale profiled) under the chosen model, frames used
