@@ -117,13 +117,34 @@ std::vector<GainTable> Design::gain_tables(const std::vector<NoiseParams>& np) c
 
 Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
+  const Eigen::Index k = raw.cols();
+  thread_local Eigen::MatrixXd B;  // one channel's rows (kept per thread: set_noise whitens every grid point)
   for (std::size_t c = 0; c < rows.size(); ++c) {
-    const auto m = static_cast<Eigen::Index>(rows[c].size());
-    Eigen::MatrixXd B(m, raw.cols());
-    for (Eigen::Index r = 0; r < m; ++r) B.row(r) = raw.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)]));
-    if (B.isZero(0)) continue;
+    const std::vector<std::size_t>& rc = rows[c];
+    const auto m = static_cast<Eigen::Index>(rc.size());
+    // a channel the columns do not touch stays zero (most entries touch one channel of several)
+    bool touched = false;
+    for (Eigen::Index j = 0; j < k && !touched; ++j) {
+      const double* col = raw.col(j).data();
+      for (std::size_t r : rc)
+        if (col[r] != 0) {
+          touched = true;
+          break;
+        }
+    }
+    if (!touched) continue;
+    B.resize(m, k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double* col = raw.col(j).data();
+      double* b = B.col(j).data();
+      for (Eigen::Index r = 0; r < m; ++r) b[r] = col[rc[static_cast<std::size_t>(r)]];
+    }
     rnav::whiten(tables[c], 0, B);
-    for (Eigen::Index r = 0; r < m; ++r) out.row(static_cast<Eigen::Index>(rows[c][static_cast<std::size_t>(r)])) = B.row(r);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      double* col = out.col(j).data();
+      const double* b = B.col(j).data();
+      for (Eigen::Index r = 0; r < m; ++r) col[rc[static_cast<std::size_t>(r)]] = b[r];
+    }
   }
   return out;
 }
