@@ -650,6 +650,50 @@ TEST_CASE("added_lr: the likelihood ratio of nested least-squares fits, -1 for c
   }
 }
 
+TEST_CASE("canonical_corr: the largest canonical correlation of two blocks given a model, against its definition",
+          "[model_id]") {
+  // The cosine of the least angle between the spans of A and B once span(M) is projected out of
+  // both: from thin QR bases of the projected blocks, to 1e-12. Three regimes: blocks well apart
+  // from the model, a block nearly inside it (its projected unit column 1e-3 long), and a block
+  // inside it (not separable: 1).
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> N(0, 1);
+  const Eigen::Index n = 400;
+  Eigen::MatrixXd M(n, 3), A(n, 2), B(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / static_cast<double>(n);
+    M(i, 0) = 1, M(i, 1) = t, M(i, 2) = std::sin(5 * t);
+    A(i, 0) = 1e4 * std::cos(9 * t), A(i, 1) = N(rng);
+    B(i, 0) = std::cos(9 * t) + 0.7 * N(rng), B(i, 1) = 1e-3 * t * t;
+  }
+  auto definition = [&](const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y) {
+    const Eigen::MatrixXd Qm = Eigen::HouseholderQR<Eigen::MatrixXd>(M).householderQ() * Eigen::MatrixXd::Identity(n, M.cols());
+    auto basis = [&](const Eigen::MatrixXd& Z) {
+      const Eigen::MatrixXd R = Z - Qm * (Qm.transpose() * Z);
+      return Eigen::MatrixXd(Eigen::HouseholderQR<Eigen::MatrixXd>(R).householderQ() * Eigen::MatrixXd::Identity(n, Z.cols()));
+    };
+    return Eigen::JacobiSVD<Eigen::MatrixXd>(basis(X).transpose() * basis(Y)).singularValues()(0);
+  };
+  const double want = definition(A, B);
+  INFO("well apart: " << search_detail::canonical_corr(M, A, B) << " against " << want);
+  CHECK(want > 0.5);
+  CHECK(want < 0.99);
+  CHECK(std::abs(search_detail::canonical_corr(M, A, B) - want) < 1e-12);
+  Eigen::MatrixXd near = A;
+  near.col(0) = M * Eigen::Vector3d(2, -1, 3);
+  Eigen::VectorXd away(n);
+  for (Eigen::Index i = 0; i < n; ++i) away(i) = N(rng);
+  near.col(0) += 1e-3 * near.col(0).norm() * (B.col(0).normalized() + away.normalized()).normalized();
+  const double want_near = definition(near, B);
+  INFO("nearly inside: " << search_detail::canonical_corr(M, near, B) << " against " << want_near);
+  CHECK(want_near < 0.99);
+  CHECK(std::abs(search_detail::canonical_corr(M, near, B) - want_near) < 1e-9);
+  Eigen::MatrixXd inside = A;
+  inside.col(0) = M * Eigen::Vector3d(2, -1, 3);
+  inside.col(1) = M * Eigen::Vector3d(0, 1, 1);
+  CHECK(search_detail::canonical_corr(M, inside, B) == 1.0);
+}
+
 TEST_CASE("effect search: each effect reports the statistic it was kept with") {
   // A range gain and a step under tau 8 s noise, five seeds. Every named effect passed the
   // selection, so its kept adjusted p is below alpha; where the plug-in selection (q = 0) names

@@ -356,7 +356,39 @@ double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const 
   return canonical_corr_given(orthonormal(M), A, B);
 }
 
+namespace {
+// S^(-1/2) of a symmetric matrix whose least eigenvalue exceeds kGramConditioned; an empty
+// matrix otherwise.
+Eigen::MatrixXd inverse_sqrt_if_conditioned(const Eigen::MatrixXd& S) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(S);
+  if (!(es.eigenvalues().minCoeff() > kGramConditioned)) return {};
+  return es.eigenvectors() * es.eigenvalues().cwiseSqrt().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+}
+}  // namespace
+
 double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  // From Gram matrices where both projected blocks are well conditioned (as Projector::lr): with
+  // unit columns U and V = Q' U, the projected blocks' Gram matrices are Saa = Ua' Ua - Va' Va,
+  // Sbb likewise and Sab = Ua' Ub - Va' Vb, and the canonical correlations are the singular
+  // values of Saa^(-1/2) Sab Sbb^(-1/2).
+  if (A.cols() > 0 && B.cols() > 0) {
+    const UnitGram ga = unit_gram(A), gb = unit_gram(B);
+    const Eigen::MatrixXd Va = basis_products(Q, A, ga.inv_norm), Vb = basis_products(Q, B, gb.inv_norm);
+    Eigen::MatrixXd Sab(A.cols(), B.cols());
+    for (Eigen::Index i = 0; i < A.cols(); ++i)
+      for (Eigen::Index j = 0; j < B.cols(); ++j) Sab(i, j) = A.col(i).dot(B.col(j)) * ga.inv_norm(i) * gb.inv_norm(j);
+    Eigen::MatrixXd Saa = ga.UU, Sbb = gb.UU;
+    if (Q.cols() > 0) {
+      Saa.noalias() -= Va.transpose() * Va;
+      Sbb.noalias() -= Vb.transpose() * Vb;
+      Sab.noalias() -= Va.transpose() * Vb;
+    }
+    const Eigen::MatrixXd Ia = inverse_sqrt_if_conditioned(Saa), Ib = inverse_sqrt_if_conditioned(Sbb);
+    if (Ia.size() > 0 && Ib.size() > 0) {
+      Eigen::JacobiSVD<Eigen::MatrixXd> s(Ia * Sab * Ib);
+      return std::min(1.0, s.singularValues()(0));
+    }
+  }
   const Eigen::MatrixXd Qa = residual_basis(Q, A), Qb = residual_basis(Q, B);
   if (Qa.cols() == 0 || Qb.cols() == 0) return 1.0;  // inside the rest of the model: not separable
   Eigen::JacobiSVD<Eigen::MatrixXd> s(Qa.transpose() * Qb);
