@@ -240,25 +240,38 @@ Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {
 
 UnitGram unit_gram(const Eigen::MatrixXd& C) {
   UnitGram g;
-  g.inv_norm.resize(C.cols());
-  for (Eigen::Index j = 0; j < C.cols(); ++j) {
-    const double nj = C.col(j).norm();
+  const Eigen::Index k = C.cols();
+  // the rows outside which every column is 0 (a column touches one channel's block of rows; a
+  // step, the rows after its time): the products below run over them alone
+  g.lo = C.rows(), g.hi = 0;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double* c = C.col(j).data();
+    Eigen::Index lo = 0, hi = C.rows();
+    while (lo < hi && c[lo] == 0) ++lo;
+    while (hi > lo && c[hi - 1] == 0) --hi;
+    if (lo < hi) g.lo = std::min(g.lo, lo), g.hi = std::max(g.hi, hi);
+  }
+  if (g.lo >= g.hi) g.lo = g.hi = 0;
+  const auto seg = [&](Eigen::Index j) { return C.col(j).segment(g.lo, g.hi - g.lo); };
+  g.inv_norm.resize(k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double nj = seg(j).norm();
     g.inv_norm(j) = nj > 0 ? 1 / nj : 0.0;
   }
-  const Eigen::Index k = C.cols();
   g.UU.resize(k, k);
   // (dot products: a general matrix product's packing costs more than its work at these widths)
   for (Eigen::Index i = 0; i < k; ++i)
-    for (Eigen::Index j = 0; j <= i; ++j) g.UU(i, j) = g.UU(j, i) = C.col(i).dot(C.col(j)) * g.inv_norm(i) * g.inv_norm(j);
+    for (Eigen::Index j = 0; j <= i; ++j) g.UU(i, j) = g.UU(j, i) = seg(i).dot(seg(j)) * g.inv_norm(i) * g.inv_norm(j);
   return g;
 }
 
 namespace {
-// V = Q' U, U = C diag(inv_norm), by dot products (see unit_gram).
-Eigen::MatrixXd basis_products(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& C, const Eigen::VectorXd& inv_norm) {
+// V = Q' U, U = C diag(inv_norm), by dot products over the rows where C is not 0 (see unit_gram).
+Eigen::MatrixXd basis_products(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& C, const UnitGram& g) {
   Eigen::MatrixXd V(Q.cols(), C.cols());
+  const Eigen::Index m = g.hi - g.lo;
   for (Eigen::Index j = 0; j < C.cols(); ++j)
-    for (Eigen::Index i = 0; i < Q.cols(); ++i) V(i, j) = Q.col(i).dot(C.col(j)) * inv_norm(j);
+    for (Eigen::Index i = 0; i < Q.cols(); ++i) V(i, j) = Q.col(i).segment(g.lo, m).dot(C.col(j).segment(g.lo, m)) * g.inv_norm(j);
   return V;
 }
 }  // namespace
@@ -285,9 +298,9 @@ double Projector::lr(const Eigen::MatrixXd& C, const UnitGram& g) const {
   if (k == 0) return lr_qr(C);
   Eigen::MatrixXd S = g.UU;
   Eigen::VectorXd b(k);
-  for (Eigen::Index j = 0; j < k; ++j) b(j) = C.col(j).dot(r) * g.inv_norm(j);
+  for (Eigen::Index j = 0; j < k; ++j) b(j) = C.col(j).segment(g.lo, g.hi - g.lo).dot(r.segment(g.lo, g.hi - g.lo)) * g.inv_norm(j);
   if (Q.cols() > 0) {
-    const Eigen::MatrixXd V = basis_products(Q, C, g.inv_norm);
+    const Eigen::MatrixXd V = basis_products(Q, C, g);
     S.noalias() -= V.transpose() * V;
     b.noalias() -= V.transpose() * Qr;  // r's rounding inside span(Q), as R' r has it
   }
@@ -373,10 +386,13 @@ double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, 
   // values of Saa^(-1/2) Sab Sbb^(-1/2).
   if (A.cols() > 0 && B.cols() > 0) {
     const UnitGram ga = unit_gram(A), gb = unit_gram(B);
-    const Eigen::MatrixXd Va = basis_products(Q, A, ga.inv_norm), Vb = basis_products(Q, B, gb.inv_norm);
+    const Eigen::MatrixXd Va = basis_products(Q, A, ga), Vb = basis_products(Q, B, gb);
+    // A' B over the rows where both may be non-zero (none: exactly 0)
+    const Eigen::Index lo = std::max(ga.lo, gb.lo), m = std::max<Eigen::Index>(0, std::min(ga.hi, gb.hi) - lo);
     Eigen::MatrixXd Sab(A.cols(), B.cols());
     for (Eigen::Index i = 0; i < A.cols(); ++i)
-      for (Eigen::Index j = 0; j < B.cols(); ++j) Sab(i, j) = A.col(i).dot(B.col(j)) * ga.inv_norm(i) * gb.inv_norm(j);
+      for (Eigen::Index j = 0; j < B.cols(); ++j)
+        Sab(i, j) = m > 0 ? A.col(i).segment(lo, m).dot(B.col(j).segment(lo, m)) * ga.inv_norm(i) * gb.inv_norm(j) : 0.0;
     Eigen::MatrixXd Saa = ga.UU, Sbb = gb.UU;
     if (Q.cols() > 0) {
       Saa.noalias() -= Va.transpose() * Va;

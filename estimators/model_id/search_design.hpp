@@ -43,6 +43,7 @@ struct LrMemo {
 struct UnitGram {
   Eigen::VectorXd inv_norm;  ///< 1 / |C_j| (0 for a zero column)
   Eigen::MatrixXd UU;        ///< U' U
+  Eigen::Index lo = 0, hi = 0;  ///< C is 0 outside rows [lo, hi) (lo = hi = 0: everywhere)
 };
 UnitGram unit_gram(const Eigen::MatrixXd& C);
 
