@@ -195,6 +195,48 @@ std::vector<NoiseParams> models_at(std::initializer_list<double> lambdas) {
 }
 }  // namespace
 
+TEST_CASE("noise model: a column that starts with zeros is whitened as the full recursion whitens it, bit for bit") {
+  // The filter starts at a column's first non-zero frame (the state is +0 before it and each
+  // whitened value is its input): a step's column, zero before its time, must get exactly what
+  // the recursion from frame 0 gives, -0 inputs and a frame kept out among the zeros included.
+  // The reference: the column whitened beside one that is not zero at frame 0 (no frame skipped
+  // then; columns whitened together are whitened as alone, by the test above).
+  const std::vector<char> skip = {0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0};
+  const auto n = static_cast<Eigen::Index>(kWhitenT.size());
+  NoiseParams p;
+  p.s2 = 2.0, p.lambda = 0.7, p.tau_s = 1.5, p.nom_share = 0.35, p.nom_tau_s = 5.0;
+  for (Eigen::Index start : {Eigen::Index{0}, Eigen::Index{3}, Eigen::Index{7}, n}) {
+    Eigen::MatrixXd pair(n, 2);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      pair(i, 0) = i < start ? (i % 2 == 1 ? -0.0 : 0.0) : 1.0 + 0.1 * static_cast<double>(i);
+      pair(i, 1) = std::cos(0.3 * static_cast<double>(i)) + 2;
+    }
+    Eigen::MatrixXd alone = pair.col(0);
+    Eigen::MatrixXd beside = pair;
+    whiten(kWhitenT, kWhitenH, p, skip, alone);
+    whiten(kWhitenT, kWhitenH, p, skip, beside);
+    INFO("first non-zero frame " << start);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      CHECK(alone(i, 0) == beside(i, 0));
+      CHECK(std::signbit(alone(i, 0)) == std::signbit(beside(i, 0)));
+    }
+    // under each of several models at once
+    GainTable table;
+    innovation_gains(kWhitenT, kWhitenH, models_at({0.0, 0.5, 0.9}), skip, table);
+    std::vector<double> w;
+    whiten_each_model(table, pair.col(0), w);
+    for (std::size_t j = 0; j < table.models.size(); ++j) {
+      Eigen::MatrixXd ref = pair;
+      whiten(table, j, ref);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double x = w[static_cast<std::size_t>(i) * table.models.size() + j];
+        CHECK(x == ref(i, 0));
+        CHECK(std::signbit(x) == std::signbit(ref(i, 0)));
+      }
+    }
+  }
+}
+
 TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each model, bit for bit") {
   // Frame-major, the models' recursions interleaved: the arithmetic of each model must still be
   // whiten()'s (GramMemo's sums rely on it). One model, seven (the grid's and the refinement's

@@ -67,13 +67,30 @@ inline double whiten_step(const Gain& G, double m, double& x0, double& x1) {
   return nu / G.sq;
 }
 
+// The first frame at which one of the B columns m[k] is not zero (n: none). Before it a column's
+// state stays +0 and each whitened value is its input, +0 or -0 (whiten_step: nu = m - 0 keeps
+// m's sign, nu / sq too, and x += K nu stays +0; a frame kept out gives +0), so the recursion
+// may start there: the same values, bit for bit. (A step's column is zero before its
+// time: set_noise whitens a grid of them.)
+template <int B>
+Eigen::Index first_nonzero(double* const* m, Eigen::Index n) {
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int k = 0; k < B; ++k)
+      if (m[k][i] != 0) return i;
+  return n;
+}
+
 template <int B>
 void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, Eigen::Index c) {
   double* m[B];
   double x0[B] = {}, x1[B] = {};  // states (a, g)
   for (int k = 0; k < B; ++k) m[k] = M.col(c + k).data();
   const auto n = static_cast<Eigen::Index>(g.size());
-  for (Eigen::Index i = 0; i < n; ++i) {
+  const Eigen::Index i0 = first_nonzero<B>(m, n);
+  for (Eigen::Index i = 0; i < i0; ++i)  // a frame kept out whitens to +0 (its input may be -0)
+    if (g[static_cast<std::size_t>(i)].skip)
+      for (int k = 0; k < B; ++k) m[k][i] = 0;
+  for (Eigen::Index i = i0; i < n; ++i) {
     const Gain& G = g[static_cast<std::size_t>(i)];
     for (int k = 0; k < B; ++k) m[k][i] = whiten_step(G, m[k][i], x0[k], x1[k]);
   }
@@ -85,7 +102,12 @@ constexpr std::size_t kMaxEach = 16;
 template <std::size_t J>
 void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen::Index n, double* w) {
   double x0[J] = {}, x1[J] = {};
-  for (Eigen::Index i = 0; i < n; ++i) {
+  Eigen::Index i0 = 0;  // before the first non-zero value each whitened value is the input (first_nonzero)
+  for (; i0 < n && m[i0] == 0; ++i0) {
+    const auto ui = static_cast<std::size_t>(i0);
+    for (std::size_t j = 0; j < J; ++j) w[ui * J + j] = g[j][ui].skip ? 0.0 : m[i0];  // kept out: +0
+  }
+  for (Eigen::Index i = i0; i < n; ++i) {
     const auto ui = static_cast<std::size_t>(i);
     for (std::size_t j = 0; j < J; ++j) w[ui * J + j] = whiten_step(g[j][ui], m[i], x0[j], x1[j]);
   }
