@@ -94,6 +94,7 @@ struct Projector {
   Eigen::MatrixXd Q;   ///< orthonormal basis of span(M)
   Eigen::VectorXd r;   ///< y minus its projection
   Eigen::VectorXd Qr;  ///< Q' r: r's rounding inside span(M)
+  double rss = 0;      ///< |r|^2
   double n = 0;
   Projector(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, double n_used);
   double lr(const Eigen::MatrixXd& C) const;
