@@ -854,7 +854,18 @@ TEST_CASE("noise identification: Gauss-Markov tau recovered, white stays white")
   }
   const NoiseFit f = identify_noise(t, {}, e, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
   CHECK(f.correlated);
+  CHECK(f.se_tau_s > 0);
   CHECK(std::abs(f.params.tau_s - 8.0) < 3 * f.se_tau_s);
+  // without the SE of tau (what the injected searches ask): the same fit, its SE left 0
+  NoiseIdOptions no_se;
+  no_se.se_tau = false;
+  const NoiseFit f0 = identify_noise(t, {}, e, Eigen::MatrixXd(1500, 0), no_se);
+  CHECK(f0.se_tau_s == 0);
+  CHECK(f0.params.tau_s == f.params.tau_s);
+  CHECK(f0.params.lambda == f.params.lambda);
+  CHECK(f0.params.s2 == f.params.s2);
+  CHECK(f0.loglik_correlated == f.loglik_correlated);
+  CHECK(f0.loglik_ml == f.loglik_ml);
   Eigen::VectorXd w(1500);
   for (int i = 0; i < 1500; ++i) w(i) = N(rng);
   const NoiseFit fw = identify_noise(t, {}, w, Eigen::MatrixXd(1500, 0), NoiseIdOptions{});
