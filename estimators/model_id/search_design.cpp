@@ -383,12 +383,16 @@ Eigen::MatrixXd inverse_sqrt_if_conditioned(const Eigen::MatrixXd& S) {
 }  // namespace
 
 double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  return canonical_corr_given(Q, A, unit_gram(A), B, unit_gram(B));
+}
+
+double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const UnitGram& ga,
+                            const Eigen::MatrixXd& B, const UnitGram& gb) {
   // From Gram matrices where both projected blocks are well conditioned (as Projector::lr): with
   // unit columns U and V = Q' U, the projected blocks' Gram matrices are Saa = Ua' Ua - Va' Va,
   // Sbb likewise and Sab = Ua' Ub - Va' Vb, and the canonical correlations are the singular
   // values of Saa^(-1/2) Sab Sbb^(-1/2).
   if (A.cols() > 0 && B.cols() > 0) {
-    const UnitGram ga = unit_gram(A), gb = unit_gram(B);
     const Eigen::MatrixXd Va = basis_products(Q, A, ga), Vb = basis_products(Q, B, gb);
     // A' B over the rows where both may be non-zero (none: exactly 0)
     const Eigen::Index lo = std::max(ga.lo, gb.lo), m = std::max<Eigen::Index>(0, std::min(ga.hi, gb.hi) - lo);
@@ -433,7 +437,7 @@ Rival rival(const Design& d, const Projector& P, std::size_t e, std::size_t v, s
             double alpha, double confound_corr, double m_family) {
   Rival r;
   std::tie(r.lr, r.v) = best_variant(d, P, f);
-  r.corr = canonical_corr_given(P.Q, d.Cw[e][v], d.Cw[f][r.v]);
+  r.corr = canonical_corr_given(P.Q, d.Cw[e][v], d.Cg[e][v], d.Cw[f][r.v], d.Cg[f][r.v]);
   const double k = static_cast<double>(d.pb->catalogue[f].params.size());
   const bool passes =
       r.lr > 0 && bonferroni_log_p(r.lr, k, static_cast<double>(d.Cw[f].size()), m_family) < std::log(alpha);

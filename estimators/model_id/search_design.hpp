@@ -122,6 +122,9 @@ double added_lr(const Eigen::MatrixXd& M, const Eigen::VectorXd& y, const Eigen:
 double canonical_corr(const Eigen::MatrixXd& M, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
 /// The same with Q an orthonormal basis of span(M) (Projector::Q) given instead of M.
 double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);
+/// The same with A's and B's unit_gram given (a design's grid points have theirs: Design::Cg).
+double canonical_corr_given(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& A, const UnitGram& ga,
+                            const Eigen::MatrixXd& B, const UnitGram& gb);
 
 /// The best grid point of entry e given the model P projects off: its 2 log LR (-1: none
 /// adds anything) and index.
