@@ -155,8 +155,8 @@ void check_batch(const std::vector<double>& t, const std::vector<double>& h, con
   if (!skip.empty() && skip.size() != t.size()) throw std::invalid_argument("whiten: skip mask != number of times");
   for (const NoiseParams& p : ps) {
     check_noise_params(p);
-    if (p.tau_s != ps[0].tau_s || p.nom_tau_s != ps[0].nom_tau_s)
-      throw std::invalid_argument("whiten: the noise models of one batch must share their correlation times");
+    if (p.nom_tau_s != ps[0].nom_tau_s)
+      throw std::invalid_argument("whiten: the noise models of one batch must share their nominal correlation time");
   }
 }
 
@@ -222,8 +222,9 @@ struct Frames {
   const std::vector<double>& t;
   const std::vector<double>& h;
   const std::vector<char>& skip;
-  double nom_tau_s, tau_s;  // the models' common correlation times
-  bool any_q0, any_q;       // some model has a nominal part, a further part
+  double nom_tau_s;              // the models' common nominal correlation time
+  const NoiseParams* ps;         // the models (their further part's correlation times tau_s)
+  bool any_q0, any_q;            // some model has a nominal part, a further part
 
   // The models' recursions through the frames, interleaved (each a chain of dependent
   // operations: the processor overlaps them; each model's arithmetic is what it is alone). N > 0:
@@ -240,7 +241,14 @@ struct Frames {
     }
     const std::size_t JJ = N > 0 ? N : J;
     const auto n = static_cast<Eigen::Index>(t.size());
-    double t_prev = 0, dt_prev = NAN, e0 = 0, e = 0;
+    // one transition exp(-dt / tau) per model; computed once when the models share tau (the
+    // grid's shares at one tau), each model's own otherwise (a refinement's batch)
+    bool one_tau = true;
+    for (std::size_t j = 1; j < JJ; ++j) one_tau = one_tau && ps[j].tau_s == ps[0].tau_s;
+    double e_local[N > 0 ? N : 1] = {};
+    std::vector<double> e_any(N > 0 ? 0 : JJ, 0.0);
+    double* e = N > 0 ? e_local : e_any.data();
+    double t_prev = 0, dt_prev = NAN, e0 = 0;
     bool started = false;
     for (Eigen::Index i = 0; i < n; ++i) {
       const auto ui = static_cast<std::size_t>(i);
@@ -252,13 +260,21 @@ struct Frames {
       if (started) {
         const double dt = t[ui] - t_prev;
         if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
-          e0 = any_q0 ? std::exp(-dt / nom_tau_s) : 0.0, e = any_q ? std::exp(-dt / tau_s) : 0.0;
+          e0 = any_q0 ? std::exp(-dt / nom_tau_s) : 0.0;
+          if (!any_q) {
+            for (std::size_t j = 0; j < JJ; ++j) e[j] = 0.0;
+          } else if (one_tau) {
+            const double e_all = std::exp(-dt / ps[0].tau_s);
+            for (std::size_t j = 0; j < JJ; ++j) e[j] = e_all;
+          } else {
+            for (std::size_t j = 0; j < JJ; ++j) e[j] = std::exp(-dt / ps[j].tau_s);
+          }
           dt_prev = dt;
         }
       }
       t_prev = t[ui];
       for (std::size_t j = 0; j < JJ; ++j) {
-        const double S = st[j].step(g[j][ui], H0, started, e0, e);
+        const double S = st[j].step(g[j][ui], H0, started, e0, e[j]);
         if (logS) (*logS)[j](i) = std::log(S);
         if (!prod.empty()) prod[j].add(S);
       }
@@ -290,10 +306,12 @@ void gains(const std::vector<double>& t, const std::vector<double>& h, const std
   }
   if (g.size() < J) g.resize(J);
   for (std::size_t j = 0; j < J; ++j) g[j].resize(static_cast<std::size_t>(n));  // every field written below
-  Frames fr{t, h, skip, ps[0].nom_tau_s, ps[0].tau_s, any_q0, any_q};
+  Frames fr{t, h, skip, ps[0].nom_tau_s, ps.data(), any_q0, any_q};
   switch (J) {  // the models' count fixed at compile time: their states stay off the gains' memory
     case 1: fr.run<1>(models.data(), J, g, logS, prod); break;
+    case 6: fr.run<6>(models.data(), J, g, logS, prod); break;
     case 7: fr.run<7>(models.data(), J, g, logS, prod); break;
+    case 8: fr.run<8>(models.data(), J, g, logS, prod); break;
     default: fr.run<0>(models.data(), J, g, logS, prod);
   }
   if (sum_logS) {

@@ -68,10 +68,11 @@ void whiten(const std::vector<double>& t, const std::vector<double>& h, const No
             const std::vector<char>& skip, Eigen::Ref<Eigen::MatrixXd> M, Eigen::VectorXd* logS = nullptr);
 
 /// whiten() under several noise models at once: Ms[j] whitened in place under ps[j], logS (if
-/// given) receives each model's log S_i. The models must share tau_s and nom_tau_s (e.g. the
-/// REML grid's shares lambda at one correlation time); each model's result is whiten()'s, bit for
-/// bit, in less time (the models' recursions interleaved, their transitions computed once).
-/// Throws std::invalid_argument on sizes that differ or models that do not share their times.
+/// given) receives each model's log S_i. The models must share nom_tau_s; their tau_s may
+/// differ (the REML grid's shares lambda at one correlation time share one transition per step,
+/// a refinement's batch has one per model). Each model's result is whiten()'s, bit for bit, in
+/// less time (the models' recursions interleaved). Throws std::invalid_argument on sizes that
+/// differ or models that do not share their nominal correlation time.
 void whiten_batch(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
                   const std::vector<char>& skip, const std::vector<Eigen::Ref<Eigen::MatrixXd>>& Ms,
                   std::vector<Eigen::VectorXd>* logS = nullptr);
@@ -96,7 +97,7 @@ struct GainTable {
   std::size_t bytes() const;     ///< memory held [B]
 };
 
-/// The gain table of the models ps (which must share tau_s and nom_tau_s) at frame times t
+/// The gain table of the models ps (which must share nom_tau_s) at frame times t
 /// (gains h, empty: 1; frames skip kept out, empty: none), as whiten_batch computes it. Throws
 /// std::invalid_argument as whiten_batch.
 void innovation_gains(const std::vector<double>& t, const std::vector<double>& h, const std::vector<NoiseParams>& ps,
