@@ -334,6 +334,79 @@ TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whethe
   }
 }
 
+TEST_CASE("gram memo: a grid's Gram matrices are grams()' per table, bit for bit, computed or read", "[model_id][memo]") {
+  // The noise identification's grid asks for 28 tables at once (one lookup per pair of columns
+  // instead of 28): every matrix must be what grams() gives table by table, when its entries
+  // are computed, read, or partly read (one column changed), with a memo whose generations turn
+  // on every call; a table of another model count is refused.
+  const Eigen::Index n = GramMemo::kMinFrames + 25;
+  std::vector<double> t, h;
+  std::vector<char> skip(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t.push_back(0.4 * static_cast<double>(i) + 0.1 * std::cos(static_cast<double>(i)));
+    h.push_back(0.8 + 0.001 * static_cast<double>(i));
+  }
+  skip[9] = 1;
+  const std::vector<double> taus = {0.3, 2.0, 11.0, 60.0};
+  std::vector<GainTable> tables(taus.size());
+  for (std::size_t i = 0; i < taus.size(); ++i) {
+    std::vector<NoiseParams> ps = models_at({0.3, 0.8, 0.95});
+    for (NoiseParams& p : ps) p.tau_s = taus[i];
+    innovation_gains(t, h, ps, skip, tables[i]);
+  }
+  std::size_t asked = 0;
+  const GramMemo::TableOf table_of = [&](std::size_t i) {
+    ++asked;
+    return std::make_pair(GramMemo::Key{i, 5}, static_cast<const GainTable*>(&tables[i]));
+  };
+  Eigen::MatrixXd M(n, 5);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index c = 0; c < M.cols(); ++c) M(i, c) = std::cos(0.7 * static_cast<double>(i) * (1 + 0.2 * c) + static_cast<double>(c));
+  Eigen::MatrixXd changed = M;
+  changed.col(2) *= -1.3;
+  GramMemo memo(std::size_t{1} << 22), tiny(1), each(std::size_t{1} << 22);
+  int pass = 0;
+  for (const Eigen::MatrixXd* X : {&M, &M, &changed}) {
+    ++pass;
+    std::vector<GramMemo::Key> keys;
+    for (Eigen::Index c = 0; c < X->cols(); ++c) keys.push_back(GramMemo::column_key(*X, c));
+    std::vector<std::vector<Eigen::MatrixXd>> got, got_tiny;
+    asked = 0;
+    const std::size_t read_before = memo.entries_read();
+    memo.grid_grams(taus.size(), table_of, {77, 1}, *X, keys, got);
+    const std::size_t asked_memo = asked;
+    tiny.grid_grams(taus.size(), table_of, {77, 1}, *X, keys, got_tiny);
+    INFO("matrix " << (X == &changed ? "changed" : "first or again"));
+    if (X == &changed) CHECK(memo.entries_read() > read_before);  // the unchanged columns' pairs
+    REQUIRE(got.size() == taus.size());
+    for (std::size_t i = 0; i < taus.size(); ++i) {
+      std::vector<Eigen::MatrixXd> expected;
+      each.grams(tables[i], GramMemo::Key{i, 5}, *X, keys, expected);
+      REQUIRE(got[i].size() == expected.size());
+      for (std::size_t j = 0; j < expected.size(); ++j) {
+        CHECK((got[i][j].array() == expected[j].array()).all());
+        CHECK((got_tiny[i][j].array() == expected[j].array()).all());
+      }
+    }
+    if (pass == 2) {  // the same matrix again: its 15 pairs read, no table asked for
+      CHECK(memo.entries_read() == read_before + 15);
+      CHECK(asked_memo == 0);
+    } else {
+      CHECK(asked_memo == taus.size());  // entries missing: each table asked for once
+    }
+  }
+  // a grid whose tables differ in their count of models: refused
+  GainTable two;
+  innovation_gains(t, h, models_at({0.3, 0.8}), skip, two);
+  const GramMemo::TableOf mixed = [&](std::size_t i) {
+    return std::make_pair(GramMemo::Key{i, 9}, static_cast<const GainTable*>(i == 0 ? &tables[0] : &two));
+  };
+  std::vector<GramMemo::Key> keys;
+  for (Eigen::Index c = 0; c < M.cols(); ++c) keys.push_back(GramMemo::column_key(M, c));
+  std::vector<std::vector<Eigen::MatrixXd>> got;
+  CHECK_THROWS_WITH(GramMemo(1 << 20).grid_grams(2, mixed, {78, 1}, M, keys, got), Catch::Contains("differ in their count"));
+}
+
 TEST_CASE("parallel_for: each index once, nested calls, the lowest index's error, helpers kept between calls") {
   // Each index once, also with calls nested inside (a call that finds no idle helper starts one,
   // so nested calls cannot wait for each other).

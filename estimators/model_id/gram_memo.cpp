@@ -47,7 +47,8 @@ constexpr auto kSums = sums_table(std::make_index_sequence<GramMemo::kMaxModels>
 
 }  // namespace
 
-GramMemo::GramMemo(std::size_t budget_bytes) : columns_(budget_bytes), entries_(budget_bytes) {
+GramMemo::GramMemo(std::size_t budget_bytes)
+    : columns_(budget_bytes), entries_(budget_bytes), grid_entries_(budget_bytes) {
   if (budget_bytes == 0) throw std::invalid_argument("GramMemo: the budget must be > 0 bytes");
 }
 
@@ -131,6 +132,93 @@ void GramMemo::grams(const GainTable& table, const Key& table_key, const Eigen::
     set(mi.a, mi.b, s);
     entries_.insert(mi.key, s, sizeof(Sums) + kEntryOverhead);
     ++computed_;
+  }
+}
+
+void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& grid_key, const Eigen::MatrixXd& M,
+                          const std::vector<Key>& col_keys, std::vector<std::vector<Eigen::MatrixXd>>& grams) {
+  const Eigen::Index K = M.cols(), n = M.rows();
+  if (col_keys.size() != static_cast<std::size_t>(K)) throw std::invalid_argument("GramMemo: one key per column needed");
+  if (K < 1 || K > kMaxColumns || n < kMinFrames)
+    throw std::invalid_argument("GramMemo: " + std::to_string(K) + " columns of " + std::to_string(n) + " frames: at most " +
+                                std::to_string(kMaxColumns) + " columns and at least " + std::to_string(kMinFrames) +
+                                " frames are served");
+  // the grid's entries kept; the missing ones listed (their sums are filled table by table)
+  struct Pending {
+    Eigen::Index a, b;
+    Key key;
+  };
+  std::vector<Pending> pending;
+  std::size_t J = 0;  // models per table: from the first entry read or table asked for
+  auto shape = [&](std::size_t j) {
+    if (J == 0) {
+      J = j;
+      grams.assign(T, std::vector<Eigen::MatrixXd>(J, Eigen::MatrixXd(K, K)));
+    } else if (j != J) {
+      throw std::invalid_argument("GramMemo: the grid's tables differ in their count of models");
+    }
+  };
+  for (Eigen::Index a = 0; a < K; ++a)
+    for (Eigen::Index b = a; b < K; ++b) {
+      const Key& ka = col_keys[static_cast<std::size_t>(a)];
+      const Key& kb = col_keys[static_cast<std::size_t>(b)];
+      ByteHash k;
+      k.value(grid_key), k.value(std::min(ka, kb)), k.value(std::max(ka, kb));
+      if (const std::vector<double>* s = grid_entries_.find(k.key())) {
+        shape(s->size() / T);
+        for (std::size_t t = 0; t < T; ++t)
+          for (std::size_t j = 0; j < J; ++j) grams[t][j](a, b) = grams[t][j](b, a) = (*s)[t * J + j];
+        ++read_;
+      } else {
+        pending.push_back({a, b, k.key()});
+      }
+    }
+  if (pending.empty()) return;
+  // table by table: the missing entries' sums as grams() computes them (the same whitened
+  // columns, kept per table and column, and the same sums)
+  std::vector<std::vector<double>> sums(pending.size());
+  std::vector<Whitened>& w = w_;
+  std::vector<char>& needed = needed_;
+  needed.assign(static_cast<std::size_t>(K), 0);
+  for (const Pending& p : pending) needed[static_cast<std::size_t>(p.a)] = needed[static_cast<std::size_t>(p.b)] = 1;
+  for (std::size_t t = 0; t < T; ++t) {
+    const auto [table_key, table] = table_of(t);
+    if (!serves(*table, M))
+      throw std::invalid_argument("GramMemo: table " + std::to_string(t) + " of the grid: " +
+                                  std::to_string(table->models.size()) + " models, at most " + std::to_string(kMaxModels));
+    for (const auto& g : table->gains)
+      if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("GramMemo: rows != number of times");
+    shape(table->models.size());
+    w.assign(static_cast<std::size_t>(K), nullptr);
+    for (Eigen::Index c = 0; c < K; ++c) {
+      const auto uc = static_cast<std::size_t>(c);
+      if (!needed[uc]) continue;
+      ByteHash k;
+      k.value(table_key), k.value(col_keys[uc]);
+      if (const Whitened* kept = columns_.find(k.key())) {
+        w[uc] = *kept;
+        continue;
+      }
+      auto out = std::make_shared<std::vector<double>>();
+      whiten_each_model(*table, M.col(c), *out);
+      w[uc] = out;
+      columns_.insert(k.key(), w[uc], out->size() * sizeof(double) + kEntryOverhead);
+    }
+    for (std::size_t m = 0; m < pending.size(); ++m) {
+      const Pending& p = pending[m];
+      Sums s{};
+      kSums[J - 1](w[static_cast<std::size_t>(p.a)]->data(), w[static_cast<std::size_t>(p.b)]->data(), n, s);
+      sums[m].resize(T * J);
+      for (std::size_t j = 0; j < J; ++j) {
+        grams[t][j](p.a, p.b) = grams[t][j](p.b, p.a) = s[j];
+        sums[m][t * J + j] = s[j];
+      }
+      ++computed_;
+    }
+  }
+  for (std::size_t m = 0; m < pending.size(); ++m) {
+    const std::size_t bytes = sums[m].size() * sizeof(double) + kEntryOverhead;
+    grid_entries_.insert(pending[m].key, std::move(sums[m]), bytes);
   }
 }
 

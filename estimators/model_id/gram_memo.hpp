@@ -16,6 +16,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -34,7 +35,8 @@ class GramMemo {
   /// without, 28.1 s with no memo at all).
   static constexpr Eigen::Index kMinFrames = 200;
 
-  /// budget_bytes: what the kept whitened columns may hold, and as much for the kept entries.
+  /// budget_bytes: what the kept whitened columns may hold, and as much for the kept entries
+  /// and again for the kept grid entries.
   explicit GramMemo(std::size_t budget_bytes);
 
   /// Whether grams() serves this table and matrix: at most kMaxModels models, kMaxColumns
@@ -55,6 +57,20 @@ class GramMemo {
   void grams(const GainTable& table, const Key& table_key, const Eigen::MatrixXd& M, const std::vector<Key>& col_keys,
              std::vector<Eigen::MatrixXd>& grams);
 
+  /// The gain tables of a grid of models (one table per correlation time, each serving M) and
+  /// their keys, asked for one at a time (a table is only valid until the next is asked for).
+  using TableOf = std::function<std::pair<Key, const GainTable*>(std::size_t)>;
+
+  /// grams[t][j] = grams() of table t's model j, for tables t = 0 .. T - 1 (table_of(t)): the
+  /// same values bit for bit, each entry computed as grams() computes it, but remembered per
+  /// (grid, column a, column b) for all T tables at once: one lookup per pair of columns where
+  /// grams() takes T (a noise identification's grid is 28 tables of 7 models). grid_key: a key
+  /// of everything the T tables depend on. table_of is called only when an entry is missing.
+  /// Throws std::invalid_argument as grams() does, and when the tables differ in their count of
+  /// models.
+  void grid_grams(std::size_t T, const TableOf& table_of, const Key& grid_key, const Eigen::MatrixXd& M,
+                  const std::vector<Key>& col_keys, std::vector<std::vector<Eigen::MatrixXd>>& grams);
+
   std::size_t entries_computed() const { return computed_; }  ///< entries summed (not read)
   std::size_t entries_read() const { return read_; }          ///< entries read from the memo
 
@@ -64,6 +80,9 @@ class GramMemo {
   using Whitened = std::shared_ptr<const std::vector<double>>;
   GenerationStore<Whitened> columns_;
   GenerationStore<Sums> entries_;
+  /// A grid's entry: the sums of one pair of columns under every model of its T tables,
+  /// [t * J + j].
+  GenerationStore<std::vector<double>> grid_entries_;
   std::size_t computed_ = 0, read_ = 0;
   // one call's scratch, kept between calls (a memo serves one thread)
   struct Missing {

@@ -104,19 +104,22 @@ constexpr double kGramPivot = 1e-8, kGramResidual = 1e-6;
 // Cholesky factored, L L'; log|X~' X~| = 2 sum log L_jj + 2 sum log ||x~_j||, and
 // RSS = e~' e~ - |L^-1 X~' e~|^2 (the Schur complement). Returns false when G is too close to
 // singular for these digits (kGramPivot, kGramResidual): the caller then takes the QR.
-bool reml_gram(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
+// (Mat, Vec: the matrix types of its factorisation; up to kSmallGram columns on the stack, a
+// call per model of every grid point and refinement step allocating nothing)
+template <class Mat, class Vec>
+bool reml_gram_as(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
   const Eigen::Index k = G.rows() - 1;
   const double ee = G(k, k);
   if (!(ee > 0)) return false;
   double logdet = 0, rss = ee;
   if (k > 0) {
-    Eigen::VectorXd d(k);
+    Vec d(k);
     for (Eigen::Index j = 0; j < k; ++j) {
       if (!(G(j, j) > 0)) return false;  // a column all zero once whitened (its frames kept out)
       d(j) = 1 / std::sqrt(G(j, j));
     }
-    const Eigen::MatrixXd A = d.asDiagonal() * G.topLeftCorner(k, k) * d.asDiagonal();
-    const Eigen::LLT<Eigen::MatrixXd> llt(A);
+    const Mat A = d.asDiagonal() * G.topLeftCorner(k, k) * d.asDiagonal();
+    const Eigen::LLT<Mat> llt(A);
     if (llt.info() != Eigen::Success) return false;
     const auto L = llt.matrixL();
     for (Eigen::Index j = 0; j < k; ++j) {
@@ -124,12 +127,21 @@ bool reml_gram(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
       if (!(Ljj * Ljj > kGramPivot)) return false;
       logdet += 2 * std::log(Ljj) - 2 * std::log(d(j));
     }
-    const Eigen::VectorXd z = L.solve(d.asDiagonal() * G.topRightCorner(k, 1));
+    const Vec z = L.solve(d.asDiagonal() * G.topRightCorner(k, 1));
     rss = ee - z.squaredNorm();
     if (!(rss > kGramResidual * ee)) return false;
   }
   out = reml_of(rss, logdet, k, sum_logS, n);
   return true;
+}
+
+constexpr int kSmallGram = 16;
+
+bool reml_gram(const Eigen::MatrixXd& G, double sum_logS, double n, Reml& out) {
+  using SmallMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kSmallGram, kSmallGram>;
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kSmallGram, 1>;
+  if (G.rows() - 1 <= kSmallGram) return reml_gram_as<SmallMat, SmallVec>(G, sum_logS, n, out);
+  return reml_gram_as<Eigen::MatrixXd, Eigen::VectorXd>(G, sum_logS, n, out);
 }
 
 // REML log-likelihood under each model of a gain table with s^2 profiled: from the Gram
@@ -208,19 +220,59 @@ class GainCache {
 // reml_shares for models every identification evaluates (GainCache).
 // Their whitened Gram matrices from the entries remembered per pair of columns (GramMemo): the
 // same values, bit for bit.
-std::vector<Reml> reml_kept(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
-                            const std::vector<char>& skip) {
+GainCache& gain_cache() {
   thread_local GainCache cache;
-  // per thread: the whitened columns and as much for the entries (a landing search's three
-  // channels of 500 frames under the grid touch about 3 000 columns of 28 kB)
-  thread_local GramMemo grams_kept(std::size_t{96} << 20);
-  const auto [key, table] = cache.get(sr, shares(sr, mu, lambdas, count, tau), skip);
-  if (!GramMemo::serves(*table, sr.Xe)) return reml_table(sr, *table, skip);
+  return cache;
+}
+
+// per thread: the whitened columns and as much for the entries and again for the grids'
+// entries (a landing search's three channels of 500 frames under the grid touch about 3 000
+// columns of 28 kB)
+GramMemo& gram_memo() {
+  thread_local GramMemo memo(std::size_t{96} << 20);
+  return memo;
+}
+
+// Xe's column keys (GramMemo::column_key), computed once per series.
+const std::vector<GramMemo::Key>& column_keys(const Series& sr) {
   if (sr.col_keys.empty())
     for (Eigen::Index c = 0; c < sr.Xe.cols(); ++c) sr.col_keys.push_back(GramMemo::column_key(sr.Xe, c));
+  return sr.col_keys;
+}
+
+std::vector<Reml> reml_kept(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
+                            const std::vector<char>& skip) {
+  const auto [key, table] = gain_cache().get(sr, shares(sr, mu, lambdas, count, tau), skip);
+  if (!GramMemo::serves(*table, sr.Xe)) return reml_table(sr, *table, skip);
   thread_local std::vector<Eigen::MatrixXd> grams;
-  grams_kept.grams(*table, key, sr.Xe, sr.col_keys, grams);
+  gram_memo().grams(*table, key, sr.Xe, column_keys(sr), grams);
   return reml_from_grams(sr, *table, grams, skip);
+}
+
+// reml_kept at each of the correlation times taus (the grid's), [i][j] at taus[i] and
+// lambdas[j]: the same values bit for bit, the Gram matrices' entries remembered per pair of
+// columns for the whole grid (GramMemo::grid_grams: one lookup per pair instead of one per tau).
+std::vector<std::vector<Reml>> reml_grid(const Series& sr, double mu, const double* lambdas, std::size_t count,
+                                         const std::vector<double>& taus, const std::vector<char>& skip) {
+  std::vector<std::vector<Reml>> out;
+  const Eigen::Index K = sr.Xe.cols();
+  if (count > GramMemo::kMaxModels || K < 1 || K > GramMemo::kMaxColumns || sr.Xe.rows() < GramMemo::kMinFrames) {
+    for (double tau : taus) out.push_back(reml_kept(sr, mu, lambdas, count, tau, skip));
+    return out;
+  }
+  // the grid's key: everything its tables depend on
+  ByteHash k;
+  k.value(sr.key), k.value(skip.size());
+  k.bytes(skip.data(), skip.size());
+  k.value(mu), k.value(sr.tau0), k.value(count);
+  k.bytes(lambdas, count * sizeof(double));
+  k.value(taus.size());
+  k.bytes(taus.data(), taus.size() * sizeof(double));
+  auto table_of = [&](std::size_t i) { return gain_cache().get(sr, shares(sr, mu, lambdas, count, taus[i]), skip); };
+  thread_local std::vector<std::vector<Eigen::MatrixXd>> grams;
+  gram_memo().grid_grams(taus.size(), table_of, k.key(), sr.Xe, column_keys(sr), grams);
+  for (std::size_t i = 0; i < taus.size(); ++i) out.push_back(reml_from_grams(sr, *table_of(i).second, grams[i], skip));
+  return out;
 }
 
 // The null model of share mu (no further Gauss-Markov part; mu = 0: white), its gains kept.
@@ -308,6 +360,14 @@ double brent_max(F f, double a, double b, double width) {
 // The (lambda, tau) search grid: n_tau log-spaced correlation times by these shares.
 constexpr double grid_lambdas[] = {0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995};
 constexpr int n_tau = 28;
+
+// The grid's correlation times between exp(ltau_lo) and exp(ltau_hi) [s], the i-th as
+// search_lambda_tau computes it.
+std::vector<double> grid_taus(double ltau_lo, double ltau_hi) {
+  std::vector<double> taus;
+  for (int i = 0; i < n_tau; ++i) taus.push_back(std::exp(ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1)));
+  return taus;
+}
 
 // The searched range of log tau [s] for a series spanning span seconds.
 std::pair<double, double> log_tau_range(const NoiseIdOptions& o, double span) {
@@ -536,19 +596,22 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     for (const auto& [lam, tau] : lam_tau) out.push_back(crit(lam, tau));
     return out;
   };
-  auto crit_grid = [&](int i, double tau) {
+  // this round's grid (unless given): the REML at every grid model
+  std::vector<std::vector<Reml>> this_grid;
+  auto crit_grid = [&](int i, double) {
     std::vector<double> out;
     if (grid) {  // the profile grid's ML values at the i-th tau (point 0 is the null)
       for (std::size_t j = 0; j < std::size(grid_lambdas); ++j)
         out.push_back(grid->points[1 + static_cast<std::size_t>(i) * std::size(grid_lambdas) + j].ml);
       return out;
     }
-    for (const Reml& r : reml_kept(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip))
-      out.push_back(o.profile_ml ? r.ml : r.ll);
+    if (this_grid.empty()) this_grid = reml_grid(sr, mu, grid_lambdas, std::size(grid_lambdas), grid_taus(ltau_lo, ltau_hi), skip);
+    for (const Reml& r : this_grid[static_cast<std::size_t>(i)]) out.push_back(o.profile_ml ? r.ml : r.ll);
     return out;
   };
   for (int round = 0; round < 5; ++round) {
     seen.clear();  // the flags changed
+    this_grid.clear();
     const Reml white = reml_null(sr, 0.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
     const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, crit_many, ltau_lo, ltau_hi);
@@ -635,10 +698,12 @@ NoiseGrid grid_of(const std::vector<double>& t, const std::vector<double>& h, co
     g.points.push_back(pt);
   };
   keep(0.0, 1.0, 0.0, reml_null(sr, mu, skip));
+  const std::vector<double> taus = grid_taus(ltau_lo, ltau_hi);
+  const std::vector<std::vector<Reml>> rs = reml_grid(sr, mu, grid_lambdas, std::size(grid_lambdas), taus, skip);
   for (int i = 0; i < n_tau; ++i) {
-    const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1), tau = std::exp(lt);
-    const std::vector<Reml> rs = reml_kept(sr, mu, grid_lambdas, std::size(grid_lambdas), tau, skip);
-    for (std::size_t j = 0; j < rs.size(); ++j) keep(grid_lambdas[j], tau, lt, rs[j]);
+    const double lt = ltau_lo + (ltau_hi - ltau_lo) * i / (n_tau - 1);
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::size_t j = 0; j < rs[ui].size(); ++j) keep(grid_lambdas[j], taus[ui], lt, rs[ui][j]);
   }
   return g;
 }
