@@ -275,6 +275,17 @@ TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each mod
   CHECK_THROWS_WITH(whiten_each_model(table, Eigen::VectorXd::Zero(n - 1), w), Catch::Contains("rows != number of times"));
 }
 
+// n frame times dt apart moved by wobble sin(i) (irregular sampling) and gains h0 + dh i.
+std::pair<std::vector<double>, std::vector<double>> wobbly_frames(Eigen::Index n, double dt, double wobble, double h0,
+                                                                  double dh) {
+  std::vector<double> t, h;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t.push_back(dt * static_cast<double>(i) + wobble * std::sin(static_cast<double>(i)));
+    h.push_back(h0 + dh * static_cast<double>(i));
+  }
+  return {t, h};
+}
+
 TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whether computed or read") {
   // The landing diagnosis's likelihoods come from these matrices; a memo that changed one bit
   // would change its reports. Each width 1-8 (whitened_grams' unrolled kernels, whose sums
@@ -285,12 +296,8 @@ TEST_CASE("gram memo: its Gram matrices are whitened_grams', bit for bit, whethe
   // The memo serves series of kMinFrames frames and more: irregular times, gains h, two frames
   // kept out.
   const Eigen::Index n = GramMemo::kMinFrames + 40;
-  std::vector<double> t, h;
+  const auto [t, h] = wobbly_frames(n, 0.5, 0.2, 0.5, 0.002);
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    t.push_back(0.5 * static_cast<double>(i) + 0.2 * std::sin(static_cast<double>(i)));
-    h.push_back(0.5 + 0.002 * static_cast<double>(i));
-  }
   skip[4] = skip[100] = 1;
   for (const auto& ps : {models_at({0.0, 0.3, 0.6, 0.8, 0.9, 0.98, 0.995}), models_at({0.2, 0.7, 0.9})}) {
     GainTable table;
@@ -340,12 +347,8 @@ TEST_CASE("gram memo: a grid's Gram matrices are grams()' per table, bit for bit
   // are computed, read, or partly read (one column changed), with a memo whose generations turn
   // on every call; a table of another model count is refused.
   const Eigen::Index n = GramMemo::kMinFrames + 25;
-  std::vector<double> t, h;
+  const auto [t, h] = wobbly_frames(n, 0.4, 0.1, 0.8, 0.001);
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    t.push_back(0.4 * static_cast<double>(i) + 0.1 * std::cos(static_cast<double>(i)));
-    h.push_back(0.8 + 0.001 * static_cast<double>(i));
-  }
   skip[9] = 1;
   const std::vector<double> taus = {0.3, 2.0, 11.0, 60.0};
   std::vector<GainTable> tables(taus.size());

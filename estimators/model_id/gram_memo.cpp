@@ -47,6 +47,24 @@ constexpr auto kSums = sums_table(std::make_index_sequence<GramMemo::kMaxModels>
 
 }  // namespace
 
+GramMemo::Key GramMemo::pair_key(const Key& owner, const Key& ka, const Key& kb) {
+  // w_a w_b = w_b w_a exactly, summed in the same order: one entry for both orders
+  ByteHash k;
+  k.value(owner), k.value(std::min(ka, kb)), k.value(std::max(ka, kb));
+  return k.key();
+}
+
+GramMemo::Whitened GramMemo::whitened_column(const GainTable& table, const Key& table_key, const Eigen::MatrixXd& M,
+                                             Eigen::Index c, const Key& col_key) {
+  ByteHash k;
+  k.value(table_key), k.value(col_key);
+  if (const Whitened* kept = columns_.find(k.key())) return *kept;
+  auto out = std::make_shared<std::vector<double>>();
+  whiten_each_model(table, M.col(c), *out);
+  columns_.insert(k.key(), out, out->size() * sizeof(double) + kEntryOverhead);
+  return out;
+}
+
 GramMemo::GramMemo(std::size_t budget_bytes)
     : columns_(budget_bytes), entries_(budget_bytes), grid_entries_(budget_bytes) {
   if (budget_bytes == 0) throw std::invalid_argument("GramMemo: the budget must be > 0 bytes");
@@ -85,45 +103,24 @@ void GramMemo::grams(const GainTable& table, const Key& table_key, const Eigen::
   missing.clear();
   for (Eigen::Index a = 0; a < K; ++a)
     for (Eigen::Index b = a; b < K; ++b) {
-      // w_a w_b = w_b w_a exactly, summed in the same order: one entry for both orders
-      const Key& ka = col_keys[static_cast<std::size_t>(a)];
-      const Key& kb = col_keys[static_cast<std::size_t>(b)];
-      ByteHash k;
-      k.value(table_key), k.value(std::min(ka, kb)), k.value(std::max(ka, kb));
-      if (const Sums* s = entries_.find(k.key())) {
+      const Key key = pair_key(table_key, col_keys[static_cast<std::size_t>(a)], col_keys[static_cast<std::size_t>(b)]);
+      if (const Sums* s = entries_.find(key)) {
         set(a, b, *s);
         ++read_;
       } else {
-        missing.push_back({a, b, k.key()});
+        missing.push_back({a, b, key});
       }
     }
   if (missing.empty()) return;
   // the columns the missing entries need, whitened under every model (kept, or whitened now)
   std::vector<Whitened>& w = w_;
-  std::vector<Key>& wkey = wkey_;
-  std::vector<Eigen::Index>& to_whiten = to_whiten_;
   std::vector<char>& needed = needed_;
   w.assign(static_cast<std::size_t>(K), nullptr);
-  wkey.resize(static_cast<std::size_t>(K));
-  to_whiten.clear();
   needed.assign(static_cast<std::size_t>(K), 0);
   for (const Missing& m : missing) needed[static_cast<std::size_t>(m.a)] = needed[static_cast<std::size_t>(m.b)] = 1;
-  for (Eigen::Index c = 0; c < K; ++c) {
-    const auto uc = static_cast<std::size_t>(c);
-    if (!needed[uc]) continue;
-    ByteHash k;
-    k.value(table_key), k.value(col_keys[uc]);
-    wkey[uc] = k.key();
-    if (const Whitened* kept = columns_.find(wkey[uc])) w[uc] = *kept;
-    else to_whiten.push_back(c);
-  }
-  for (const Eigen::Index c : to_whiten) {
-    const auto uc = static_cast<std::size_t>(c);
-    auto out = std::make_shared<std::vector<double>>();
-    whiten_each_model(table, M.col(c), *out);
-    w[uc] = out;
-    columns_.insert(wkey[uc], w[uc], out->size() * sizeof(double) + kEntryOverhead);
-  }
+  for (Eigen::Index c = 0; c < K; ++c)
+    if (needed[static_cast<std::size_t>(c)])
+      w[static_cast<std::size_t>(c)] = whitened_column(table, table_key, M, c, col_keys[static_cast<std::size_t>(c)]);
   for (const Missing& mi : missing) {
     const double* wa = w[static_cast<std::size_t>(mi.a)]->data();
     const double* wb = w[static_cast<std::size_t>(mi.b)]->data();
@@ -160,17 +157,14 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
   };
   for (Eigen::Index a = 0; a < K; ++a)
     for (Eigen::Index b = a; b < K; ++b) {
-      const Key& ka = col_keys[static_cast<std::size_t>(a)];
-      const Key& kb = col_keys[static_cast<std::size_t>(b)];
-      ByteHash k;
-      k.value(grid_key), k.value(std::min(ka, kb)), k.value(std::max(ka, kb));
-      if (const std::vector<double>* s = grid_entries_.find(k.key())) {
+      const Key key = pair_key(grid_key, col_keys[static_cast<std::size_t>(a)], col_keys[static_cast<std::size_t>(b)]);
+      if (const std::vector<double>* s = grid_entries_.find(key)) {
         shape(s->size() / T);
         for (std::size_t t = 0; t < T; ++t)
           for (std::size_t j = 0; j < J; ++j) grams[t][j](a, b) = grams[t][j](b, a) = (*s)[t * J + j];
         ++read_;
       } else {
-        pending.push_back({a, b, k.key()});
+        pending.push_back({a, b, key});
       }
     }
   if (pending.empty()) return;
@@ -190,20 +184,9 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
       if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("GramMemo: rows != number of times");
     shape(table->models.size());
     w.assign(static_cast<std::size_t>(K), nullptr);
-    for (Eigen::Index c = 0; c < K; ++c) {
-      const auto uc = static_cast<std::size_t>(c);
-      if (!needed[uc]) continue;
-      ByteHash k;
-      k.value(table_key), k.value(col_keys[uc]);
-      if (const Whitened* kept = columns_.find(k.key())) {
-        w[uc] = *kept;
-        continue;
-      }
-      auto out = std::make_shared<std::vector<double>>();
-      whiten_each_model(*table, M.col(c), *out);
-      w[uc] = out;
-      columns_.insert(k.key(), w[uc], out->size() * sizeof(double) + kEntryOverhead);
-    }
+    for (Eigen::Index c = 0; c < K; ++c)
+      if (needed[static_cast<std::size_t>(c)])
+        w[static_cast<std::size_t>(c)] = whitened_column(*table, table_key, M, c, col_keys[static_cast<std::size_t>(c)]);
     for (std::size_t m = 0; m < pending.size(); ++m) {
       const Pending& p = pending[m];
       Sums s{};

@@ -84,6 +84,11 @@ class GramMemo {
   /// [t * J + j].
   GenerationStore<std::vector<double>> grid_entries_;
   std::size_t computed_ = 0, read_ = 0;
+  /// The key of the entry of columns ka, kb under owner (a table's or a grid's key).
+  static Key pair_key(const Key& owner, const Key& ka, const Key& kb);
+  /// Column c of M whitened under every model of the table: kept, or whitened now and kept.
+  Whitened whitened_column(const GainTable& table, const Key& table_key, const Eigen::MatrixXd& M, Eigen::Index c,
+                           const Key& col_key);
   // one call's scratch, kept between calls (a memo serves one thread)
   struct Missing {
     Eigen::Index a, b;
@@ -91,8 +96,6 @@ class GramMemo {
   };
   std::vector<Missing> missing_;
   std::vector<Whitened> w_;
-  std::vector<Key> wkey_;
-  std::vector<Eigen::Index> to_whiten_;
   std::vector<char> needed_;
 };
 
