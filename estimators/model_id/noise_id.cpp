@@ -217,9 +217,7 @@ class GainCache {
   GenerationStore<GainTable> kept_{kGainCacheBytes};
 };
 
-// reml_shares for models every identification evaluates (GainCache).
-// Their whitened Gram matrices from the entries remembered per pair of columns (GramMemo): the
-// same values, bit for bit.
+// The gain tables kept for this thread.
 GainCache& gain_cache() {
   thread_local GainCache cache;
   return cache;
@@ -240,6 +238,9 @@ const std::vector<GramMemo::Key>& column_keys(const Series& sr) {
   return sr.col_keys;
 }
 
+// reml_shares for models every identification evaluates (GainCache).
+// Their whitened Gram matrices from the entries remembered per pair of columns (GramMemo): the
+// same values, bit for bit.
 std::vector<Reml> reml_kept(const Series& sr, double mu, const double* lambdas, std::size_t count, double tau,
                             const std::vector<char>& skip) {
   const auto [key, table] = gain_cache().get(sr, shares(sr, mu, lambdas, count, tau), skip);
@@ -297,10 +298,11 @@ std::vector<Reml> reml_points(const Series& sr, double mu, const std::vector<std
   return reml_table(sr, table, skip);
 }
 
-// The refinement's resolution: each line search below stops once its bracket is narrower than
-// this, in log tau (0.1 % of tau) and in logit lambda. Fixed iteration counts
-// (30 and 40) used to narrow the brackets to 1e-7 and 1e-8: twice the REML evaluations, for
-// maxima whose log-likelihood then differed by less than the decisions' rounding.
+// The refinement's resolution, in log tau (0.1 % of tau) and in logit lambda: the trust-region
+// ascent stops once a step is under it, the line searches (where the ascent meets a model
+// leaving no spread) once their bracket is narrower. Fixed iteration counts (30 and 40) used to
+// narrow the line searches' brackets to 1e-7 and 1e-8: twice the REML evaluations, for maxima
+// whose log-likelihood then differed by less than the decisions' rounding.
 constexpr double kRefineWidth = 1e-3;
 
 // Brent's maximum of f on [a, b] (Brent 1973, ch. 5: parabolic interpolation through the three

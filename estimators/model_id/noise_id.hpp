@@ -6,8 +6,8 @@
 // correlated noise. For each (lambda, tau) the scale s^2 is profiled out in closed form:
 //   l_R = -1/2 [ n' log(RSS / n') + sum log S~_i + log|X~' X~| + n' (1 + log 2 pi) ],
 // n' = n - rank(X), S~ the innovation variances for s^2 = 1. Search: a log grid of tau in
-// [tau_min_s, min(tau_max_s, span / tau_span_divisor)] by a grid of lambda, then coordinate
-// golden-section refinement. White noise is the model lambda = 0; the correlated model is kept
+// [tau_min_s, min(tau_max_s, span / tau_span_divisor)] by a grid of lambda, then a trust-region
+// Newton ascent in (log tau, logit lambda) from the grid's best point (box_ascent.hpp). White noise is the model lambda = 0; the correlated model is kept
 // when 2 (l_corr - l_white) exceeds the chi-square(2) quantile at alpha_correlated; it departs
 // from the nominal model (white, or a stated Gauss-Markov share) when 2 (l_corr - l_nominal) does.
 // Outliers: frames whose standardized innovation exceeds z_outlier are flagged and the model is
