@@ -434,7 +434,7 @@ constexpr double kLambdaLo = 0.01, kLambdaHi = 0.999;
 // 2 log LR moves by under 2e-5, where the decisions' thresholds are units. Where the data
 // cannot tell a share or a tau (a flat likelihood) the ascent otherwise climbs by 1e-9 a batch:
 // on the 500-plot landing diagnosis the batches per refinement were 6.2 on average without this
-// stop, 9 % ending at kRefineBatches; with it 4.6 and 4 %.
+// stop (and with a fixed stencil step), 9 % ending at kRefineBatches; with it 4.5 and 4 %.
 constexpr double kRefineRise = 1e-5;
 // The refinement's batches at most (box_ascent's): the first stencil and 11 steps; on a ridge
 // the trust radius doubles up to 8 grid steps a batch.
