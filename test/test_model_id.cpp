@@ -622,6 +622,35 @@ TEST_CASE("effect search: the physical cause is named, the scanned step listed a
   CHECK(named == 5);
 }
 
+TEST_CASE("effect search: a confounding note names each entry's scope where their signatures read the same",
+          "[model_id]") {
+  // Two entries of one kind on different scopes share their signature text ("... of this
+  // target" in the multi-sensor catalogue): "Data in which the range and the range vary
+  // differently" would not say which is which. A range gain on a second scope whose column is
+  // the range with a slow 1 % ripple is confounded with the first; the note names both scopes.
+  Synthetic s = make(3, 3e-3, 0, 8.0, 0, 0.5);
+  const auto n = static_cast<Eigen::Index>(s.pb.y.size());
+  const std::vector<double> range = s.range, t_s = s.pb.t_s;
+  s.pb.catalogue.push_back({"range_gain", {"radar", "2"}, {"1"}, "the range", "", {}, [range, t_s, n](std::size_t) {
+                              Eigen::MatrixXd C(n, 1);
+                              for (Eigen::Index i = 0; i < n; ++i) {
+                                const auto ui = static_cast<std::size_t>(i);
+                                C(i, 0) = range[ui] * (1 + 0.01 * std::sin(t_s[ui] / 40));
+                              }
+                              return C;
+                            }});
+  const SearchResult r = search_effects(s.pb, SearchOptions{});
+  REQUIRE(!r.effects.empty());
+  const FoundEffect& fe = r.effects[0];
+  INFO(fe.name << " (" << fe.scope.label() << "): " << fe.note);
+  CHECK(fe.name == "range_gain");
+  REQUIRE_FALSE(fe.confounded_with.empty());
+  CHECK(fe.note.find("vary differently") != std::string::npos);
+  CHECK(fe.note.find("the range and the range vary") == std::string::npos);
+  CHECK(fe.note.find("the range (sensor radar)") != std::string::npos);
+  CHECK(fe.note.find("the range (radar:2)") != std::string::npos);
+}
+
 TEST_CASE("effect search: effects_only reports the same effects and confounding, and nothing else", "[model_id][injection]") {
   // What an injected search reads (named effects and confounded_with) must not depend on the
   // report's later parts it skips: a range gain that lists the step as confounded, and a step.

@@ -37,6 +37,12 @@ double scan_se(const Design& d, const Projector& P, std::size_t e, std::size_t v
   return std::max(0.5 * std::abs(c.scan[hi] - c.scan[lo]), step / std::sqrt(12.0));
 }
 
+// c's signature for a sentence that names it beside other's: with c's scope where the two read
+// the same (two entries of one kind on different targets, each "... of this target").
+std::string signature_named(const Candidate& c, const Candidate& other) {
+  return c.signature == other.signature ? c.signature + " (" + c.scope.label() + ")" : c.signature;
+}
+
 void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, double m, FoundEffect& fe,
                  std::size_t s) {
   const Problem& p = *d.pb;
@@ -70,7 +76,7 @@ void confounding(const Design& d, const SearchOptions& o, const Chosen& chosen, 
     fe.note += (fe.note.empty() ? "" : "; ") + std::string("explains the same residual here as ") + c.name + " (" +
                c.scope.label() + "; canonical correlation " + short_num(c.corr) + ", 2 log LR difference " +
                short_num(c.dlr) + ")" + (self.is_shape() ? "" : "; named as the physical one-parameter cause") +
-               ". Data in which " + self.signature + " and " + other.signature +
+               ". Data in which " + signature_named(self, other) + " and " + signature_named(other, self) +
                " vary differently would separate them";
   }
 }
