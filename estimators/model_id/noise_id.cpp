@@ -446,8 +446,9 @@ constexpr int kRefineBatches = 12;
 //
 // The refinement is box_ascent's trust-region Newton ascent in (u, z) = ((log tau - log
 // tau_lo) / grid step, logit lambda) from the grid's best point: one grid step is a unit in
-// either, the stencil's step 0.05 of it, each batch 6 models in one pass of the recursions, and
-// it stops once a step is under kRefineWidth in log tau and in logit lambda. Where a stencil
+// either, the stencil's step 0.005-0.05 of it (half the last step), each batch 6 models in one
+// pass of the recursions, and it stops once a step is under kRefineWidth in log tau and in logit
+// lambda or promises under kRefineRise. Where a stencil
 // meets a model leaving no spread (a value not finite), the coordinate line searches (Brent)
 // finish from where it stopped.
 template <class F, class G, class M>

@@ -241,13 +241,23 @@ struct Frames {
     }
     const std::size_t JJ = N > 0 ? N : J;
     const auto n = static_cast<Eigen::Index>(t.size());
-    // one transition exp(-dt / tau) per model; computed once when the models share tau (the
-    // grid's shares at one tau), each model's own otherwise (a refinement's batch)
-    bool one_tau = true;
-    for (std::size_t j = 1; j < JJ; ++j) one_tau = one_tau && ps[j].tau_s == ps[0].tau_s;
+    // one transition exp(-dt / tau) per model, computed once per distinct tau: model j takes
+    // model same[j]'s, the first of its tau (the grid's shares at one tau share one; a
+    // refinement's batch of six has three)
     double e_local[N > 0 ? N : 1] = {};
+    std::size_t same_local[N > 0 ? N : 1] = {};
     std::vector<double> e_any(N > 0 ? 0 : JJ, 0.0);
+    std::vector<std::size_t> same_any(N > 0 ? 0 : JJ, 0);
     double* e = N > 0 ? e_local : e_any.data();
+    std::size_t* same = N > 0 ? same_local : same_any.data();
+    for (std::size_t j = 0; j < JJ; ++j) {
+      same[j] = j;
+      for (std::size_t k = 0; k < j; ++k)
+        if (ps[k].tau_s == ps[j].tau_s) {
+          same[j] = k;
+          break;
+        }
+    }
     double t_prev = 0, dt_prev = NAN, e0 = 0;
     bool started = false;
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -261,14 +271,7 @@ struct Frames {
         const double dt = t[ui] - t_prev;
         if (dt != dt_prev) {  // regular sampling: the transitions of the last step again
           e0 = any_q0 ? std::exp(-dt / nom_tau_s) : 0.0;
-          if (!any_q) {
-            for (std::size_t j = 0; j < JJ; ++j) e[j] = 0.0;
-          } else if (one_tau) {
-            const double e_all = std::exp(-dt / ps[0].tau_s);
-            for (std::size_t j = 0; j < JJ; ++j) e[j] = e_all;
-          } else {
-            for (std::size_t j = 0; j < JJ; ++j) e[j] = std::exp(-dt / ps[j].tau_s);
-          }
+          for (std::size_t j = 0; j < JJ; ++j) e[j] = !any_q ? 0.0 : same[j] < j ? e[same[j]] : std::exp(-dt / ps[j].tau_s);
           dt_prev = dt;
         }
       }
