@@ -88,6 +88,9 @@ struct Candidate {
   std::vector<double> scan;         ///< the scan grid (empty: not scanned)
   /// Columns of grid point v (0 when not scanned): n_obs x params.size(), zero outside its scope.
   std::function<Eigen::MatrixXd(std::size_t v)> columns;
+  /// columns(v) for every v, computed and checked once (none: computed on each call). Set by
+  /// the limits by injection for their searches, whose catalogue is the same in every one.
+  std::shared_ptr<const std::vector<Eigen::MatrixXd>> kept_columns{};
   /// Only an alternative of a scope question (e.g. a hardware effect's per-recording values):
   /// never selected, tested or given a limit on its own, and not in the familywise count.
   bool scope_only = false;

@@ -144,7 +144,8 @@ double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
 }
 
 double EntryTests::profile_lr(std::size_t e, std::size_t v) {
-  const Eigen::MatrixXd C = d_.raw_columns(e, v);
+  Eigen::MatrixXd scratch;
+  const Eigen::MatrixXd& C = d_.raw_view(e, v, scratch);
   double lr = 0;
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
@@ -159,7 +160,8 @@ double EntryTests::profile_lr(std::size_t e, std::size_t v) {
 
 double EntryTests::scanned(std::size_t e, std::size_t v) {
   if (!(null_set_q_ > 0)) return profile_lr(e, v);
-  const Eigen::MatrixXd C = d_.raw_columns(e, v);
+  Eigen::MatrixXd scratch;
+  const Eigen::MatrixXd& C = d_.raw_view(e, v, scratch);
   double lr = 0;
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
@@ -183,7 +185,8 @@ double EntryTests::scanned(std::size_t e, std::size_t v) {
 }
 
 double EntryTests::fixed(std::size_t e) const {
-  const Eigen::MatrixXd C = d_.raw_columns(e, 0);
+  Eigen::MatrixXd scratch;
+  const Eigen::MatrixXd& C = d_.raw_view(e, 0, scratch);
   std::vector<NoiseParams> np = d_.noise;
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
     const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
@@ -219,7 +222,8 @@ double EntryTests::fixed(std::size_t e) const {
 // channel is re-whitened; the same 2 log LR as Projector's to rounding).
 double EntryTests::least_over_noise(std::size_t e, std::size_t v, double q) const {
   if (!(q > 0)) throw std::invalid_argument("effect search: the noise confidence set's q must be > 0");
-  const Eigen::MatrixXd C = d_.raw_columns(e, v);
+  Eigen::MatrixXd scratch;
+  const Eigen::MatrixXd& C = d_.raw_view(e, v, scratch);
   const Eigen::Index k = raw_.cols(), kc = C.cols(), K = k + kc + 1;
   Eigen::MatrixXd A(raw_.rows(), K);
   A << raw_, C, Eigen::Map<const Eigen::VectorXd>(d_.pb->y.data(), static_cast<Eigen::Index>(d_.pb->size()));

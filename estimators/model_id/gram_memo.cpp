@@ -59,9 +59,11 @@ GramMemo::Whitened GramMemo::whitened_column(const GainTable& table, const Key& 
   ByteHash k;
   k.value(table_key), k.value(col_key);
   if (const Whitened* kept = columns_.find(k.key())) return *kept;
-  auto out = std::make_shared<std::vector<double>>();
-  whiten_each_model(table, M.col(c), *out);
-  columns_.insert(k.key(), out, out->size() * sizeof(double) + kEntryOverhead);
+  // (not value-initialised: every value is written)
+  const std::size_t size = static_cast<std::size_t>(M.rows()) * table.gains.size();
+  std::shared_ptr<double[]> out(new double[size]);
+  whiten_each_model(table, M.col(c), out.get());
+  columns_.insert(k.key(), out, size * sizeof(double) + kEntryOverhead);
   return out;
 }
 
@@ -122,8 +124,8 @@ void GramMemo::grams(const GainTable& table, const Key& table_key, const Eigen::
     if (needed[static_cast<std::size_t>(c)])
       w[static_cast<std::size_t>(c)] = whitened_column(table, table_key, M, c, col_keys[static_cast<std::size_t>(c)]);
   for (const Missing& mi : missing) {
-    const double* wa = w[static_cast<std::size_t>(mi.a)]->data();
-    const double* wb = w[static_cast<std::size_t>(mi.b)]->data();
+    const double* wa = w[static_cast<std::size_t>(mi.a)].get();
+    const double* wb = w[static_cast<std::size_t>(mi.b)].get();
     Sums s{};
     kSums[J - 1](wa, wb, n, s);
     set(mi.a, mi.b, s);
@@ -190,7 +192,7 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
     for (std::size_t m = 0; m < pending.size(); ++m) {
       const Pending& p = pending[m];
       Sums s{};
-      kSums[J - 1](w[static_cast<std::size_t>(p.a)]->data(), w[static_cast<std::size_t>(p.b)]->data(), n, s);
+      kSums[J - 1](w[static_cast<std::size_t>(p.a)].get(), w[static_cast<std::size_t>(p.b)].get(), n, s);
       sums[m].resize(T * J);
       for (std::size_t j = 0; j < J; ++j) {
         grams[t][j](p.a, p.b) = grams[t][j](p.b, p.a) = s[j];

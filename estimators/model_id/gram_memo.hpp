@@ -77,7 +77,7 @@ class GramMemo {
  private:
   using Sums = std::array<double, kMaxModels>;  ///< one entry under each model
   /// A column whitened under every model, frame-major: w[i * J + j].
-  using Whitened = std::shared_ptr<const std::vector<double>>;
+  using Whitened = std::shared_ptr<const double[]>;
   GenerationStore<Whitened> columns_;
   GenerationStore<Sums> entries_;
   /// A grid's entry: the sums of one pair of columns under every model of its T tables,

@@ -155,6 +155,9 @@ struct CheckRule {
   }
 };
 
+// The probit slope's prior (probit_log_crossing says why): mean and SD.
+constexpr double kSlopePrior = 4.8, kSlopePriorSd = 2;
+
 // The size hit with probability p by the probit P(hit | a) = Phi(b0 + b1 log a) fitted to the
 // ladder by penalised maximum likelihood (Fisher scoring). A few rungs of ten leave the slope
 // loose (one rung at 7/10 and one at 10/10 make it any steepness), so b1 carries a weak normal
@@ -173,7 +176,6 @@ double probit_log_crossing(const std::vector<InjectedLimit::Rung>& ladder, bool 
   // the highest miss
   const double x0 = std::isfinite(x_hit) ? (std::isfinite(x_miss) ? 0.5 * (x_hit + x_miss) : x_hit) : x_miss + std::log(2.0);
   double b1 = 4, b0 = zp - b1 * x0;
-  constexpr double kSlopePrior = 4.8, kSlopePriorSd = 2;
   auto loglik = [&](double c0, double c1) {
     double l = -0.5 * std::pow((c1 - kSlopePrior) / kSlopePriorSd, 2);
     for (const auto& r : ladder) {
@@ -234,8 +236,9 @@ Problem with_columns_kept(const Problem& pb, const Design& d) {
   Problem q = pb;
   for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
     auto kept = std::make_shared<std::vector<Eigen::MatrixXd>>();
-    for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) kept->push_back(d.raw_columns(e, v));
+    for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) kept->push_back(d.raw_columns(e, v));  // checked
     q.catalogue[e].columns = [kept](std::size_t v) { return kept->at(v); };
+    q.catalogue[e].kept_columns = kept;
   }
   return q;
 }
@@ -261,6 +264,9 @@ constexpr double kMinStep = 1.25, kMaxStep = 2.0;
 // little over half the smallest step (log 1.25 / 2 = 0.112), so a crossing between two rungs a
 // step apart is checked at once, and one inside a wider bracket gets its rung first.
 constexpr double kNearRung = 0.12;
+// The top of the band a stated size's rate should lie in (80-97 %, docs/diagnosis.md): a
+// detection limit is stated at the naming limit where the detected rate there stays below it.
+constexpr double kBandHi = 0.97;
 
 }  // namespace
 
@@ -318,8 +324,9 @@ InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double po
   }
   lim.named = fitted(true);
   lim.detected = fitted(false);
-  // The check batches: at the named size, and at the detected size unless within 3 % of it
-  // (then the named batch's detections tell it: one batch, both counts). A batch stops once its
+  // The check batches: at the named size, and at the detected size unless that is stated at
+  // the named size (same_ratio below: then the named batch's detections tell it, one batch,
+  // both counts). A batch stops once its
   // verdict - does the Clopper-Pearson interval of all `injections` contain `power`? - is
   // settled (CheckRule), and states the injections run, their hits and their interval. A check
   // whose verdict is "no" joins the ladder, the curve is refitted and checked again (at most
@@ -332,8 +339,13 @@ InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double po
     const Interval ci = clopper_pearson(hits, run, io.conf);
     s.lo = ci.lo, s.hi = ci.hi;
   };
+  // A detection limit fitted above the naming limit, or below it by less than kSameCheck, is
+  // stated at the naming limit and checked by its batch: every injection named is detected, so
+  // the detected rate there is at least the named one, and at most kBandHi where the curves'
+  // slope is the prior's: log(a_named / a_detected) <= (z_kBandHi - z_power) / kSlopePrior.
+  const double same_ratio = std::exp(-(normal_upper_quantile(1 - kBandHi) - normal_upper_quantile(1 - power)) / kSlopePrior);
   for (int k = 0; k < kChecks && std::isfinite(lim.named.size); ++k) {
-    const bool same = std::abs(lim.detected.size / lim.named.size - 1) < 0.03;
+    const bool same = !(lim.detected.size < same_ratio * lim.named.size);
     const Count n = batch(draw, batch_id++, lim.named.size, io.injections, io.threads, [&](const Count& m) {
       return cr.verdict(m.run, m.named) >= 0 && (!same || cr.verdict(m.run, m.detected) >= 0);
     });

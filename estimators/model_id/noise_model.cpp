@@ -446,14 +446,18 @@ void whitened_grams(const GainTable& table, const Eigen::MatrixXd& M, std::vecto
   }
 }
 
-void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w) {
+void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, double* w) {
   const std::size_t J = table.gains.size();
   const Eigen::Index n = m.size();
   for (const auto& g : table.gains)
     if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("whiten: rows != number of times");
   if (J > kMaxEach) throw std::invalid_argument("whiten: at most " + std::to_string(kMaxEach) + " models at once");
-  w.resize(static_cast<std::size_t>(n) * J);
-  if (J > 0) kWhitenEach[J - 1](table.gains, m.data(), n, w.data());
+  if (J > 0) kWhitenEach[J - 1](table.gains, m.data(), n, w);
+}
+
+void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w) {
+  w.resize(static_cast<std::size_t>(m.size()) * table.gains.size());
+  whiten_each_model(table, m, w.data());
 }
 
 void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M) {

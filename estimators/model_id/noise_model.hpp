@@ -111,6 +111,8 @@ void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M
 /// table.models[j] (J models, at most 16), each value whiten(table, j, m)'s bit for bit.
 /// Throws std::invalid_argument when m's rows are not the table's frames or J > 16.
 void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w);
+/// The same into w, room for m.size() x J values (written, never read: it need not be initialised).
+void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, double* w);
 
 /// What a likelihood of M's last column given the others needs, without forming the whitened
 /// matrices: grams[j] = W_j' W_j, W_j being M whitened under table.models[j] (each whitened value

@@ -102,6 +102,13 @@ Eigen::MatrixXd Design::raw_columns(std::size_t e, std::size_t v) const {
   return C;
 }
 
+const Eigen::MatrixXd& Design::raw_view(std::size_t e, std::size_t v, Eigen::MatrixXd& scratch) const {
+  const Candidate& c = pb->catalogue[e];
+  if (c.kept_columns && v < c.kept_columns->size()) return (*c.kept_columns)[v];
+  scratch = raw_columns(e, v);
+  return scratch;
+}
+
 Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const { return whiten_with(raw, noise); }
 
 Eigen::MatrixXd Design::whiten_with(const Eigen::MatrixXd& raw, const std::vector<NoiseParams>& np) const {
@@ -165,8 +172,9 @@ void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std
   yw = whiten_through(Eigen::Map<const Eigen::VectorXd>(p.y.data(), static_cast<Eigen::Index>(p.size())), tables);
   Nw = p.nuisance.cols() > 0 ? whiten_through(p.nuisance, tables) : Eigen::MatrixXd(static_cast<Eigen::Index>(p.size()), 0);
   Cw.assign(p.catalogue.size(), {});
+  Eigen::MatrixXd scratch;
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
-    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten_through(raw_columns(e, v), tables));
+    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten_through(raw_view(e, v, scratch), tables));
   Cg.assign(p.catalogue.size(), {});
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
     for (const Eigen::MatrixXd& C : Cw[e]) Cg[e].push_back(unit_gram(C));

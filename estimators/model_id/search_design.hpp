@@ -81,6 +81,9 @@ struct Design {
   Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const;
   /// Raw columns of entry e at grid point v (checked shape).
   Eigen::MatrixXd raw_columns(std::size_t e, std::size_t v) const;
+  /// The same without a copy where the entry's columns are kept (Candidate::kept_columns,
+  /// checked when kept); else raw_columns(e, v) put in scratch. Valid while both live.
+  const Eigen::MatrixXd& raw_view(std::size_t e, std::size_t v, Eigen::MatrixXd& scratch) const;
 };
 
 /// [Nw | whitened columns of the chosen (entry, grid point) pairs].
