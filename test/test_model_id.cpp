@@ -1394,6 +1394,44 @@ TEST_CASE("injected limits: on a known hit curve the stated sizes are hit at 90 
   CHECK_THROWS_WITH(ladder_on_curve(HitCurve{0, 1, 1}, 0.9, io, 1), Catch::Contains("slope"));
 }
 
+TEST_CASE("injected limits: a detection limit near or above the naming limit is stated there, from its batch", "[model_id][injection]") {
+  // Every injection named is detected, so at the naming limit the detected rate is at least the
+  // named one: a detection limit fitted above it, or less than 12 % below it (where the curves'
+  // slope is the prior's, 4.8, the detected rate there stays under 97 %), is stated at the
+  // naming limit with the named batch's detections. Hit curves as in ladder_curve.hpp (one
+  // uniform per injection, named below Phi at a_named, detected below Phi at a_detected). Every
+  // ladder states a detection limit at most the naming limit, and one within 12 % below it is
+  // the naming limit itself (a refit after a failed detection check is capped there too). With the two 90 % points 5 % apart most share (the 3 % window before shared
+  // only fits that fell within 3 % of each other); a factor 2 apart none does.
+  InjectionOptions io;
+  io.injections = 20;
+  io.threads = 1;
+  auto draw_on = [](double a_named, double a_detected, std::uint64_t seed) {
+    return [=](double a, std::size_t batch, int i) {
+      std::mt19937_64 rng(seed * 1000003 + batch * 1009 + static_cast<std::uint64_t>(i));
+      const double u = std::uniform_real_distribution<double>(0, 1)(rng);
+      const double z = normal_upper_quantile(0.1);
+      return InjectionHit{u < normal_cdf(4.8 * std::log(a / a_named) + z), u < normal_cdf(4.8 * std::log(a / a_detected) + z)};
+    };
+  };
+  constexpr double kSameRatio = 0.8826;  // exp(-(z_0.97 - z_0.9) / 4.8)
+  constexpr int kSeeds = 20;
+  int near_shared = 0, apart_shared = 0;
+  for (std::uint64_t seed = 1; seed <= kSeeds; ++seed)
+    for (const double a_detected : {1.14, 0.6}) {
+      const InjectedLimit L = measure_ladder(draw_on(1.2, a_detected, seed), 1.0, 0.9, io);
+      INFO("seed " << seed << ", a_detected " << a_detected << ": named " << L.named.size << " (" << L.named.hits << "/"
+                   << L.named.n << "), detected " << L.detected.size << " (" << L.detected.hits << "/" << L.detected.n << ")");
+      CHECK(L.detected.size <= L.named.size);
+      if (L.detected.size >= kSameRatio * L.named.size) CHECK(L.detected.size == L.named.size);
+      const bool shared = L.detected.size == L.named.size && L.detected.n == L.named.n;
+      if (shared) CHECK(L.detected.hits >= L.named.hits);
+      (a_detected > 1 ? near_shared : apart_shared) += shared;
+    }
+  CHECK(near_shared >= kSeeds / 2);
+  CHECK(apart_shared == 0);
+}
+
 TEST_CASE("injected limits: an unknown entry is named, 0 injections keep the Fisher limits", "[model_id][injection]") {
   const Synthetic s = make(22, 0, 0, 0, 0, 0.5);
   SearchOptions o;

@@ -363,7 +363,8 @@ InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double po
     set(lim.detected, n.run, n.detected);
     if (cr.verdict(n.run, n.detected) == 1 || k + 1 == kChecks) break;
     lim.ladder.push_back({lim.detected.size, n.run, n.named, n.detected});
-    lim.detected.size = fitted(false).size;
+    // (never above the naming limit: every injection named there is detected)
+    lim.detected.size = std::min(fitted(false).size, lim.named.size);
   }
   return lim;
 }
