@@ -139,5 +139,42 @@ TEST_CASE("box ascent: bad input is refused, naming what", "[model_id][ascent]")
   bad = o;
   bad.f_tol = -1;
   CHECK_THROWS_WITH(box_ascent(c.batch(), {0, 0}, 0, c.lo, c.hi, bad), Catch::Contains("f_tol"));
+  bad = o;
+  bad.out_margin = 0;
+  CHECK_THROWS_WITH(box_ascent(c.batch(), {0, 0}, 0, c.lo, c.hi, bad), Catch::Contains("out_margin"));
+  bad = o;
+  bad.f_out = NAN;
+  CHECK_THROWS_WITH(box_ascent(c.batch(), {0, 0}, 0, c.lo, c.hi, bad), Catch::Contains("f_out"));
   CHECK(c.points == 0);  // nothing evaluated before refusing
+}
+
+TEST_CASE("box ascent: a hill whose top stays under f_out is given up", "[model_id][ascent]") {
+  // f = 1 - (x - m)' A (x - m) / 2, its top 1 at m; started 3 units away, f0 = -3.07. The
+  // stencils' quadratic model is exact (its top is 1), so with out_margin 10 the climb is given
+  // up once f + 10 (1 - f) < f_out: at once for f_out 40 (f0 + 10 (1 - f0) = 37.6); for f_out
+  // 1.5, above the top, once f > 17/18 on the way; never where the top is above f_out (0.5)
+  // or without f_out: there it converges to m as before.
+  const Eigen::Vector2d m(2.3, -1.7);
+  Eigen::Matrix2d A;
+  A << 2.0, 0.8, 0.8, 1.0;
+  const auto f = [&](const Eigen::Vector2d& x) { return 1 - 0.5 * (x - m).dot(A * (x - m)); };
+  const Eigen::Vector2d x0(0, 0);
+  for (const double f_out : {40.0, 1.5, 0.5, -std::numeric_limits<double>::infinity()}) {
+    Counted c{f, {-5, -5}, {5, 5}};
+    BoxAscentOptions o;
+    o.f_out = f_out;
+    const BoxAscentResult r = box_ascent(c.batch(), x0, f(x0), c.lo, c.hi, o);
+    INFO("f_out " << f_out << ": batches " << r.batches << ", f " << r.f);
+    CHECK(r.out_of_reach == (f_out > 1));
+    if (f_out == 40.0) {
+      CHECK(r.batches == 1);
+      CHECK(r.x == x0);
+    } else if (f_out == 1.5) {
+      CHECK(r.f > 17.0 / 18 - 1e-9);
+      CHECK(r.f <= 1);
+    } else {
+      CHECK(r.converged);
+      CHECK((r.x - m).cwiseAbs().maxCoeff() < 1e-3);
+    }
+  }
 }

@@ -100,9 +100,10 @@ Eigen::Vector2d trust_step(const Eigen::Vector2d& g, const Eigen::Matrix2d& H, d
 BoxAscentResult box_ascent(const BatchFunction& f, const Eigen::Vector2d& x0, double f0, const Eigen::Vector2d& lo,
                            const Eigen::Vector2d& hi, const BoxAscentOptions& o) {
   if (!(o.h > 0) || !(o.h_min > 0 && o.h_min <= o.h) || !(o.tol.minCoeff() > 0) || !(o.f_tol >= 0) || !(o.delta0 > 0) ||
-      !(o.delta_max >= o.delta0) || o.max_batches < 1)
+      !(o.delta_max >= o.delta0) || o.max_batches < 1 || !(o.out_margin > 0) || std::isnan(o.f_out))
     throw std::invalid_argument(
-        "box_ascent: h, tol, delta0 > 0, 0 < h_min <= h, f_tol >= 0, delta_max >= delta0, max_batches >= 1");
+        "box_ascent: h, tol, delta0, out_margin > 0, 0 < h_min <= h, f_tol >= 0, delta_max >= delta0, max_batches >= 1, "
+        "f_out not NaN");
   if (!((hi - lo).minCoeff() > 4 * o.h)) throw std::invalid_argument("box_ascent: the box must be wider than 4 h in each coordinate");
   if (!((x0.array() >= lo.array()).all() && (x0.array() <= hi.array()).all()))
     throw std::invalid_argument("box_ascent: the start lies outside the box");
@@ -127,6 +128,13 @@ BoxAscentResult box_ascent(const BatchFunction& f, const Eigen::Vector2d& x0, do
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
     Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
     derivatives(st, r.f, sv, g, H);
+    // out of reach: the quadratic model's top, f - g'H^-1 g / 2 (H negative definite), with
+    // out_margin's room for the model's error, under f_out
+    if (o.f_out > -INFINITY && H(0, 0) < 0 && H.determinant() > 0 &&
+        r.f - o.out_margin * 0.5 * g.dot(H.ldlt().solve(g)) < o.f_out) {
+      r.out_of_reach = true;
+      break;
+    }
     const Eigen::Vector2d trial = (r.x + trust_step(g, H, delta)).cwiseMax(lo).cwiseMin(hi);
     const Eigen::Vector2d s = trial - r.x;
     const double promised = g.dot(s) + 0.5 * s.dot(H * s);

@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct BoxAscentOptions {
   double delta0 = 1;            ///< initial trust radius, > 0
   double delta_max = 8;         ///< largest trust radius, >= delta0
   int max_batches = 12;         ///< batches evaluated at most (the first stencil's included), >= 1
+  /// For a caller that needs the maximum only where it exceeds f_out (f's unit; -inf: always):
+  /// gives up once H is negative definite and f plus out_margin times the rise to the top of the
+  /// quadratic model (-g'H^-1 g / 2) stays under f_out.
+  double f_out = -INFINITY;
+  double out_margin = 10;       ///< > 0 [-]
 };
 
 /// Where box_ascent stopped.
@@ -39,6 +45,7 @@ struct BoxAscentResult {
   int evaluations = 0;     ///< points evaluated
   bool converged = false;  ///< a step under tol, or one promising under f_tol: false when max_batches ended it
   bool finite = true;      ///< false: a stencil value was not finite (derivatives undefined; x is then the last good point)
+  bool out_of_reach = false;  ///< given up below f_out (BoxAscentOptions::f_out)
 };
 
 /// f's values at each of the points given (at most 6 per call), in their order.

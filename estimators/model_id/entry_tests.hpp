@@ -56,6 +56,9 @@ class EntryTests {
   std::vector<Eigen::MatrixXd> X0c_;  ///< per channel: its fixed-effect columns
   std::vector<double> base_;          ///< per channel: profile l without the entry (when first needed)
   double null_set_q_ = 0;
+  /// per channel: the Gram matrix of [raw_ | y] whitened under the null's noise over its rows
+  /// (fixed()'s share of a channel the entry does not touch; when first needed)
+  mutable std::vector<Eigen::MatrixXd> null_gram_;
 };
 
 }  // namespace rnav::search_detail

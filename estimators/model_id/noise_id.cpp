@@ -452,7 +452,8 @@ constexpr int kRefineBatches = 12;
 // meets a model leaving no spread (a value not finite), the coordinate line searches (Brent)
 // finish from where it stopped.
 template <class F, class G, class M>
-std::pair<double, double> search_lambda_tau(F crit, G crit_grid, M crit_many, double ltau_lo, double ltau_hi) {
+std::pair<double, double> search_lambda_tau(F crit, G crit_grid, M crit_many, double ltau_lo, double ltau_hi,
+                                            double f_out) {
   // grid
   double best_ll = -INFINITY, best_lt = ltau_lo, best_lam = 0.9;
   for (int i = 0; i < n_tau; ++i) {
@@ -478,11 +479,12 @@ std::pair<double, double> search_lambda_tau(F crit, G crit_grid, M crit_many, do
     bo.tol = Eigen::Vector2d(kRefineWidth / dlt, kRefineWidth);
     bo.max_batches = kRefineBatches;
     bo.f_tol = kRefineRise;
+    bo.f_out = f_out;
     const Eigen::Vector2d lo(0, logit(kLambdaLo)), hi(n_tau - 1, logit(kLambdaHi));
     const Eigen::Vector2d x0(std::clamp((best_lt - ltau_lo) / dlt, lo(0), hi(0)), std::clamp(logit(best_lam), lo(1), hi(1)));
     // (the grid's value there: the same model but for the rounding of logit and expit)
     const BoxAscentResult r = box_ascent(f, x0, best_ll, lo, hi, bo);
-    if (r.finite) return {expit(r.x(1)), lt_of(r.x(0))};
+    if (r.finite || r.out_of_reach) return {expit(r.x(1)), lt_of(r.x(0))};
     best_lam = expit(r.x(1)), best_lt = lt_of(r.x(0));
   }
   // refine (where the ascent met a model leaving no spread): log tau, then logit lambda, twice
@@ -617,11 +619,25 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     this_grid.clear();
     const Reml white = reml_null(sr, 0.0, skip);
     if (!std::isfinite(white.ll)) throw DegenerateSeries("identify_noise: degenerate residuals (no spread)");
-    const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, crit_many, ltau_lo, ltau_hi);
+    const Reml nominal = mu > 0 ? reml_null(sr, mu, skip) : white;
+    // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the
+    // correlated model to whiten takes only Akaike's 2 per parameter: under-modelled slow noise
+    // would let slow mean effects through, an unneeded correlated model only costs a little power.
+    // The correlated model's tau is scanned (it does not exist under the null), so like a scanned
+    // mean effect the test pays for its scan: alpha split over the tau grid (Bonferroni; the
+    // chi2(2) quantile at alpha is -2 log alpha).
+    const double q_name = 2 * -std::log(o.alpha_correlated / n_tau);
+    // REML: the further part's likelihood matters only above the lesser of the two thresholds;
+    // the refinement gives up on a hill whose top stays well under it (box_ascent's f_out: 75 %
+    // of the landing bench flight's identifications end without a further part). The profile
+    // likelihood's value is its result: always refined.
+    const double f_out =
+        o.profile_ml ? -INFINITY : std::max(nominal.ll, white.ll) + 0.5 * std::min(q_name, o.use_correlated_lr);
+    const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, crit_many, ltau_lo, ltau_hi, f_out);
     const Reml corr = reml_at(best_lam, std::exp(best_lt));
     if (o.profile_ml) {
       // the profile log-likelihood over {nominal, nominal + Gauss-Markov}: the better one
-      const Reml nom = mu > 0 ? reml_null(sr, mu, skip) : white;
+      const Reml& nom = nominal;
       fit.params = NoiseParams{};
       fit.params.nom_share = mu, fit.params.nom_tau_s = sr.tau0;
       fit.correlated = corr.ml > nom.ml;
@@ -633,14 +649,6 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     }
     fit.loglik_white = white.ll;
     fit.loglik_correlated = corr.ll;
-    // Naming a departure from the nominal noise takes the familywise chi2(2) quantile; using the
-    // correlated model to whiten takes only Akaike's 2 per parameter: under-modelled slow noise
-    // would let slow mean effects through, an unneeded correlated model only costs a little power.
-    // The correlated model's tau is scanned (it does not exist under the null), so like a scanned
-    // mean effect the test pays for its scan: alpha split over the tau grid (Bonferroni; the
-    // chi2(2) quantile at alpha is -2 log alpha).
-    const double q_name = 2 * -std::log(o.alpha_correlated / n_tau);
-    const Reml nominal = mu > 0 ? reml_null(sr, mu, skip) : white;
     fit.loglik_nominal = nominal.ll;
     fit.s2_nominal = nominal.s2;
     fit.dof_nominal = nominal.dof;
