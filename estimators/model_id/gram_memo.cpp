@@ -152,7 +152,13 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
   auto shape = [&](std::size_t j) {
     if (J == 0) {
       J = j;
-      grams.assign(T, std::vector<Eigen::MatrixXd>(J, Eigen::MatrixXd(K, K)));
+      // (the caller's matrices kept where their shape is already this: every entry is written
+      // below, and 196 allocations per grid were a twentieth of a landing diagnosis)
+      grams.resize(T);
+      for (std::vector<Eigen::MatrixXd>& g : grams) {
+        g.resize(J);
+        for (Eigen::MatrixXd& m : g) m.resize(K, K);
+      }
     } else if (j != J) {
       throw std::invalid_argument("GramMemo: the grid's tables differ in their count of models");
     }
