@@ -79,6 +79,12 @@ struct Channel {
   double nominal_share() const { return std::min(0.999, nominal_corr_sigma * nominal_corr_sigma / nominal_var()); }
 };
 
+/// A catalogue entry's columns computed and checked once (Candidate::kept_columns).
+struct KeptColumns {
+  std::vector<Eigen::MatrixXd> columns;    ///< per grid point v: Candidate::columns(v)
+  std::vector<std::vector<char>> touches;  ///< per grid point v and channel: not all 0 on the channel's observations
+};
+
 struct Candidate {
   std::string name;                 ///< catalogue name, e.g. "time_offset"
   Scope scope;
@@ -90,7 +96,7 @@ struct Candidate {
   std::function<Eigen::MatrixXd(std::size_t v)> columns;
   /// columns(v) for every v, computed and checked once (none: computed on each call). Set by
   /// the limits by injection for their searches, whose catalogue is the same in every one.
-  std::shared_ptr<const std::vector<Eigen::MatrixXd>> kept_columns{};
+  std::shared_ptr<const KeptColumns> kept_columns{};
   /// Only an alternative of a scope question (e.g. a hardware effect's per-recording values):
   /// never selected, tested or given a limit on its own, and not in the familywise count.
   bool scope_only = false;

@@ -235,9 +235,12 @@ Problem with_columns_kept(const Problem& pb, const Design& d) {
   if (bytes > kKeptColumnsBytes) return pb;
   Problem q = pb;
   for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
-    auto kept = std::make_shared<std::vector<Eigen::MatrixXd>>();
-    for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) kept->push_back(d.raw_columns(e, v));  // checked
-    q.catalogue[e].columns = [kept](std::size_t v) { return kept->at(v); };
+    auto kept = std::make_shared<KeptColumns>();
+    for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) {
+      kept->columns.push_back(d.raw_columns(e, v));  // checked
+      kept->touches.push_back(d.touches(kept->columns.back()));
+    }
+    q.catalogue[e].columns = [kept](std::size_t v) { return kept->columns.at(v); };
     q.catalogue[e].kept_columns = kept;
   }
   return q;

@@ -104,9 +104,30 @@ Eigen::MatrixXd Design::raw_columns(std::size_t e, std::size_t v) const {
 
 const Eigen::MatrixXd& Design::raw_view(std::size_t e, std::size_t v, Eigen::MatrixXd& scratch) const {
   const Candidate& c = pb->catalogue[e];
-  if (c.kept_columns && v < c.kept_columns->size()) return (*c.kept_columns)[v];
+  if (c.kept_columns && v < c.kept_columns->columns.size()) return c.kept_columns->columns[v];
   scratch = raw_columns(e, v);
   return scratch;
+}
+
+const std::vector<char>* Design::kept_touches(std::size_t e, std::size_t v) const {
+  const Candidate& c = pb->catalogue[e];
+  if (c.kept_columns && v < c.kept_columns->touches.size() && c.kept_columns->touches[v].size() == rows.size())
+    return &c.kept_columns->touches[v];
+  return nullptr;
+}
+
+std::vector<char> Design::touches(const Eigen::MatrixXd& raw) const {
+  std::vector<char> out(rows.size(), 0);
+  for (std::size_t c = 0; c < rows.size(); ++c)
+    for (Eigen::Index j = 0; j < raw.cols() && !out[c]; ++j) {
+      const double* col = raw.col(j).data();
+      for (std::size_t r : rows[c])
+        if (col[r] != 0) {
+          out[c] = 1;
+          break;
+        }
+    }
+  return out;
 }
 
 Eigen::MatrixXd Design::whiten(const Eigen::MatrixXd& raw) const { return whiten_with(raw, noise); }
@@ -122,24 +143,17 @@ std::vector<GainTable> Design::gain_tables(const std::vector<NoiseParams>& np) c
   return out;
 }
 
-Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const {
+Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables,
+                                       const std::vector<char>* touched_in) const {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
   const Eigen::Index k = raw.cols();
   thread_local Eigen::MatrixXd B;  // one channel's rows (kept per thread: set_noise whitens every grid point)
+  // a channel the columns do not touch stays zero (most entries touch one channel of several)
+  const std::vector<char> touched = touched_in ? *touched_in : touches(raw);
   for (std::size_t c = 0; c < rows.size(); ++c) {
     const std::vector<std::size_t>& rc = rows[c];
     const auto m = static_cast<Eigen::Index>(rc.size());
-    // a channel the columns do not touch stays zero (most entries touch one channel of several)
-    bool touched = false;
-    for (Eigen::Index j = 0; j < k && !touched; ++j) {
-      const double* col = raw.col(j).data();
-      for (std::size_t r : rc)
-        if (col[r] != 0) {
-          touched = true;
-          break;
-        }
-    }
-    if (!touched) continue;
+    if (!touched[c]) continue;
     B.resize(m, k);
     for (Eigen::Index j = 0; j < k; ++j) {
       const double* col = raw.col(j).data();
@@ -174,7 +188,8 @@ void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std
   Cw.assign(p.catalogue.size(), {});
   Eigen::MatrixXd scratch;
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
-    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v) Cw[e].push_back(whiten_through(raw_view(e, v, scratch), tables));
+    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v)
+      Cw[e].push_back(whiten_through(raw_view(e, v, scratch), tables, kept_touches(e, v)));
   Cg.assign(p.catalogue.size(), {});
   for (std::size_t e = 0; e < p.catalogue.size(); ++e)
     for (const Eigen::MatrixXd& C : Cw[e]) Cg[e].push_back(unit_gram(C));

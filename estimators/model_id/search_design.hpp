@@ -77,13 +77,18 @@ struct Design {
   /// matrices under the same models (whiten_through).
   std::vector<GainTable> gain_tables(const std::vector<NoiseParams>& np) const;
   /// A raw n_obs x k matrix whitened channel by channel through gain_tables' tables: whiten_with's
-  /// result, bit for bit.
-  Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const;
+  /// result, bit for bit. touches (if given): touches(raw), known beforehand.
+  Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables,
+                                 const std::vector<char>* touches = nullptr) const;
+  /// Per channel: whether raw's columns are not all 0 on its observations.
+  std::vector<char> touches(const Eigen::MatrixXd& raw) const;
   /// Raw columns of entry e at grid point v (checked shape).
   Eigen::MatrixXd raw_columns(std::size_t e, std::size_t v) const;
   /// The same without a copy where the entry's columns are kept (Candidate::kept_columns,
   /// checked when kept); else raw_columns(e, v) put in scratch. Valid while both live.
   const Eigen::MatrixXd& raw_view(std::size_t e, std::size_t v, Eigen::MatrixXd& scratch) const;
+  /// touches(raw_columns(e, v)) where the entry's columns are kept, else nullptr.
+  const std::vector<char>* kept_touches(std::size_t e, std::size_t v) const;
 };
 
 /// [Nw | whitened columns of the chosen (entry, grid point) pairs].
