@@ -1030,6 +1030,55 @@ TEST_CASE("noise identification: the confidence set covers the true noise at its
   CHECK(size < 197 / 4.0);
 }
 
+TEST_CASE("noise identification: a refinement gives up only below the value its caller needs") {
+  // Gauss-Markov noise (tau 6 s, half the variance) at 0.4 s over 600 frames, a constant as the
+  // fixed effect. Profile mode: with profile_give_up_below far above the likelihood's top the
+  // refinement gives up, and loglik_ml is under the exact one and under the value asked for;
+  // with it below the top the fit is the exact one, bit for bit (it reached the top). REML mode:
+  // the further part is used here (2 log LR over the nominal model far above 4), so its
+  // refinement must not give up: the same fit with or without the profile option set.
+  std::mt19937_64 rng(4242);
+  std::normal_distribution<double> N(0, 1);
+  std::vector<double> t;
+  Eigen::VectorXd e(600);
+  double g = 0, tp = 0;
+  for (int i = 0; i < 600; ++i) {
+    const double ti = i * 0.4;
+    const double phi = std::exp(-(ti - tp) / 6.0);
+    g = phi * g + std::sqrt(1 - phi * phi) * N(rng);
+    tp = ti;
+    t.push_back(ti);
+    e(i) = g + N(rng);
+  }
+  const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(600, 1);
+  NoiseIdOptions o;
+  o.profile_ml = true;
+  o.flag_outliers = false;
+  const NoiseFit exact = identify_noise(t, {}, e, X, o);
+  REQUIRE(exact.correlated);
+  NoiseIdOptions up = o;
+  up.profile_give_up_below = exact.loglik_ml + 100;
+  const NoiseFit gave_up = identify_noise(t, {}, e, X, up);
+  INFO("exact " << exact.loglik_ml << ", given up at " << gave_up.loglik_ml);
+  CHECK(gave_up.loglik_ml <= exact.loglik_ml);
+  CHECK(gave_up.loglik_ml < up.profile_give_up_below);
+  CHECK(gave_up.loglik_ml < exact.loglik_ml - 1e-9);  // it did give up short of the top
+  NoiseIdOptions reach = o;
+  reach.profile_give_up_below = exact.loglik_ml - 1;
+  const NoiseFit reached = identify_noise(t, {}, e, X, reach);
+  CHECK(reached.loglik_ml == exact.loglik_ml);
+  CHECK(reached.params.tau_s == exact.params.tau_s);
+  NoiseIdOptions reml;
+  reml.flag_outliers = false;
+  const NoiseFit r0 = identify_noise(t, {}, e, X, reml);
+  REQUIRE(2 * (r0.loglik_correlated - std::max(r0.loglik_nominal, r0.loglik_white)) > 4 + 10);
+  reml.profile_give_up_below = 1e9;  // read in profile mode only
+  const NoiseFit r1 = identify_noise(t, {}, e, X, reml);
+  CHECK(r1.params.tau_s == r0.params.tau_s);
+  CHECK(r1.params.lambda == r0.params.lambda);
+  CHECK(r1.loglik_correlated == r0.loglik_correlated);
+}
+
 TEST_CASE("noise identification: the profile likelihood ratio of a step is chi-square sized under Gauss-Markov noise") {
   // profile_ml: the ML likelihood maximised over the noise family, without the REML trend. A
   // step column (t >= 120 s) added to a constant: nested, so the maximised likelihood cannot

@@ -145,6 +145,18 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
   auto adjusted_log_p = [&](std::size_t e, double lr) {
     return bonferroni_log_p(lr, static_cast<double>(p.catalogue[e].params.size()), static_cast<double>(d.Cw[e].size()), m_family);
   };
+  // The largest 2 log LR known to fail entry e's test (adjusted_log_p at or above log alpha;
+  // the threshold to 1e-9 relative, by bisection): a test may give up below it.
+  auto passing_lr = [&](std::size_t e) {
+    double lo = 0, hi = 1;
+    while (!(adjusted_log_p(e, hi) < log_alpha) && hi < 1e6) lo = hi, hi *= 2;
+    if (!(adjusted_log_p(e, hi) < log_alpha)) return lo;
+    while (hi - lo > 1e-9 * hi) {
+      const double mid = 0.5 * (lo + hi);
+      (adjusted_log_p(e, mid) < log_alpha ? hi : lo) = mid;
+    }
+    return lo;
+  };
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P = search_detail::projector_of(d, chosen);
     EntryTests tests(d, chosen, fits, o.noise, o.null_set_q);
@@ -190,7 +202,8 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
       parallel_for(end - k, o.threads, [&](std::size_t j) {
         const Candidate& c = ranked[k + j];
         EntryTests& t = batch > 1 ? copies[j] : tests;
-        lr[j] = p.catalogue[c.e].scanned() ? t.scanned(c.e, c.v) : t.fixed(c.e);
+        // a scanned test is read against its threshold alone: its refinement may give up below it
+        lr[j] = p.catalogue[c.e].scanned() ? t.scanned(c.e, c.v, passing_lr(c.e)) : t.fixed(c.e);
       });
       for (std::size_t i = k; i < end; ++i) {
         const Candidate& c = ranked[i];

@@ -169,9 +169,10 @@ EntryTests::EntryTests(const Design& d, const Chosen& chosen, const std::vector<
   for (std::size_t c = 0; c < d.rows.size(); ++c) X0c_.push_back(channel_columns(d, raw_, c));
 }
 
-double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X) const {
+double EntryTests::profile_ml(std::size_t c, const Eigen::MatrixXd& X, double give_up_below) const {
   NoiseIdOptions pm = no_;
   pm.profile_ml = true;
+  pm.profile_give_up_below = give_up_below;
   try {
     return d_.memo->fit(d_.times[c], d_.gains[c], channel_y(d_, c), X, channel_options(*d_.pb, c, pm), &fits_[c].outlier)
         .loglik_ml;
@@ -195,27 +196,40 @@ double EntryTests::profile_lr(std::size_t e, std::size_t v) {
   return lr;
 }
 
-double EntryTests::scanned(std::size_t e, std::size_t v) {
+double EntryTests::scanned(std::size_t e, std::size_t v, double need) {
   if (!(null_set_q_ > 0)) return profile_lr(e, v);
   Eigen::MatrixXd scratch;
   const Eigen::MatrixXd& C = d_.raw_view(e, v, scratch);
+  std::vector<Eigen::MatrixXd> Ccs;
+  int touched = 0;
+  for (std::size_t c = 0; c < d_.rows.size(); ++c) {
+    Ccs.push_back(channel_columns(d_, C, c));
+    touched += Ccs.back().cols() > 0;
+  }
   double lr = 0;
   for (std::size_t c = 0; c < d_.rows.size(); ++c) {
-    const Eigen::MatrixXd Cc = channel_columns(d_, C, c);
+    const Eigen::MatrixXd& Cc = Ccs[c];
     if (Cc.cols() == 0) continue;  // the entry does not touch this channel
     const Eigen::MatrixXd X1 = with(c, Cc);
-    const double l1 = profile_ml(c, X1);
-    if (std::isnan(l1)) continue;  // the entry's and the chosen columns span the channel: no evidence here
     // the null's noise among the models the data allow with the entry in: a slow correlation
     // that exists only to absorb the step is not among them. The set's models are grid points,
     // and the null's likelihood at each (loglik_ml_at) is the null's own profile grid there.
+    // (A column set the channel's frames cannot carry throws here as in the fit: no evidence.)
     const NoiseIdOptions oc = channel_options(*d_.pb, c, no_);
-    const auto g1 = d_.memo->grid(d_.times[c], d_.gains[c], channel_y(d_, c), X1, oc, fits_[c].outlier);
+    std::shared_ptr<const NoiseGrid> g1;
+    try {
+      g1 = d_.memo->grid(d_.times[c], d_.gains[c], channel_y(d_, c), X1, oc, fits_[c].outlier);
+    } catch (const DegenerateSeries&) {
+      continue;  // the entry's and the chosen columns span the channel: no evidence here
+    }
     const auto g0 = d_.memo->grid(d_.times[c], d_.gains[c], channel_y(d_, c), X0c_[c], oc, fits_[c].outlier);
     const std::vector<std::size_t> set = confidence_indices(*g1, null_set_q_);
     if (set.empty()) throw DegenerateSeries("noise_confidence_set: degenerate residuals (no spread)");
     double l0 = -INFINITY;
     for (std::size_t i : set) l0 = std::max(l0, g0->points[i].ml);
+    // one channel: the test needs l1 only where 2 (l1 - l0) reaches need
+    const double l1 = profile_ml(c, X1, touched == 1 && std::isfinite(need) ? l0 + 0.5 * need : -INFINITY);
+    if (std::isnan(l1)) continue;  // the entry's and the chosen columns span the channel: no evidence here
     lr += 2 * (l1 - l0);
   }
   return lr;

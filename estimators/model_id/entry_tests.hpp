@@ -33,7 +33,10 @@ class EntryTests {
   /// under both hypotheses, the null's over the noise models the data allow once the entry is in
   /// the model (each touched channel's REML confidence set at null_set_q, fixed effects with the
   /// entry's columns); with null_set_q = 0 over the whole noise family (the profile LR).
-  double scanned(std::size_t e, std::size_t v);
+  /// need: the 2 log LR the caller's test needs (its threshold): where the entry touches one
+  /// channel, its profile refinement may then give up once the LR cannot reach need, and the
+  /// value returned is under need (NoiseIdOptions::profile_give_up_below). -inf: the exact value.
+  double scanned(std::size_t e, std::size_t v, double need = -INFINITY);
   /// The profile 2 log LR of entry e at grid point v: the ML likelihood maximised over the
   /// whole noise family (NoiseIdOptions::profile_ml) with and without its columns, summed over
   /// the channels it touches (scanned()'s statistic when null_set_q = 0).
@@ -48,7 +51,8 @@ class EntryTests {
 
  private:
   Eigen::MatrixXd with(std::size_t c, const Eigen::MatrixXd& Cc) const;  ///< channel c's fixed effects and Cc
-  double profile_ml(std::size_t c, const Eigen::MatrixXd& X) const;      ///< channel c's ML l over the noise family
+  /// channel c's ML l over the noise family (refined unless under give_up_below: NoiseIdOptions)
+  double profile_ml(std::size_t c, const Eigen::MatrixXd& X, double give_up_below = -INFINITY) const;
   const Design& d_;
   const std::vector<NoiseFit>& fits_;
   NoiseIdOptions no_;

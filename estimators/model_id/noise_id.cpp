@@ -630,9 +630,10 @@ NoiseFit identify(const std::vector<double>& t, const std::vector<double>& h, co
     // REML: the further part's likelihood matters only above the lesser of the two thresholds;
     // the refinement gives up on a hill whose top stays well under it (box_ascent's f_out: 75 %
     // of the landing bench flight's identifications end without a further part). The profile
-    // likelihood's value is its result: always refined.
-    const double f_out =
-        o.profile_ml ? -INFINITY : std::max(nominal.ll, white.ll) + 0.5 * std::min(q_name, o.use_correlated_lr);
+    // likelihood's value is its result: refined unless the caller needs it only above a value
+    // (profile_give_up_below: a test against its threshold).
+    const double f_out = o.profile_ml ? o.profile_give_up_below
+                                      : std::max(nominal.ll, white.ll) + 0.5 * std::min(q_name, o.use_correlated_lr);
     const auto [best_lam, best_lt] = search_lambda_tau(crit, crit_grid, crit_many, ltau_lo, ltau_hi, f_out);
     const Reml corr = reml_at(best_lam, std::exp(best_lt));
     if (o.profile_ml) {

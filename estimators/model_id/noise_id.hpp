@@ -50,6 +50,11 @@ struct NoiseIdOptions {
   /// Compute NoiseFit::se_tau_s (two more likelihoods per correlated fit); false leaves it 0,
   /// for searches that never report it (the injected ones).
   bool se_tau = true;
+  /// Profile mode only: a test that needs the profile log-likelihood only where it reaches this
+  /// [log-likelihood] lets the refinement give up once the quadratic top of the likelihood (with
+  /// ten times its promised rise as room) stays under it; loglik_ml is then the best model
+  /// evaluated, under this value. -inf: always refined to the top.
+  double profile_give_up_below = -INFINITY;
 };
 
 struct NoiseFit {

@@ -21,7 +21,7 @@ std::pair<std::uint64_t, std::uint64_t> series_key(char tag, double q, const std
   // every option that identify_noise and noise_confidence_set read
   k.value(o.tau_min_s), k.value(o.tau_max_s), k.value(o.tau_span_divisor), k.value(o.alpha_correlated);
   k.value(o.flag_outliers), k.value(o.expected_false_flags), k.value(o.nominal_share), k.value(o.nominal_tau_s);
-  k.value(o.use_correlated_lr), k.value(o.profile_ml), k.value(o.se_tau);
+  k.value(o.use_correlated_lr), k.value(o.profile_ml), k.value(o.se_tau), k.value(o.profile_give_up_below);
   k.value(X.rows()), k.value(X.cols());
   k.bytes(X.data(), static_cast<std::size_t>(X.size()) * sizeof(double));
   k.value(skip != nullptr);
