@@ -1030,6 +1030,24 @@ TEST_CASE("noise identification: the confidence set covers the true noise at its
   CHECK(size < 197 / 4.0);
 }
 
+namespace {
+// n frames every dt seconds of unit Gauss-Markov noise (correlation time tau) plus unit white
+// noise, from seed.
+void gm_plus_white(std::uint64_t seed, int n, double dt, double tau, std::vector<double>& t, Eigen::VectorXd& e) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> N(0, 1);
+  t.clear();
+  e.resize(n);
+  double g = 0;
+  for (int i = 0; i < n; ++i) {
+    const double phi = std::exp(-dt / tau);
+    g = phi * g + std::sqrt(1 - phi * phi) * N(rng);
+    t.push_back(i * dt);
+    e(i) = g + N(rng);
+  }
+}
+}  // namespace
+
 TEST_CASE("noise identification: a refinement gives up only below the value its caller needs") {
   // Gauss-Markov noise (tau 6 s, half the variance) at 0.4 s over 600 frames, a constant as the
   // fixed effect. Profile mode: with profile_give_up_below far above the likelihood's top the
@@ -1037,19 +1055,9 @@ TEST_CASE("noise identification: a refinement gives up only below the value its 
   // with it below the top the fit is the exact one, bit for bit (it reached the top). REML mode:
   // the further part is used here (2 log LR over the nominal model far above 4), so its
   // refinement must not give up: the same fit with or without the profile option set.
-  std::mt19937_64 rng(4242);
-  std::normal_distribution<double> N(0, 1);
   std::vector<double> t;
-  Eigen::VectorXd e(600);
-  double g = 0, tp = 0;
-  for (int i = 0; i < 600; ++i) {
-    const double ti = i * 0.4;
-    const double phi = std::exp(-(ti - tp) / 6.0);
-    g = phi * g + std::sqrt(1 - phi * phi) * N(rng);
-    tp = ti;
-    t.push_back(ti);
-    e(i) = g + N(rng);
-  }
+  Eigen::VectorXd e;
+  gm_plus_white(4242, 600, 0.4, 6.0, t, e);
   const Eigen::MatrixXd X = Eigen::MatrixXd::Ones(600, 1);
   NoiseIdOptions o;
   o.profile_ml = true;
