@@ -146,16 +146,18 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
     return bonferroni_log_p(lr, static_cast<double>(p.catalogue[e].params.size()), static_cast<double>(d.Cw[e].size()), m_family);
   };
   // The largest 2 log LR known to fail entry e's test (adjusted_log_p at or above log alpha;
-  // the threshold to 1e-9 relative, by bisection): a test may give up below it.
+  // the threshold to 1e-9 relative, by bisection, once per entry): a test may give up below it.
+  std::vector<double> failing_lr(p.catalogue.size(), std::nan(""));
   auto passing_lr = [&](std::size_t e) {
+    if (!std::isnan(failing_lr[e])) return failing_lr[e];
     double lo = 0, hi = 1;
     while (!(adjusted_log_p(e, hi) < log_alpha) && hi < 1e6) lo = hi, hi *= 2;
-    if (!(adjusted_log_p(e, hi) < log_alpha)) return lo;
-    while (hi - lo > 1e-9 * hi) {
-      const double mid = 0.5 * (lo + hi);
-      (adjusted_log_p(e, mid) < log_alpha ? hi : lo) = mid;
-    }
-    return lo;
+    if (adjusted_log_p(e, hi) < log_alpha)
+      while (hi - lo > 1e-9 * hi) {
+        const double mid = 0.5 * (lo + hi);
+        (adjusted_log_p(e, mid) < log_alpha ? hi : lo) = mid;
+      }
+    return failing_lr[e] = lo;
   };
   for (int step = 0; step < o.max_effects; ++step) {
     const search_detail::Projector P = search_detail::projector_of(d, chosen);
@@ -199,6 +201,7 @@ Selection forward_select(const Design& d, const SearchOptions& o, double m_famil
                    " (candidate " + std::to_string(i + 1) + " of " + std::to_string(ranked.size()) + ")");
       }
       std::vector<double> lr(end - k);
+      for (std::size_t i = k; i < end; ++i) passing_lr(ranked[i].e);  // (kept before the threads read it)
       parallel_for(end - k, o.threads, [&](std::size_t j) {
         const Candidate& c = ranked[k + j];
         EntryTests& t = batch > 1 ? copies[j] : tests;

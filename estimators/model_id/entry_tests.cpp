@@ -265,8 +265,6 @@ double EntryTests::fixed(std::size_t e) const {
         // entry, and its null noise stays (e.g. a 10-frame channel with a hull offset, a clock
         // and its outlier flags)
       }
-    }
-    if (Cc.cols() > 0) {
       G += channel_gram(d_, A, c, touching(d_, A, c), np);
       continue;
     }

@@ -342,7 +342,7 @@ InjectedLimit measure_ladder(const InjectionDraw& draw, double fisher, double po
     const Interval ci = clopper_pearson(hits, run, io.conf);
     s.lo = ci.lo, s.hi = ci.hi;
   };
-  // A detection limit fitted above the naming limit, or below it by less than kSameCheck, is
+  // A detection limit fitted above the naming limit, or below it by less than same_ratio, is
   // stated at the naming limit and checked by its batch: every injection named is detected, so
   // the detected rate there is at least the named one, and at most kBandHi where the curves'
   // slope is the prior's: log(a_named / a_detected) <= (z_kBandHi - z_power) / kSlopePrior.

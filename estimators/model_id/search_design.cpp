@@ -149,7 +149,8 @@ Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::ve
   const Eigen::Index k = raw.cols();
   thread_local Eigen::MatrixXd B;  // one channel's rows (kept per thread: set_noise whitens every grid point)
   // a channel the columns do not touch stays zero (most entries touch one channel of several)
-  const std::vector<char> touched = touched_in ? *touched_in : touches(raw);
+  std::vector<char> own;
+  const std::vector<char>& touched = touched_in ? *touched_in : (own = touches(raw));
   for (std::size_t c = 0; c < rows.size(); ++c) {
     const std::vector<std::size_t>& rc = rows[c];
     const auto m = static_cast<Eigen::Index>(rc.size());
