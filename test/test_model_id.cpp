@@ -77,26 +77,36 @@ const std::vector<double> kWhitenH = {0.4, 0.5, 0.6, 0.65, 0.8, 1.0, 1.1, 1.3, 1
 
 TEST_CASE("noise model: whitened columns are the same, bit for bit, however many are whitened together") {
   // whiten() runs its columns through the filter several at a time (interleaved recursions); each
-  // column's arithmetic must be what it is alone: 1 to 9 columns, a skipped frame, a gain.
+  // column's arithmetic must be what it is alone: 1 to 17 columns (two blocks of eight and every
+  // remainder), a skipped frame, a gain; and the same columns given by where they start.
   const std::vector<double>& t = kWhitenT;
   const std::vector<double>& h = kWhitenH;
   const std::vector<char> skip = {0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
   NoiseParams p;
   p.s2 = 2.0, p.lambda = 0.7, p.tau_s = 1.5, p.nom_share = 0.35, p.nom_tau_s = 5.0;
   const auto n = static_cast<Eigen::Index>(t.size());
-  for (Eigen::Index cols = 1; cols <= 9; ++cols) {
+  GainTable table;
+  innovation_gains(t, h, {p}, skip, table);
+  for (Eigen::Index cols = 1; cols <= 17; ++cols) {
     Eigen::MatrixXd M(n, cols);
     for (Eigen::Index i = 0; i < n; ++i)
       for (Eigen::Index c = 0; c < cols; ++c) M(i, c) = std::sin(0.7 * static_cast<double>(i) + static_cast<double>(c)) + 0.1 * c;
     Eigen::MatrixXd together = M;
     whiten(t, h, p, skip, together);
+    Eigen::MatrixXd pointed = M;  // the columns in reverse order, by pointer
+    std::vector<double*> starts;
+    for (Eigen::Index c = cols - 1; c >= 0; --c) starts.push_back(pointed.col(c).data());
+    whiten(table, 0, starts);
     for (Eigen::Index c = 0; c < cols; ++c) {
       Eigen::MatrixXd alone = M.col(c);
       whiten(t, h, p, skip, alone);
       INFO(cols << " columns, column " << c);
       CHECK((alone.col(0).array() == together.col(c).array()).all());
+      CHECK((alone.col(0).array() == pointed.col(c).array()).all());
     }
   }
+  std::vector<double*> none;
+  CHECK_THROWS_WITH(whiten(table, 1, none), Catch::Contains("no model 1"));
 }
 
 TEST_CASE("noise model: whiten_batch gives each model what whiten gives it alone, bit for bit") {
@@ -716,6 +726,96 @@ TEST_CASE("effect search: a projector's remembered 2 log LRs are its own, and a 
   const search_detail::Projector P3 = search_detail::projector_of(d, {{0, 0}});
   const search_detail::Projector plain3(search_detail::model_matrix(d, {{0, 0}}), d.yw, d.n_used);
   CHECK(P3.entry_lr(d, 1, 0) == plain3.lr(d.Cw[1][0]));
+}
+
+TEST_CASE("effect search: the design's whitened catalogue is each grid point whitened alone, bit for bit", "[model_id]") {
+  // set_noise whitens every grid point's columns channel by channel, all at once (in place where
+  // a channel's rows are one block, gathered where they are not): each column must be what
+  // whiten_through gives it alone, 0 on the channels it does not touch, and its unit_gram (which
+  // skips the untouched channels' rows) the one scanned over every row. Three channels of 60
+  // frames, laid out channel by channel and interleaved; frames kept out on one; an entry on all
+  // channels, a scanned step on one (zero before its time), two columns on two channels, and
+  // one that touches nothing; with the columns computed on each call and kept (KeptColumns).
+  const std::size_t n_ch = 3, frames = 60;
+  for (bool interleaved : {false, true})
+    for (bool kept : {false, true}) {
+      Problem pb;
+      for (std::size_t c = 0; c < n_ch; ++c) pb.channels.push_back({"radar:1:ch" + std::to_string(c), "radar", "1", "m", 1.0});
+      std::mt19937_64 rng(7);
+      std::normal_distribution<double> N(0, 1);
+      std::vector<std::size_t> ch_of;
+      for (std::size_t k = 0; k < n_ch * frames; ++k) {
+        const std::size_t c = interleaved ? k % n_ch : k / frames, i = interleaved ? k / n_ch : k % frames;
+        ch_of.push_back(c);
+        pb.channel.push_back(static_cast<int>(c));
+        pb.t_s.push_back(0.5 * static_cast<double>(i) + 0.01 * static_cast<double>(c));
+        pb.y.push_back(N(rng));
+        pb.estimation.push_back(1);
+      }
+      const auto n = static_cast<Eigen::Index>(pb.y.size());
+      const std::vector<double> t_s = pb.t_s;
+      auto on = [&](std::vector<std::size_t> chs) {
+        return [ch_of, chs](std::size_t k) { return std::find(chs.begin(), chs.end(), ch_of[k]) != chs.end(); };
+      };
+      auto everywhere = on({0, 1, 2});
+      pb.catalogue.push_back({"drift", {"radar", ""}, {"m_per_s"}, "time", "", {}, [t_s, n, everywhere](std::size_t) {
+                                Eigen::MatrixXd C(n, 1);
+                                for (Eigen::Index k = 0; k < n; ++k) C(k, 0) = everywhere(static_cast<std::size_t>(k)) ? t_s[static_cast<std::size_t>(k)] - 15 : 0.0;
+                                return C;
+                              }});
+      auto only1 = on({1});
+      const std::vector<double> steps = {3, 11, 20, 27};
+      pb.catalogue.push_back({"step", {"radar", "1"}, {"m"}, "step", "t_s", steps, [t_s, n, only1, steps](std::size_t v) {
+                                Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, 1);
+                                for (Eigen::Index k = 0; k < n; ++k)
+                                  if (only1(static_cast<std::size_t>(k)) && t_s[static_cast<std::size_t>(k)] > steps[v]) C(k, 0) = 1;
+                                return C;
+                              }});
+      auto two = on({0, 2});
+      pb.catalogue.push_back({"pair", {"radar", ""}, {"a", "b"}, "sin", "", {}, [t_s, n, two](std::size_t) {
+                                Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, 2);
+                                for (Eigen::Index k = 0; k < n; ++k)
+                                  if (two(static_cast<std::size_t>(k)))
+                                    C(k, 0) = std::sin(0.2 * t_s[static_cast<std::size_t>(k)]), C(k, 1) = std::cos(0.3 * t_s[static_cast<std::size_t>(k)]);
+                                return C;
+                              }});
+      pb.catalogue.push_back({"nothing", {"radar", ""}, {"m"}, "zero", "", {}, [n](std::size_t) { return Eigen::MatrixXd::Zero(n, 1); }});
+      search_detail::Design d(pb);
+      if (kept)
+        for (std::size_t e = 0; e < pb.catalogue.size(); ++e) {
+          auto kc = std::make_shared<KeptColumns>();
+          for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) {
+            kc->columns.push_back(pb.catalogue[e].columns(v));
+            kc->touches.push_back(d.touches(kc->columns.back()));
+          }
+          pb.catalogue[e].kept_columns = kc;
+        }
+      NoiseParams np;
+      np.s2 = 1.5, np.lambda = 0.8, np.tau_s = 4;
+      std::vector<std::vector<char>> skip(n_ch, std::vector<char>(frames, 0));
+      skip[1][5] = skip[1][30] = 1;
+      d.set_noise(std::vector<NoiseParams>(n_ch, np), skip);
+      const std::vector<GainTable> tables = d.gain_tables(d.noise);
+      for (std::size_t e = 0; e < pb.catalogue.size(); ++e)
+        for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) {
+          INFO((interleaved ? "interleaved" : "channel by channel") << (kept ? ", kept columns" : "") << ": entry "
+                                                                     << pb.catalogue[e].name << ", grid point " << v);
+          const Eigen::MatrixXd alone = d.whiten_through(d.raw_columns(e, v), tables);
+          const Eigen::MatrixXd& C = d.Cw[e][v];
+          REQUIRE(C.rows() == alone.rows());
+          REQUIRE(C.cols() == alone.cols());
+          CHECK((C.array() == alone.array()).all());
+          const search_detail::UnitGram full = search_detail::unit_gram(C), got = d.Cg[e][v];
+          CHECK(got.lo == full.lo);
+          CHECK(got.hi == full.hi);
+          CHECK((got.inv_norm.array() == full.inv_norm.array()).all());
+          CHECK((got.UU.array() == full.UU.array()).all());
+        }
+      CHECK(d.Cg[3][0].lo == d.Cg[3][0].hi);  // the column that touches nothing
+      CHECK(d.Cg[1][0].lo > 0);               // the step on one channel: not from row 0
+    }
+  // rows said to be zero that are not a prefix and a suffix: refused
+  CHECK_THROWS_WITH(search_detail::unit_gram(Eigen::MatrixXd::Ones(4, 1), 3, 2), Catch::Contains("prefix and a suffix"));
 }
 
 TEST_CASE("effect search: a real step is found at its time") {

@@ -1,5 +1,7 @@
 #include "estimators/model_id/noise_model.hpp"
 
+#include <emmintrin.h>
+
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -54,6 +56,11 @@ namespace {
 
 using Gain = InnovationGain;
 
+// Two doubles in one SSE2 register (GCC's vector extension; element-wise IEEE arithmetic, each
+// lane's result what the scalar operation gives), and a lane mask of two.
+typedef double v2d __attribute__((vector_size(16)));
+typedef long long v2di __attribute__((vector_size(16)));
+
 // Whiten's pass 2 on the B columns of M from column c on, through the gains g:
 // x- = Phi x+; nu = m - H x-; x+ = x- + K nu; m = nu / sqrt(S). Each recursion is a chain of
 // dependent operations; B of them interleaved overlap in the processor (four at once run about
@@ -73,18 +80,22 @@ inline double whiten_step(const Gain& G, double m, double& x0, double& x1) {
 // may start there: the same values, bit for bit. (A step's column is zero before its
 // time: set_noise whitens a grid of them.)
 template <int B>
-Eigen::Index first_nonzero(double* const* m, Eigen::Index n) {
+Eigen::Index first_nonzero(const double* const* m, Eigen::Index n) {
   for (Eigen::Index i = 0; i < n; ++i)
     for (int k = 0; k < B; ++k)
       if (m[k][i] != 0) return i;
   return n;
 }
 
+// whiten_step on the B columns m[0 .. B - 1] at once, in pairs (one pair per vector register,
+// an odd last column alone): each lane's arithmetic is whiten_step's, the same results bit for
+// bit.
 template <int B>
-void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, Eigen::Index c) {
-  double* m[B];
-  double x0[B] = {}, x1[B] = {};  // states (a, g)
-  for (int k = 0; k < B; ++k) m[k] = M.col(c + k).data();
+void whiten_columns(const std::vector<Gain>& g, double* const* m) {
+  constexpr int P = B / 2;
+  constexpr bool odd = B % 2 == 1;
+  v2d x0[P > 0 ? P : 1] = {}, x1[P > 0 ? P : 1] = {};  // the pairs' states (a, g)
+  double y0 = 0, y1 = 0;                               // the odd column's
   const auto n = static_cast<Eigen::Index>(g.size());
   const Eigen::Index i0 = first_nonzero<B>(m, n);
   for (Eigen::Index i = 0; i < i0; ++i)  // a frame kept out whitens to +0 (its input may be -0)
@@ -92,16 +103,59 @@ void whiten_columns(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M, E
       for (int k = 0; k < B; ++k) m[k][i] = 0;
   for (Eigen::Index i = i0; i < n; ++i) {
     const Gain& G = g[static_cast<std::size_t>(i)];
-    for (int k = 0; k < B; ++k) m[k][i] = whiten_step(G, m[k][i], x0[k], x1[k]);
+    if (G.skip) {
+      for (int k = 0; k < B; ++k) m[k][i] = 0;
+      continue;
+    }
+    const v2d f0 = {G.f0, G.f0}, f = {G.f, G.f}, H0 = {G.H0, G.H0}, K0 = {G.K0, G.K0}, K1 = {G.K1, G.K1},
+              sq = {G.sq, G.sq};
+    for (int p = 0; p < P; ++p) {
+      if (G.started) x0[p] *= f0, x1[p] *= f;
+      const v2d nu = v2d{m[2 * p][i], m[2 * p + 1][i]} - (H0 * x0[p] + x1[p]);
+      x0[p] += K0 * nu, x1[p] += K1 * nu;
+      const v2d w = nu / sq;
+      m[2 * p][i] = w[0], m[2 * p + 1][i] = w[1];
+    }
+    if (odd) m[B - 1][i] = whiten_step(G, m[B - 1][i], y0, y1);
   }
 }
 
+// Pass 2 on the columns cols[0 .. count - 1] (each g.size() long), eight at a time
+// (whiten_columns; a lone column's recursion is a chain of dependent operations, eight of them
+// keep the processor busy).
+void whiten_through(const std::vector<Gain>& g, double* const* cols, std::size_t count) {
+  std::size_t c = 0;
+  for (; c + 8 <= count; c += 8) whiten_columns<8>(g, cols + c);
+  switch (count - c) {
+    case 7: whiten_columns<7>(g, cols + c); break;
+    case 6: whiten_columns<6>(g, cols + c); break;
+    case 5: whiten_columns<5>(g, cols + c); break;
+    case 4: whiten_columns<4>(g, cols + c); break;
+    case 3: whiten_columns<3>(g, cols + c); break;
+    case 2: whiten_columns<2>(g, cols + c); break;
+    case 1: whiten_columns<1>(g, cols + c); break;
+    default: break;
+  }
+}
+
+// Pass 2 on every column of M.
+void whiten_through(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M) {
+  thread_local std::vector<double*> cols;
+  cols.resize(static_cast<std::size_t>(M.cols()));
+  for (Eigen::Index c = 0; c < M.cols(); ++c) cols[static_cast<std::size_t>(c)] = M.col(c).data();
+  whiten_through(g, cols.data(), cols.size());
+}
+
 // One column m through the gains of J models (J <= kMaxEach), frame-major: w[i * J + j] under
-// model j. Whiten's pass 2 (whiten_step) on each model, the models' recursions interleaved.
+// model j. Whiten's pass 2 (whiten_step) on each model, the models in pairs (one pair per vector
+// register, an odd last one alone; each lane's arithmetic is whiten_step's, bit for bit). The
+// models of one table share their frames kept out.
 constexpr std::size_t kMaxEach = 16;
 template <std::size_t J>
 void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen::Index n, double* w) {
-  double x0[J] = {}, x1[J] = {};
+  constexpr std::size_t P = J / 2;
+  v2d x0[P > 0 ? P : 1] = {}, x1[P > 0 ? P : 1] = {};
+  double y0 = 0, y1 = 0;  // the odd model's state
   Eigen::Index i0 = 0;  // before the first non-zero value each whitened value is the input (first_nonzero)
   for (; i0 < n && m[i0] == 0; ++i0) {
     const auto ui = static_cast<std::size_t>(i0);
@@ -109,7 +163,22 @@ void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen
   }
   for (Eigen::Index i = i0; i < n; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    for (std::size_t j = 0; j < J; ++j) w[ui * J + j] = whiten_step(g[j][ui], m[i], x0[j], x1[j]);
+    double* wi = w + ui * J;
+    if (g[0][ui].skip) {
+      for (std::size_t j = 0; j < J; ++j) wi[j] = 0;
+      continue;
+    }
+    const v2d mv = {m[i], m[i]};
+    for (std::size_t p = 0; p < P; ++p) {
+      const Gain& A = g[2 * p][ui];
+      const Gain& B = g[2 * p + 1][ui];
+      if (A.started) x0[p] *= v2d{A.f0, B.f0}, x1[p] *= v2d{A.f, B.f};
+      const v2d nu = mv - (v2d{A.H0, B.H0} * x0[p] + x1[p]);
+      x0[p] += v2d{A.K0, B.K0} * nu, x1[p] += v2d{A.K1, B.K1} * nu;
+      const v2d wv = nu / v2d{A.sq, B.sq};
+      wi[2 * p] = wv[0], wi[2 * p + 1] = wv[1];
+    }
+    if (J % 2 == 1) wi[J - 1] = whiten_step(g[J - 1][ui], m[i], y0, y1);
   }
 }
 
@@ -121,19 +190,6 @@ constexpr std::array<WhitenEachFn, sizeof...(Js)> whiten_each_table(std::index_s
   return {&whiten_each<Js + 1>...};
 }
 constexpr auto kWhitenEach = whiten_each_table(std::make_index_sequence<kMaxEach>{});
-
-// Pass 2 on every column of M, four at a time (whiten_columns).
-void whiten_through(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M) {
-  const Eigen::Index cols = M.cols();
-  Eigen::Index c = 0;
-  for (; c + 4 <= cols; c += 4) whiten_columns<4>(g, M, c);
-  switch (cols - c) {
-    case 3: whiten_columns<3>(g, M, c); break;
-    case 2: whiten_columns<2>(g, M, c); break;
-    case 1: whiten_columns<1>(g, M, c); break;
-    default: break;
-  }
-}
 
 }  // namespace
 
@@ -217,6 +273,48 @@ struct Riccati {
   }
 };
 
+// Two models' Riccati recursions in one vector register per quantity (v2d): each lane's
+// arithmetic is Riccati::step's, operation for operation (element-wise IEEE arithmetic, and
+// SSE2's square root, correctly rounded as std::sqrt): the same gains bit for bit, in about
+// half the instructions. (P10 is not kept: Riccati's P01 and P10 are always equal.)
+struct RiccatiPair {
+  v2d q0, q, r, P00, P01, P11;
+  v2di has0, has;  // lanes with a nominal part, with a further part (all bits set)
+  RiccatiPair(const Riccati& a, const Riccati& b)
+      : q0{a.q0, b.q0}, q{a.q, b.q}, r{a.r, b.r}, P00{a.P00, b.P00}, P01{a.P01, b.P01}, P11{a.P11, b.P11} {
+    has0 = q0 > v2d{0, 0}, has = q > v2d{0, 0};
+  }
+
+  // Riccati::step on both lanes, e the lanes' transitions; S returned.
+  v2d step(Gain& ga, Gain& gb, double H0s, bool started, double e0s, v2d e) {
+    const v2d zero = {0, 0}, one = {1, 1}, H0 = {H0s, H0s}, H1 = one, tiny = {1e-300, 1e-300};
+    const v2d f0 = started ? (has0 ? v2d{e0s, e0s} : zero) : zero, f = started ? (has ? e : zero) : zero;
+    if (started) {
+      P00 = f0 * f0 * P00 + q0 * (one - f0 * f0);
+      P11 = f * f * P11 + q * (one - f * f);
+      P01 = f0 * f * P01;
+    }
+    const v2d HP0 = H0 * P00 + H1 * P01, HP1 = H0 * P01 + H1 * P11;
+    const v2d x = HP0 * H0 + HP1 * H1 + r;
+    const v2d S = x < tiny ? tiny : x;  // std::max(x, 1e-300)
+    const v2d K0 = (P00 * H0 + P01 * H1) / S, K1 = (P01 * H0 + P11 * H1) / S;
+    const v2d sq = _mm_sqrt_pd(S);
+    const v2d A00 = one - K0 * H0, A01 = -K0 * H1, A10 = -K1 * H0, A11 = one - K1 * H1;
+    const v2d N00 = A00 * P00 + A01 * P01, N01 = A00 * P01 + A01 * P11, N10 = A10 * P00 + A11 * P01,
+              N11 = A10 * P01 + A11 * P11;
+    P00 = N00, P11 = N11, P01 = 0.5 * (N01 + N10);
+    ga.H0 = gb.H0 = H0s;
+    ga.started = gb.started = started;
+    ga.skip = gb.skip = false;
+    ga.f0 = f0[0], gb.f0 = f0[1];
+    ga.f = f[0], gb.f = f[1];
+    ga.K0 = K0[0], gb.K0 = K0[1];
+    ga.K1 = K1[0], gb.K1 = K1[1];
+    ga.sq = sq[0], gb.sq = sq[1];
+    return S;
+  }
+};
+
 // The frames of a series and the transitions between them, shared by its models.
 struct Frames {
   const std::vector<double>& t;
@@ -230,6 +328,11 @@ struct Frames {
   // operations: the processor overlaps them; each model's arithmetic is what it is alone). N > 0:
   // J = N models, their states copied to the stack (off the gains' memory, which the compiler
   // must otherwise assume a gain's store may change); N = 0: any J, in place.
+  template <std::size_t... Ps>
+  static std::array<RiccatiPair, sizeof...(Ps)> make_pairs(const Riccati* st, std::index_sequence<Ps...>) {
+    return {RiccatiPair(st[2 * Ps], st[2 * Ps + 1])...};
+  }
+
   template <std::size_t N>
   void run(Riccati* models, std::size_t J, std::vector<std::vector<Gain>>& g, std::vector<Eigen::VectorXd>* logS,
            std::vector<LogProduct>& prod) const {
@@ -240,6 +343,9 @@ struct Frames {
       st = local;
     }
     const std::size_t JJ = N > 0 ? N : J;
+    // N > 1: the models in pairs (RiccatiPair), an odd last one alone
+    constexpr std::size_t NP = N / 2;
+    std::array<RiccatiPair, NP> pairs = make_pairs(st, std::make_index_sequence<NP>{});
     const auto n = static_cast<Eigen::Index>(t.size());
     // one transition exp(-dt / tau) per model, computed once per distinct tau: model j takes
     // model same[j]'s, the first of its tau (the grid's shares at one tau share one; a
@@ -276,15 +382,35 @@ struct Frames {
         }
       }
       t_prev = t[ui];
-      for (std::size_t j = 0; j < JJ; ++j) {
-        const double S = st[j].step(g[j][ui], H0, started, e0, e[j]);
+      auto keep = [&](std::size_t j, double S) {
         if (logS) (*logS)[j](i) = std::log(S);
         if (!prod.empty()) prod[j].add(S);
+      };
+      std::size_t j = 0;
+      for (std::size_t p = 0; p < NP; ++p, j += 2) {
+        const v2d S = pairs[p].step(g[j][ui], g[j + 1][ui], H0, started, e0, v2d{e[j], e[j + 1]});
+        keep(j, S[0]), keep(j + 1, S[1]);
       }
+      for (; j < JJ; ++j) keep(j, st[j].step(g[j][ui], H0, started, e0, e[j]));
       started = true;
     }
   }
 };
+
+// Frames::run<N> for N = 1 .. kMaxRun (a noise confidence set has any count of models).
+constexpr std::size_t kMaxRun = 16;
+using RunFn = void (*)(const Frames&, Riccati*, std::size_t, std::vector<std::vector<Gain>>&,
+                       std::vector<Eigen::VectorXd>*, std::vector<LogProduct>&);
+template <std::size_t N>
+void run_n(const Frames& fr, Riccati* models, std::size_t J, std::vector<std::vector<Gain>>& g,
+           std::vector<Eigen::VectorXd>* logS, std::vector<LogProduct>& prod) {
+  fr.run<N>(models, J, g, logS, prod);
+}
+template <std::size_t... Ns>
+constexpr std::array<RunFn, sizeof...(Ns)> run_table(std::index_sequence<Ns...>) {
+  return {&run_n<Ns + 1>...};
+}
+constexpr auto kRun = run_table(std::make_index_sequence<kMaxRun>{});
 
 // Pass 1, the gains (they depend on the times and h only): per frame the transitions, H0, K and
 // sqrt(S), into g[j] for model j. The models' recursions run interleaved (each is a chain of
@@ -310,22 +436,17 @@ void gains(const std::vector<double>& t, const std::vector<double>& h, const std
   if (g.size() < J) g.resize(J);
   for (std::size_t j = 0; j < J; ++j) g[j].resize(static_cast<std::size_t>(n));  // every field written below
   Frames fr{t, h, skip, ps[0].nom_tau_s, ps.data(), any_q0, any_q};
-  switch (J) {  // the models' count fixed at compile time: their states stay off the gains' memory
-    case 1: fr.run<1>(models.data(), J, g, logS, prod); break;
-    case 6: fr.run<6>(models.data(), J, g, logS, prod); break;
-    case 7: fr.run<7>(models.data(), J, g, logS, prod); break;
-    case 8: fr.run<8>(models.data(), J, g, logS, prod); break;
-    default: fr.run<0>(models.data(), J, g, logS, prod);
-  }
+  // the models' count fixed at compile time up to kMaxRun (their states stay off the gains'
+  // memory, in pairs)
+  if (J >= 1 && J <= kMaxRun)
+    kRun[J - 1](fr, models.data(), J, g, logS, prod);
+  else
+    fr.run<0>(models.data(), J, g, logS, prod);
   if (sum_logS) {
     sum_logS->resize(J);
     for (std::size_t j = 0; j < J; ++j) (*sum_logS)[j] = prod[j].log();
   }
 }
-
-// Two doubles in one SSE2 register (GCC's vector extension; element-wise IEEE arithmetic, each
-// lane's result what the scalar operation gives).
-typedef double v2d __attribute__((vector_size(16)));
 
 // The Gram matrix W' W of the K columns of M whitened through the gains g (whiten_columns'
 // recursion, each whitened value the same bit for bit), accumulated as the rows are whitened:
@@ -464,6 +585,11 @@ void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M
   if (j >= table.gains.size()) throw std::invalid_argument("whiten: no model " + std::to_string(j) + " in the gain table");
   if (M.rows() != static_cast<Eigen::Index>(table.gains[j].size())) throw std::invalid_argument("whiten: rows != number of times");
   whiten_through(table.gains[j], M);
+}
+
+void whiten(const GainTable& table, std::size_t j, const std::vector<double*>& cols) {
+  if (j >= table.gains.size()) throw std::invalid_argument("whiten: no model " + std::to_string(j) + " in the gain table");
+  whiten_through(table.gains[j], cols.data(), cols.size());
 }
 
 std::size_t GainTable::bytes() const {

@@ -106,6 +106,10 @@ void innovation_gains(const std::vector<double>& t, const std::vector<double>& h
 /// M whitened in place under table.models[j]: whiten()'s result, bit for bit, without computing
 /// the gains again. Throws std::invalid_argument when M's rows are not the table's frames.
 void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M);
+/// The same on columns given by where they start, each as long as the table's frames (the
+/// caller's duty: they are not checked), whitened in place; at once, eight at a time (one
+/// column's recursion is a chain of dependent operations: eight keep the processor busy).
+void whiten(const GainTable& table, std::size_t j, const std::vector<double*>& cols);
 
 /// Column m whitened under every model of the table, frame-major: w[i * J + j] under
 /// table.models[j] (J models, at most 16), each value whiten(table, j, m)'s bit for bit.

@@ -171,6 +171,109 @@ Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::ve
   return out;
 }
 
+void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
+  // Channel by channel, every column of every entry's grid points that touches it whitened at
+  // once: whiten_through's values bit for bit (each column's recursion is its own), but eight
+  // columns at a time where one grid point has one to three (a lone column's recursion is a chain
+  // of dependent operations that leaves the processor mostly waiting). A channel whose rows are
+  // one block (rows ascend: the last minus the first is their count less one) is whitened in
+  // place in Cw; another's rows are gathered into one matrix, whitened and put back.
+  const Problem& p = *pb;
+  const std::size_t nc = rows.size();
+  Cw.assign(p.catalogue.size(), {});
+  std::vector<std::vector<char>> touched(p.catalogue.size());  // [entry][variant * channels + channel]
+  Eigen::MatrixXd scratch;
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+    const std::size_t nv = p.catalogue[e].variants();
+    touched[e].resize(nv * nc);
+    for (std::size_t v = 0; v < nv; ++v) {
+      const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+      const std::vector<char>* kt = kept_touches(e, v);
+      const std::vector<char> own = kt ? std::vector<char>{} : touches(raw);
+      std::copy_n((kt ? *kt : own).begin(), nc, touched[e].begin() + static_cast<std::ptrdiff_t>(v * nc));
+      Cw[e].emplace_back(raw.rows(), raw.cols());  // every row written below: its channel's values or 0
+    }
+  }
+  auto one_block = [&](std::size_t c) { return !rows[c].empty() && rows[c].back() - rows[c].front() + 1 == rows[c].size(); };
+  thread_local Eigen::MatrixXd B;  // a scattered channel's rows of every column touching it
+  std::vector<double*> cols;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const std::vector<std::size_t>& rc = rows[c];
+    const auto m = static_cast<Eigen::Index>(rc.size());
+    if (m == 0) continue;
+    if (one_block(c)) {
+      const auto a = static_cast<Eigen::Index>(rc.front());
+      cols.clear();
+      for (std::size_t e = 0; e < Cw.size(); ++e)
+        for (std::size_t v = 0; v < Cw[e].size(); ++v) {
+          if (!touched[e][v * nc + c]) continue;
+          const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+          for (Eigen::Index j = 0; j < raw.cols(); ++j) {
+            double* to = Cw[e][v].col(j).data() + a;
+            std::copy_n(raw.col(j).data() + a, m, to);
+            cols.push_back(to);
+          }
+        }
+      rnav::whiten(tables[c], 0, cols);
+      continue;
+    }
+    Eigen::Index k = 0;
+    for (std::size_t e = 0; e < Cw.size(); ++e)
+      for (std::size_t v = 0; v < Cw[e].size(); ++v)
+        if (touched[e][v * nc + c]) k += Cw[e][v].cols();
+    if (k == 0) continue;
+    B.resize(m, k);
+    Eigen::Index col = 0;
+    for (std::size_t e = 0; e < Cw.size(); ++e)
+      for (std::size_t v = 0; v < Cw[e].size(); ++v) {
+        if (!touched[e][v * nc + c]) continue;
+        const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+        for (Eigen::Index j = 0; j < raw.cols(); ++j, ++col) {
+          const double* from = raw.col(j).data();
+          double* b = B.col(col).data();
+          for (Eigen::Index r = 0; r < m; ++r) b[r] = from[rc[static_cast<std::size_t>(r)]];
+        }
+      }
+    rnav::whiten(tables[c], 0, B);
+    col = 0;
+    for (std::size_t e = 0; e < Cw.size(); ++e)
+      for (std::size_t v = 0; v < Cw[e].size(); ++v) {
+        if (!touched[e][v * nc + c]) continue;
+        Eigen::MatrixXd& out = Cw[e][v];
+        for (Eigen::Index j = 0; j < out.cols(); ++j, ++col) {
+          double* to = out.col(j).data();
+          const double* b = B.col(col).data();
+          for (Eigen::Index r = 0; r < m; ++r) to[rc[static_cast<std::size_t>(r)]] = b[r];
+        }
+      }
+  }
+  // the rows of the channels a grid point does not touch: 0 (the channels' rows partition the
+  // observations); its unit_gram scans for zeros only from the first touched channel's first
+  // row to the last one's last
+  Cg.assign(p.catalogue.size(), {});
+  for (std::size_t e = 0; e < Cw.size(); ++e)
+    for (std::size_t v = 0; v < Cw[e].size(); ++v) {
+      Eigen::MatrixXd& out = Cw[e][v];
+      Eigen::Index lo = out.rows(), hi = 0;
+      for (std::size_t c = 0; c < nc; ++c) {
+        if (rows[c].empty()) continue;
+        if (touched[e][v * nc + c]) {
+          lo = std::min(lo, static_cast<Eigen::Index>(rows[c].front()));
+          hi = std::max(hi, static_cast<Eigen::Index>(rows[c].back()) + 1);
+          continue;
+        }
+        for (Eigen::Index j = 0; j < out.cols(); ++j) {
+          double* to = out.col(j).data();
+          if (one_block(c))
+            std::fill_n(to + rows[c].front(), rows[c].size(), 0.0);
+          else
+            for (std::size_t r : rows[c]) to[r] = 0;
+        }
+      }
+      Cg[e].push_back(unit_gram(out, lo, std::max(lo, hi)));
+    }
+}
+
 void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std::vector<char>>& sk) {
   noise = np;
   skip = sk;
@@ -186,14 +289,7 @@ void Design::set_noise(const std::vector<NoiseParams>& np, const std::vector<std
   const std::vector<GainTable> tables = gain_tables(noise);
   yw = whiten_through(Eigen::Map<const Eigen::VectorXd>(p.y.data(), static_cast<Eigen::Index>(p.size())), tables);
   Nw = p.nuisance.cols() > 0 ? whiten_through(p.nuisance, tables) : Eigen::MatrixXd(static_cast<Eigen::Index>(p.size()), 0);
-  Cw.assign(p.catalogue.size(), {});
-  Eigen::MatrixXd scratch;
-  for (std::size_t e = 0; e < p.catalogue.size(); ++e)
-    for (std::size_t v = 0; v < p.catalogue[e].variants(); ++v)
-      Cw[e].push_back(whiten_through(raw_view(e, v, scratch), tables, kept_touches(e, v)));
-  Cg.assign(p.catalogue.size(), {});
-  for (std::size_t e = 0; e < p.catalogue.size(); ++e)
-    for (const Eigen::MatrixXd& C : Cw[e]) Cg[e].push_back(unit_gram(C));
+  whiten_catalogue(tables);
 }
 
 Eigen::MatrixXd model_matrix(const Design& d, const std::vector<std::pair<std::size_t, std::size_t>>& chosen) {
@@ -262,7 +358,11 @@ Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& M) {
 }
 }  // namespace
 
-UnitGram unit_gram(const Eigen::MatrixXd& C) {
+UnitGram unit_gram(const Eigen::MatrixXd& C) { return unit_gram(C, 0, C.rows()); }
+
+UnitGram unit_gram(const Eigen::MatrixXd& C, Eigen::Index zero_below, Eigen::Index zero_from) {
+  if (!(0 <= zero_below && zero_below <= zero_from && zero_from <= C.rows()))
+    throw std::logic_error("unit_gram: the rows known to be 0 must be a prefix and a suffix");
   UnitGram g;
   const Eigen::Index k = C.cols();
   // the rows outside which every column is 0 (a column touches one channel's block of rows; a
@@ -270,7 +370,7 @@ UnitGram unit_gram(const Eigen::MatrixXd& C) {
   g.lo = C.rows(), g.hi = 0;
   for (Eigen::Index j = 0; j < k; ++j) {
     const double* c = C.col(j).data();
-    Eigen::Index lo = 0, hi = C.rows();
+    Eigen::Index lo = zero_below, hi = zero_from;
     while (lo < hi && c[lo] == 0) ++lo;
     while (hi > lo && c[hi - 1] == 0) --hi;
     if (lo < hi) g.lo = std::min(g.lo, lo), g.hi = std::max(g.hi, hi);

@@ -46,6 +46,10 @@ struct UnitGram {
   Eigen::Index lo = 0, hi = 0;  ///< C is 0 outside rows [lo, hi) (lo = hi = 0: everywhere)
 };
 UnitGram unit_gram(const Eigen::MatrixXd& C);
+/// The same where C is known to be 0 in rows [0, zero_below) and [zero_from, rows) (they are not
+/// scanned: the same result when they are 0). Throws std::logic_error unless
+/// 0 <= zero_below <= zero_from <= rows.
+UnitGram unit_gram(const Eigen::MatrixXd& C, Eigen::Index zero_below, Eigen::Index zero_from);
 
 struct Design {
   const Problem* pb = nullptr;
@@ -89,6 +93,11 @@ struct Design {
   const Eigen::MatrixXd& raw_view(std::size_t e, std::size_t v, Eigen::MatrixXd& scratch) const;
   /// touches(raw_columns(e, v)) where the entry's columns are kept, else nullptr.
   const std::vector<char>* kept_touches(std::size_t e, std::size_t v) const;
+
+ private:
+  /// Cw: every entry's columns at every grid point whitened through the channels' tables
+  /// (whiten_through's values, bit for bit), and their Cg.
+  void whiten_catalogue(const std::vector<GainTable>& tables);
 };
 
 /// [Nw | whitened columns of the chosen (entry, grid point) pairs].
