@@ -794,23 +794,30 @@ TEST_CASE("effect search: the design's whitened catalogue is each grid point whi
       np.s2 = 1.5, np.lambda = 0.8, np.tau_s = 4;
       std::vector<std::vector<char>> skip(n_ch, std::vector<char>(frames, 0));
       skip[1][5] = skip[1][30] = 1;
-      d.set_noise(std::vector<NoiseParams>(n_ch, np), skip);
-      const std::vector<GainTable> tables = d.gain_tables(d.noise);
-      for (std::size_t e = 0; e < pb.catalogue.size(); ++e)
-        for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) {
-          INFO((interleaved ? "interleaved" : "channel by channel") << (kept ? ", kept columns" : "") << ": entry "
-                                                                     << pb.catalogue[e].name << ", grid point " << v);
-          const Eigen::MatrixXd alone = d.whiten_through(d.raw_columns(e, v), tables);
-          const Eigen::MatrixXd& C = d.Cw[e][v];
-          REQUIRE(C.rows() == alone.rows());
-          REQUIRE(C.cols() == alone.cols());
-          CHECK((C.array() == alone.array()).all());
-          const search_detail::UnitGram full = search_detail::unit_gram(C), got = d.Cg[e][v];
-          CHECK(got.lo == full.lo);
-          CHECK(got.hi == full.hi);
-          CHECK((got.inv_norm.array() == full.inv_norm.array()).all());
-          CHECK((got.UU.array() == full.UU.array()).all());
-        }
+      // a first noise, then a second (its storage kept from the first: the untouched rows stay 0)
+      NoiseParams white;
+      white.s2 = 0.7;
+      for (int round = 0; round < 2; ++round) {
+        d.set_noise(std::vector<NoiseParams>(n_ch, round == 0 ? np : white), skip);
+        skip[2][0] = 1;
+        const std::vector<GainTable> tables = d.gain_tables(d.noise);
+        for (std::size_t e = 0; e < pb.catalogue.size(); ++e)
+          for (std::size_t v = 0; v < pb.catalogue[e].variants(); ++v) {
+            INFO((interleaved ? "interleaved" : "channel by channel") << (kept ? ", kept columns" : "") << ", noise "
+                                                                       << round << ": entry " << pb.catalogue[e].name
+                                                                       << ", grid point " << v);
+            const Eigen::MatrixXd alone = d.whiten_through(d.raw_columns(e, v), tables);
+            const Eigen::MatrixXd& C = d.Cw[e][v];
+            REQUIRE(C.rows() == alone.rows());
+            REQUIRE(C.cols() == alone.cols());
+            CHECK((C.array() == alone.array()).all());
+            const search_detail::UnitGram full = search_detail::unit_gram(C), got = d.Cg[e][v];
+            CHECK(got.lo == full.lo);
+            CHECK(got.hi == full.hi);
+            CHECK((got.inv_norm.array() == full.inv_norm.array()).all());
+            CHECK((got.UU.array() == full.UU.array()).all());
+          }
+      }
       CHECK(d.Cg[3][0].lo == d.Cg[3][0].hi);  // the column that touches nothing
       CHECK(d.Cg[1][0].lo > 0);               // the step on one channel: not from row 0
     }

@@ -178,23 +178,41 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
   // of dependent operations that leaves the processor mostly waiting). A channel whose rows are
   // one block (rows ascend: the last minus the first is their count less one) is whitened in
   // place in Cw; another's rows are gathered into one matrix, whitened and put back.
+  // (Cw's storage kept from one noise to the next: the rows of the channels a grid point does not
+  // touch are 0 under every noise, written once; zeroing them again was a thirtieth of a landing
+  // diagnosis)
   const Problem& p = *pb;
   const std::size_t nc = rows.size();
-  Cw.assign(p.catalogue.size(), {});
-  std::vector<std::vector<char>> touched(p.catalogue.size());  // [entry][variant * channels + channel]
-  Eigen::MatrixXd scratch;
-  for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
-    const std::size_t nv = p.catalogue[e].variants();
-    touched[e].resize(nv * nc);
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
-      const std::vector<char>* kt = kept_touches(e, v);
-      const std::vector<char> own = kt ? std::vector<char>{} : touches(raw);
-      std::copy_n((kt ? *kt : own).begin(), nc, touched[e].begin() + static_cast<std::ptrdiff_t>(v * nc));
-      Cw[e].emplace_back(raw.rows(), raw.cols());  // every row written below: its channel's values or 0
-    }
-  }
   auto one_block = [&](std::size_t c) { return !rows[c].empty() && rows[c].back() - rows[c].front() + 1 == rows[c].size(); };
+  Eigen::MatrixXd scratch;
+  std::vector<std::vector<char>>& touched = cat_touched_;  // [entry][variant * channels + channel]
+  if (!catalogue_laid_out_) {
+    Cw.assign(p.catalogue.size(), {});
+    touched.assign(p.catalogue.size(), {});
+    for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+      const std::size_t nv = p.catalogue[e].variants();
+      touched[e].resize(nv * nc);
+      for (std::size_t v = 0; v < nv; ++v) {
+        const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+        const std::vector<char>* kt = kept_touches(e, v);
+        const std::vector<char> own = kt ? std::vector<char>{} : touches(raw);
+        std::copy_n((kt ? *kt : own).begin(), nc, touched[e].begin() + static_cast<std::ptrdiff_t>(v * nc));
+        Eigen::MatrixXd& out = Cw[e].emplace_back(raw.rows(), raw.cols());  // the touched channels' rows written below
+        // the rows of the channels it does not touch: 0 (the channels' rows partition the observations)
+        for (std::size_t c = 0; c < nc; ++c) {
+          if (rows[c].empty() || touched[e][v * nc + c]) continue;
+          for (Eigen::Index j = 0; j < out.cols(); ++j) {
+            double* to = out.col(j).data();
+            if (one_block(c))
+              std::fill_n(to + rows[c].front(), rows[c].size(), 0.0);
+            else
+              for (std::size_t r : rows[c]) to[r] = 0;
+          }
+        }
+      }
+    }
+    catalogue_laid_out_ = true;
+  }
   thread_local Eigen::MatrixXd B;  // a scattered channel's rows of every column touching it
   std::vector<double*> cols;
   for (std::size_t c = 0; c < nc; ++c) {
@@ -247,30 +265,18 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
         }
       }
   }
-  // the rows of the channels a grid point does not touch: 0 (the channels' rows partition the
-  // observations); its unit_gram scans for zeros only from the first touched channel's first
+  // each grid point's unit_gram, scanning for zeros only from the first touched channel's first
   // row to the last one's last
   Cg.assign(p.catalogue.size(), {});
   for (std::size_t e = 0; e < Cw.size(); ++e)
     for (std::size_t v = 0; v < Cw[e].size(); ++v) {
-      Eigen::MatrixXd& out = Cw[e][v];
-      Eigen::Index lo = out.rows(), hi = 0;
-      for (std::size_t c = 0; c < nc; ++c) {
-        if (rows[c].empty()) continue;
-        if (touched[e][v * nc + c]) {
+      Eigen::Index lo = Cw[e][v].rows(), hi = 0;
+      for (std::size_t c = 0; c < nc; ++c)
+        if (!rows[c].empty() && touched[e][v * nc + c]) {
           lo = std::min(lo, static_cast<Eigen::Index>(rows[c].front()));
           hi = std::max(hi, static_cast<Eigen::Index>(rows[c].back()) + 1);
-          continue;
         }
-        for (Eigen::Index j = 0; j < out.cols(); ++j) {
-          double* to = out.col(j).data();
-          if (one_block(c))
-            std::fill_n(to + rows[c].front(), rows[c].size(), 0.0);
-          else
-            for (std::size_t r : rows[c]) to[r] = 0;
-        }
-      }
-      Cg[e].push_back(unit_gram(out, lo, std::max(lo, hi)));
+      Cg[e].push_back(unit_gram(Cw[e][v], lo, std::max(lo, hi)));
     }
 }
 

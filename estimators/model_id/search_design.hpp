@@ -98,6 +98,10 @@ struct Design {
   /// Cw: every entry's columns at every grid point whitened through the channels' tables
   /// (whiten_through's values, bit for bit), and their Cg.
   void whiten_catalogue(const std::vector<GainTable>& tables);
+  /// Whether Cw is laid out for the catalogue (every grid point's matrix, 0 on the rows of the
+  /// channels it does not touch), and which channels each touches: [entry][variant * channels + channel].
+  bool catalogue_laid_out_ = false;
+  std::vector<std::vector<char>> cat_touched_;
 };
 
 /// [Nw | whitened columns of the chosen (entry, grid point) pairs].
