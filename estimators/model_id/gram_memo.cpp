@@ -143,11 +143,8 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
                                 std::to_string(kMaxColumns) + " columns and at least " + std::to_string(kMinFrames) +
                                 " frames are served");
   // the grid's entries kept; the missing ones listed (their sums are filled table by table)
-  struct Pending {
-    Eigen::Index a, b;
-    Key key;
-  };
-  std::vector<Pending> pending;
+  std::vector<Missing>& pending = missing_;  // (kept between calls: allocated on every call, a fiftieth of a diagnosis)
+  pending.clear();
   std::size_t J = 0;  // models per table: from the first entry read or table asked for
   auto shape = [&](std::size_t j) {
     if (J == 0) {
@@ -178,11 +175,11 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
   if (pending.empty()) return;
   // table by table: the missing entries' sums as grams() computes them (the same whitened
   // columns, kept per table and column, and the same sums)
-  std::vector<std::vector<double>> sums(pending.size());
+  std::vector<std::vector<double>> sums(pending.size());  // (moved into the memo below)
   std::vector<Whitened>& w = w_;
   std::vector<char>& needed = needed_;
   needed.assign(static_cast<std::size_t>(K), 0);
-  for (const Pending& p : pending) needed[static_cast<std::size_t>(p.a)] = needed[static_cast<std::size_t>(p.b)] = 1;
+  for (const Missing& p : pending) needed[static_cast<std::size_t>(p.a)] = needed[static_cast<std::size_t>(p.b)] = 1;
   for (std::size_t t = 0; t < T; ++t) {
     const auto [table_key, table] = table_of(t);
     if (!serves(*table, M))
@@ -196,7 +193,7 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
       if (needed[static_cast<std::size_t>(c)])
         w[static_cast<std::size_t>(c)] = whitened_column(*table, table_key, M, c, col_keys[static_cast<std::size_t>(c)]);
     for (std::size_t m = 0; m < pending.size(); ++m) {
-      const Pending& p = pending[m];
+      const Missing& p = pending[m];
       Sums s{};
       kSums[J - 1](w[static_cast<std::size_t>(p.a)].get(), w[static_cast<std::size_t>(p.b)].get(), n, s);
       sums[m].resize(T * J);
