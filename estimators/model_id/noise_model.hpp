@@ -92,7 +92,9 @@ struct InnovationGain {
 /// The gains of several models on one series, kept to whiten many matrices (whitened_grams).
 struct GainTable {
   std::vector<NoiseParams> models;
-  std::vector<std::vector<InnovationGain>> gains;  ///< [model][frame]
+  /// [model][frame]; a frame's skip and started are the same for every model (innovation_gains
+  /// writes them so: the frames kept out are the table's; whiten_each_model relies on it)
+  std::vector<std::vector<InnovationGain>> gains;
   std::vector<double> sum_logS;  ///< per model: sum over the frames kept of log S_i (one product: the sum of the logs to about n eps)
   std::size_t bytes() const;     ///< memory held [B]
 };
