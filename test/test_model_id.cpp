@@ -355,7 +355,8 @@ TEST_CASE("gram memo: a grid's Gram matrices are grams()' per table, bit for bit
   // The noise identification's grid asks for 28 tables at once (one lookup per pair of columns
   // instead of 28): every matrix must be what grams() gives table by table, when its entries
   // are computed, read, or partly read (one column changed), with a memo whose generations turn
-  // on every call; a table of another model count is refused.
+  // on every call (missing entries that share a column are summed in one pass, each as alone);
+  // a table of another model count is refused.
   const Eigen::Index n = GramMemo::kMinFrames + 25;
   const auto [t, h] = wobbly_frames(n, 0.4, 0.1, 0.8, 0.001);
   std::vector<char> skip(static_cast<std::size_t>(n), 0);
@@ -363,7 +364,7 @@ TEST_CASE("gram memo: a grid's Gram matrices are grams()' per table, bit for bit
   const std::vector<double> taus = {0.3, 2.0, 11.0, 60.0};
   std::vector<GainTable> tables(taus.size());
   for (std::size_t i = 0; i < taus.size(); ++i) {
-    std::vector<NoiseParams> ps = models_at({0.3, 0.8, 0.95});
+    std::vector<NoiseParams> ps = models_at({0.0, 0.3, 0.6, 0.8, 0.9, 0.95, 0.995});  // the grid's count: pairs and one alone
     for (NoiseParams& p : ps) p.tau_s = taus[i];
     innovation_gains(t, h, ps, skip, tables[i]);
   }

@@ -36,6 +36,32 @@ void sums(const double* wa, const double* wb, Eigen::Index n, std::array<double,
   if (J % 2 == 1) s[J - 1] = last;
 }
 
+// sums<J> of two entries that share column wb, (wa, wb) and (wc, wb), in one pass over the
+// frames (wb read once): each entry's sums in sums<J>'s order, the same values bit for bit
+// (w_a w_b = w_b w_a exactly).
+template <std::size_t J>
+void sums2(const double* wa, const double* wc, const double* wb, Eigen::Index n,
+           std::array<double, GramMemo::kMaxModels>& sa, std::array<double, GramMemo::kMaxModels>& sc) {
+  constexpr std::size_t P = J / 2;
+  v2d acc_a[P > 0 ? P : 1] = {}, acc_c[P > 0 ? P : 1] = {};
+  double last_a = 0, last_c = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::size_t row = static_cast<std::size_t>(i) * J;
+    const double *ra = wa + row, *rc = wc + row, *rb = wb + row;
+    for (std::size_t p = 0; p < P; ++p) {
+      const v2d b = {rb[2 * p], rb[2 * p + 1]};
+      acc_a[p] += v2d{ra[2 * p], ra[2 * p + 1]} * b;
+      acc_c[p] += v2d{rc[2 * p], rc[2 * p + 1]} * b;
+    }
+    if (J % 2 == 1) last_a += ra[J - 1] * rb[J - 1], last_c += rc[J - 1] * rb[J - 1];
+  }
+  for (std::size_t p = 0; p < P; ++p) {
+    sa[2 * p] = acc_a[p][0], sa[2 * p + 1] = acc_a[p][1];
+    sc[2 * p] = acc_c[p][0], sc[2 * p + 1] = acc_c[p][1];
+  }
+  if (J % 2 == 1) sa[J - 1] = last_a, sc[J - 1] = last_c;
+}
+
 // sums<J> for J = 1 .. kMaxModels, the models' count fixed at compile time (their sums stay in
 // registers).
 using SumsFn = void (*)(const double*, const double*, Eigen::Index, std::array<double, GramMemo::kMaxModels>&);
@@ -44,6 +70,13 @@ constexpr std::array<SumsFn, sizeof...(Js)> sums_table(std::index_sequence<Js...
   return {&sums<Js + 1>...};
 }
 constexpr auto kSums = sums_table(std::make_index_sequence<GramMemo::kMaxModels>{});
+using Sums2Fn = void (*)(const double*, const double*, const double*, Eigen::Index,
+                         std::array<double, GramMemo::kMaxModels>&, std::array<double, GramMemo::kMaxModels>&);
+template <std::size_t... Js>
+constexpr std::array<Sums2Fn, sizeof...(Js)> sums2_table(std::index_sequence<Js...>) {
+  return {&sums2<Js + 1>...};
+}
+constexpr auto kSums2 = sums2_table(std::make_index_sequence<GramMemo::kMaxModels>{});
 
 }  // namespace
 
@@ -192,16 +225,34 @@ void GramMemo::grid_grams(std::size_t T, const TableOf& table_of, const Key& gri
     for (Eigen::Index c = 0; c < K; ++c)
       if (needed[static_cast<std::size_t>(c)])
         w[static_cast<std::size_t>(c)] = whitened_column(*table, table_key, M, c, col_keys[static_cast<std::size_t>(c)]);
-    for (std::size_t m = 0; m < pending.size(); ++m) {
+    auto keep = [&](std::size_t m, const Sums& s) {
       const Missing& p = pending[m];
-      Sums s{};
-      kSums[J - 1](w[static_cast<std::size_t>(p.a)].get(), w[static_cast<std::size_t>(p.b)].get(), n, s);
       sums[m].resize(T * J);
       for (std::size_t j = 0; j < J; ++j) {
         grams[t][j](p.a, p.b) = grams[t][j](p.b, p.a) = s[j];
         sums[m][t * J + j] = s[j];
       }
       ++computed_;
+    };
+    // two entries that share their second column in one pass (most of a grid's missing entries
+    // pair e with another column)
+    std::vector<char>& done = done_;
+    done.assign(pending.size(), 0);
+    for (std::size_t m = 0; m < pending.size(); ++m) {
+      if (done[m]) continue;
+      const Missing& p = pending[m];
+      std::size_t m2 = m + 1;
+      while (m2 < pending.size() && (done[m2] || pending[m2].b != p.b)) ++m2;
+      Sums s{}, s2{};
+      if (m2 < pending.size()) {
+        kSums2[J - 1](w[static_cast<std::size_t>(p.a)].get(), w[static_cast<std::size_t>(pending[m2].a)].get(),
+                      w[static_cast<std::size_t>(p.b)].get(), n, s, s2);
+        keep(m2, s2);
+        done[m2] = 1;
+      } else {
+        kSums[J - 1](w[static_cast<std::size_t>(p.a)].get(), w[static_cast<std::size_t>(p.b)].get(), n, s);
+      }
+      keep(m, s);
     }
   }
   for (std::size_t m = 0; m < pending.size(); ++m) {

@@ -97,6 +97,7 @@ class GramMemo {
   std::vector<Missing> missing_;
   std::vector<Whitened> w_;
   std::vector<char> needed_;
+  std::vector<char> done_;  ///< grid_grams: the missing entries summed so far in one table
 };
 
 }  // namespace rnav
