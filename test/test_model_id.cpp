@@ -93,20 +93,28 @@ TEST_CASE("noise model: whitened columns are the same, bit for bit, however many
       for (Eigen::Index c = 0; c < cols; ++c) M(i, c) = std::sin(0.7 * static_cast<double>(i) + static_cast<double>(c)) + 0.1 * c;
     Eigen::MatrixXd together = M;
     whiten(t, h, p, skip, together);
-    Eigen::MatrixXd pointed = M;  // the columns in reverse order, by pointer
-    std::vector<double*> starts;
-    for (Eigen::Index c = cols - 1; c >= 0; --c) starts.push_back(pointed.col(c).data());
-    whiten(table, 0, starts);
+    Eigen::MatrixXd pointed = M, into(n, cols);  // the columns in reverse order, by pointer: in place, and into another matrix
+    std::vector<const double*> from;
+    std::vector<double*> starts, to;
+    for (Eigen::Index c = cols - 1; c >= 0; --c) {
+      from.push_back(pointed.col(c).data()), starts.push_back(pointed.col(c).data());
+      to.push_back(into.col(c).data());
+    }
+    whiten(table, 0, from, to);
+    whiten(table, 0, from, starts);
     for (Eigen::Index c = 0; c < cols; ++c) {
       Eigen::MatrixXd alone = M.col(c);
       whiten(t, h, p, skip, alone);
       INFO(cols << " columns, column " << c);
       CHECK((alone.col(0).array() == together.col(c).array()).all());
       CHECK((alone.col(0).array() == pointed.col(c).array()).all());
+      CHECK((alone.col(0).array() == into.col(c).array()).all());
     }
   }
-  std::vector<double*> none;
-  CHECK_THROWS_WITH(whiten(table, 1, none), Catch::Contains("no model 1"));
+  std::vector<const double*> none;
+  std::vector<double*> one = {nullptr};
+  CHECK_THROWS_WITH(whiten(table, 1, none, {}), Catch::Contains("no model 1"));
+  CHECK_THROWS_WITH(whiten(table, 0, none, one), Catch::Contains("one destination per column"));
 }
 
 TEST_CASE("noise model: whiten_batch gives each model what whiten gives it alone, bit for bit") {

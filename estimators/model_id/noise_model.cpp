@@ -87,63 +87,64 @@ Eigen::Index first_nonzero(const double* const* m, Eigen::Index n) {
   return n;
 }
 
-// whiten_step on the B columns m[0 .. B - 1] at once, in pairs (one pair per vector register,
-// an odd last column alone): each lane's arithmetic is whiten_step's, the same results bit for
-// bit.
+// whiten_step on the B columns src[0 .. B - 1] at once, into dst[0 .. B - 1] (dst = src: in
+// place), in pairs (one pair per vector register, an odd last column alone): each lane's
+// arithmetic is whiten_step's, the same results bit for bit.
 template <int B>
-void whiten_columns(const std::vector<Gain>& g, double* const* m) {
+void whiten_columns(const std::vector<Gain>& g, const double* const* src, double* const* dst) {
   constexpr int P = B / 2;
   constexpr bool odd = B % 2 == 1;
   v2d x0[P > 0 ? P : 1] = {}, x1[P > 0 ? P : 1] = {};  // the pairs' states (a, g)
   double y0 = 0, y1 = 0;                               // the odd column's
   const auto n = static_cast<Eigen::Index>(g.size());
-  const Eigen::Index i0 = first_nonzero<B>(m, n);
-  for (Eigen::Index i = 0; i < i0; ++i)  // a frame kept out whitens to +0 (its input may be -0)
-    if (g[static_cast<std::size_t>(i)].skip)
-      for (int k = 0; k < B; ++k) m[k][i] = 0;
+  const Eigen::Index i0 = first_nonzero<B>(src, n);
+  for (Eigen::Index i = 0; i < i0; ++i) {  // the input itself; a frame kept out whitens to +0 (its input may be -0)
+    const bool skip = g[static_cast<std::size_t>(i)].skip;
+    for (int k = 0; k < B; ++k) dst[k][i] = skip ? 0.0 : src[k][i];
+  }
   for (Eigen::Index i = i0; i < n; ++i) {
     const Gain& G = g[static_cast<std::size_t>(i)];
     if (G.skip) {
-      for (int k = 0; k < B; ++k) m[k][i] = 0;
+      for (int k = 0; k < B; ++k) dst[k][i] = 0;
       continue;
     }
     const v2d f0 = {G.f0, G.f0}, f = {G.f, G.f}, H0 = {G.H0, G.H0}, K0 = {G.K0, G.K0}, K1 = {G.K1, G.K1},
               sq = {G.sq, G.sq};
     for (int p = 0; p < P; ++p) {
       if (G.started) x0[p] *= f0, x1[p] *= f;
-      const v2d nu = v2d{m[2 * p][i], m[2 * p + 1][i]} - (H0 * x0[p] + x1[p]);
+      const v2d nu = v2d{src[2 * p][i], src[2 * p + 1][i]} - (H0 * x0[p] + x1[p]);
       x0[p] += K0 * nu, x1[p] += K1 * nu;
       const v2d w = nu / sq;
-      m[2 * p][i] = w[0], m[2 * p + 1][i] = w[1];
+      dst[2 * p][i] = w[0], dst[2 * p + 1][i] = w[1];
     }
-    if (odd) m[B - 1][i] = whiten_step(G, m[B - 1][i], y0, y1);
+    if (odd) dst[B - 1][i] = whiten_step(G, src[B - 1][i], y0, y1);
   }
 }
 
-// Pass 2 on the columns cols[0 .. count - 1] (each g.size() long), eight at a time
-// (whiten_columns; a lone column's recursion is a chain of dependent operations, eight of them
-// keep the processor busy).
-void whiten_through(const std::vector<Gain>& g, double* const* cols, std::size_t count) {
+// Pass 2 on the columns src[0 .. count - 1] (each g.size() long) into dst (dst = src: in
+// place), eight at a time (whiten_columns; a lone column's recursion is a chain of dependent
+// operations, eight of them keep the processor busy).
+void whiten_through(const std::vector<Gain>& g, const double* const* src, double* const* dst, std::size_t count) {
   std::size_t c = 0;
-  for (; c + 8 <= count; c += 8) whiten_columns<8>(g, cols + c);
+  for (; c + 8 <= count; c += 8) whiten_columns<8>(g, src + c, dst + c);
   switch (count - c) {
-    case 7: whiten_columns<7>(g, cols + c); break;
-    case 6: whiten_columns<6>(g, cols + c); break;
-    case 5: whiten_columns<5>(g, cols + c); break;
-    case 4: whiten_columns<4>(g, cols + c); break;
-    case 3: whiten_columns<3>(g, cols + c); break;
-    case 2: whiten_columns<2>(g, cols + c); break;
-    case 1: whiten_columns<1>(g, cols + c); break;
+    case 7: whiten_columns<7>(g, src + c, dst + c); break;
+    case 6: whiten_columns<6>(g, src + c, dst + c); break;
+    case 5: whiten_columns<5>(g, src + c, dst + c); break;
+    case 4: whiten_columns<4>(g, src + c, dst + c); break;
+    case 3: whiten_columns<3>(g, src + c, dst + c); break;
+    case 2: whiten_columns<2>(g, src + c, dst + c); break;
+    case 1: whiten_columns<1>(g, src + c, dst + c); break;
     default: break;
   }
 }
 
-// Pass 2 on every column of M.
+// Pass 2 on every column of M, in place.
 void whiten_through(const std::vector<Gain>& g, Eigen::Ref<Eigen::MatrixXd> M) {
   thread_local std::vector<double*> cols;
   cols.resize(static_cast<std::size_t>(M.cols()));
   for (Eigen::Index c = 0; c < M.cols(); ++c) cols[static_cast<std::size_t>(c)] = M.col(c).data();
-  whiten_through(g, cols.data(), cols.size());
+  whiten_through(g, cols.data(), cols.data(), cols.size());
 }
 
 // One column m through the gains of J models (J <= kMaxEach), frame-major: w[i * J + j] under
@@ -587,9 +588,10 @@ void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M
   whiten_through(table.gains[j], M);
 }
 
-void whiten(const GainTable& table, std::size_t j, const std::vector<double*>& cols) {
+void whiten(const GainTable& table, std::size_t j, const std::vector<const double*>& src, const std::vector<double*>& dst) {
   if (j >= table.gains.size()) throw std::invalid_argument("whiten: no model " + std::to_string(j) + " in the gain table");
-  whiten_through(table.gains[j], cols.data(), cols.size());
+  if (src.size() != dst.size()) throw std::invalid_argument("whiten: one destination per column");
+  whiten_through(table.gains[j], src.data(), dst.data(), src.size());
 }
 
 std::size_t GainTable::bytes() const {

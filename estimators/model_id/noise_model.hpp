@@ -108,10 +108,12 @@ void innovation_gains(const std::vector<double>& t, const std::vector<double>& h
 /// M whitened in place under table.models[j]: whiten()'s result, bit for bit, without computing
 /// the gains again. Throws std::invalid_argument when M's rows are not the table's frames.
 void whiten(const GainTable& table, std::size_t j, Eigen::Ref<Eigen::MatrixXd> M);
-/// The same on columns given by where they start, each as long as the table's frames (the
-/// caller's duty: they are not checked), whitened in place; at once, eight at a time (one
-/// column's recursion is a chain of dependent operations: eight keep the processor busy).
-void whiten(const GainTable& table, std::size_t j, const std::vector<double*>& cols);
+/// The same on columns given by where they start, src[k] whitened into dst[k] (dst[k] = src[k]:
+/// in place; otherwise they must not overlap), each as long as the table's frames (the caller's
+/// duty: lengths are not checked); at once, eight at a time (one column's recursion is a chain
+/// of dependent operations: eight keep the processor busy). Throws std::invalid_argument unless
+/// src and dst are as many.
+void whiten(const GainTable& table, std::size_t j, const std::vector<const double*>& src, const std::vector<double*>& dst);
 
 /// Column m whitened under every model of the table, frame-major: w[i * J + j] under
 /// table.models[j] (J models, at most 16), each value whiten(table, j, m)'s bit for bit.

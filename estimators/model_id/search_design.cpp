@@ -214,25 +214,30 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
     catalogue_laid_out_ = true;
   }
   thread_local Eigen::MatrixXd B;  // a scattered channel's rows of every column touching it
+  std::vector<const double*> from;
   std::vector<double*> cols;
   for (std::size_t c = 0; c < nc; ++c) {
     const std::vector<std::size_t>& rc = rows[c];
     const auto m = static_cast<Eigen::Index>(rc.size());
     if (m == 0) continue;
     if (one_block(c)) {
+      // straight from the raw columns into Cw's rows; a raw column computed into scratch (not
+      // kept) is copied first, as the next one's computation overwrites it
       const auto a = static_cast<Eigen::Index>(rc.front());
-      cols.clear();
+      from.clear(), cols.clear();
       for (std::size_t e = 0; e < Cw.size(); ++e)
         for (std::size_t v = 0; v < Cw[e].size(); ++v) {
           if (!touched[e][v * nc + c]) continue;
           const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+          const bool own = &raw == &scratch;
           for (Eigen::Index j = 0; j < raw.cols(); ++j) {
             double* to = Cw[e][v].col(j).data() + a;
-            std::copy_n(raw.col(j).data() + a, m, to);
+            if (own) std::copy_n(raw.col(j).data() + a, m, to);
+            from.push_back(own ? to : raw.col(j).data() + a);
             cols.push_back(to);
           }
         }
-      rnav::whiten(tables[c], 0, cols);
+      rnav::whiten(tables[c], 0, from, cols);
       continue;
     }
     Eigen::Index k = 0;
