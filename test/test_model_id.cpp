@@ -293,6 +293,48 @@ TEST_CASE("noise model: whiten_each_model gives whiten()'s values under each mod
   CHECK_THROWS_WITH(whiten_each_model(table, Eigen::VectorXd::Zero(n - 1), w), Catch::Contains("rows != number of times"));
 }
 
+TEST_CASE("noise model: a packed gain table whitens as the unpacked one, bit for bit") {
+  // pack_gains lays a table's gains out frame by frame in pairs of models for the grid's
+  // whitening (whiten_each_model reads the packing when there is one): every value must be the
+  // unpacked table's, with one model, an even and an odd count (a padding model), frames kept
+  // out, and a column that starts with zeros (-0 among them). Models with transitions of their
+  // own (another tau) are not packed; a table computed again drops its packing.
+  const std::vector<char> skip = {0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0};
+  const auto n = static_cast<Eigen::Index>(kWhitenT.size());
+  Eigen::VectorXd m(n), lead(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    m(i) = std::sin(0.7 * static_cast<double>(i)) + 0.1 * static_cast<double>(i);
+    lead(i) = i < 5 ? (i % 2 == 1 ? -0.0 : 0.0) : m(i);
+  }
+  for (const auto& ps : {models_at({0.5}), models_at({0.3, 0.6, 0.8, 0.9, 0.95, 0.98}),
+                         models_at({0.3, 0.6, 0.8, 0.9, 0.95, 0.98, 0.995})}) {
+    GainTable plain, packed;
+    innovation_gains(kWhitenT, kWhitenH, ps, skip, plain);
+    innovation_gains(kWhitenT, kWhitenH, ps, skip, packed);
+    pack_gains(packed);
+    REQUIRE(!packed.packed.empty());
+    for (const Eigen::VectorXd* col : {&m, &lead}) {
+      std::vector<double> a, b;
+      whiten_each_model(plain, *col, a);
+      whiten_each_model(packed, *col, b);
+      REQUIRE(a.size() == b.size());
+      INFO(ps.size() << " models" << (col == &lead ? ", leading zeros" : ""));
+      for (std::size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k] == b[k]);
+        CHECK(std::signbit(a[k]) == std::signbit(b[k]));
+      }
+    }
+    innovation_gains(kWhitenT, kWhitenH, ps, skip, packed);
+    CHECK(packed.packed.empty());
+  }
+  std::vector<NoiseParams> mixed = models_at({0.5, 0.8});
+  mixed[1].tau_s = 3.0;
+  GainTable own;
+  innovation_gains(kWhitenT, kWhitenH, mixed, skip, own);
+  pack_gains(own);
+  CHECK(own.packed.empty());
+}
+
 // n frame times dt apart moved by wobble sin(i) (irregular sampling) and gains h0 + dh i.
 std::pair<std::vector<double>, std::vector<double>> wobbly_frames(Eigen::Index n, double dt, double wobble, double h0,
                                                                   double dh) {

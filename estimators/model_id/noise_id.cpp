@@ -206,6 +206,7 @@ class GainCache {
     // fifteenth of a pooled multi-sensor diagnosis, whose many series churn)
     GainTable table;
     innovation_gains(sr.t, sr.h, ps, skip, table);
+    if (ps.size() > 1) pack_gains(table);  // (kept tables whiten columns under all their models at once)
     const std::size_t bytes = table.bytes();
     return {key, &kept_.insert(key, std::move(table), bytes)};
   }

@@ -183,6 +183,44 @@ void whiten_each(const std::vector<std::vector<Gain>>& g, const double* m, Eigen
   }
 }
 
+// A packed frame's flag (GainTable::packed).
+constexpr double kPackedSkip = 0, kPackedStarted = 1, kPackedFirst = 2;
+
+// whiten_each on a packed table (pack_gains): each lane's arithmetic is whiten_step's, the same
+// values bit for bit.
+template <std::size_t J>
+void whiten_each_packed(const double* pk, const double* m, Eigen::Index n, double* w) {
+  constexpr std::size_t P = (J + 1) / 2, Jp = 2 * P, stride = 4 + 3 * Jp;
+  v2d x0[P] = {}, x1[P] = {};
+  auto load = [](const double* a) { return v2d{a[0], a[1]}; };
+  Eigen::Index i0 = 0;  // before the first non-zero value each whitened value is the input (first_nonzero)
+  for (; i0 < n && m[i0] == 0; ++i0) {
+    const bool skip = pk[static_cast<std::size_t>(i0) * stride + 3] == kPackedSkip;
+    for (std::size_t j = 0; j < J; ++j) w[static_cast<std::size_t>(i0) * J + j] = skip ? 0.0 : m[i0];  // kept out: +0
+  }
+  for (Eigen::Index i = i0; i < n; ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    const double* b = pk + ui * stride;
+    double* wi = w + ui * J;
+    if (b[3] == kPackedSkip) {
+      for (std::size_t j = 0; j < J; ++j) wi[j] = 0;
+      continue;
+    }
+    if (b[3] == kPackedStarted) {
+      const v2d f0 = {b[0], b[0]}, f = {b[1], b[1]};
+      for (std::size_t p = 0; p < P; ++p) x0[p] *= f0, x1[p] *= f;
+    }
+    const v2d mv = {m[i], m[i]}, H0 = {b[2], b[2]};
+    for (std::size_t p = 0; p < P; ++p) {
+      const v2d nu = mv - (H0 * x0[p] + x1[p]);
+      x0[p] += load(b + 4 + 2 * p) * nu, x1[p] += load(b + 4 + Jp + 2 * p) * nu;
+      const v2d wv = nu / load(b + 4 + 2 * Jp + 2 * p);
+      wi[2 * p] = wv[0];
+      if (2 * p + 1 < J) wi[2 * p + 1] = wv[1];
+    }
+  }
+}
+
 // whiten_each<J> for J = 1 .. kMaxEach, the models' count fixed at compile time (their states
 // stay in registers).
 using WhitenEachFn = void (*)(const std::vector<std::vector<Gain>>&, const double*, Eigen::Index, double*);
@@ -191,6 +229,12 @@ constexpr std::array<WhitenEachFn, sizeof...(Js)> whiten_each_table(std::index_s
   return {&whiten_each<Js + 1>...};
 }
 constexpr auto kWhitenEach = whiten_each_table(std::make_index_sequence<kMaxEach>{});
+using WhitenPackedFn = void (*)(const double*, const double*, Eigen::Index, double*);
+template <std::size_t... Js>
+constexpr std::array<WhitenPackedFn, sizeof...(Js)> whiten_packed_table(std::index_sequence<Js...>) {
+  return {&whiten_each_packed<Js + 1>...};
+}
+constexpr auto kWhitenPacked = whiten_packed_table(std::make_index_sequence<kMaxEach>{});
 
 }  // namespace
 
@@ -536,6 +580,7 @@ void innovation_gains(const std::vector<double>& t, const std::vector<double>& h
                       const std::vector<char>& skip, GainTable& table) {
   check_batch(t, h, ps, skip);
   table.models = ps;
+  table.packed.clear();  // (a table given again: its packing was the gains before)
   gains(t, h, ps, skip, table.gains, nullptr, &table.sum_logS);
   table.gains.resize(ps.size());
 }
@@ -574,7 +619,43 @@ void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::Vec
   for (const auto& g : table.gains)
     if (static_cast<Eigen::Index>(g.size()) != n) throw std::invalid_argument("whiten: rows != number of times");
   if (J > kMaxEach) throw std::invalid_argument("whiten: at most " + std::to_string(kMaxEach) + " models at once");
-  if (J > 0) kWhitenEach[J - 1](table.gains, m.data(), n, w);
+  if (J == 0) return;
+  if (!table.packed.empty())
+    kWhitenPacked[J - 1](table.packed.data(), m.data(), n, w);
+  else
+    kWhitenEach[J - 1](table.gains, m.data(), n, w);
+}
+
+void pack_gains(GainTable& table) {
+  table.packed.clear();
+  const std::size_t J = table.gains.size();
+  if (J == 0 || J > kMaxEach) return;
+  const std::size_t n = table.gains[0].size(), Jp = J + J % 2, stride = 4 + 3 * Jp;
+  for (const auto& g : table.gains)
+    if (g.size() != n) throw std::logic_error("pack_gains: the models' gains differ in length");
+  for (std::size_t i = 0; i < n; ++i) {
+    const InnovationGain& G = table.gains[0][i];
+    for (std::size_t j = 1; j < J; ++j) {
+      const InnovationGain& Gj = table.gains[j][i];
+      if (Gj.skip != G.skip || Gj.started != G.started)
+        throw std::logic_error("pack_gains: the models differ in the frames they keep out or start at");
+      if (!G.skip && G.started && (Gj.f0 != G.f0 || Gj.f != G.f)) return;  // transitions of their own: not packed
+    }
+  }
+  std::vector<double>& pk = table.packed;
+  pk.assign(n * stride, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    double* b = pk.data() + i * stride;
+    const InnovationGain& G = table.gains[0][i];
+    b[0] = G.f0, b[1] = G.f, b[2] = G.H0;
+    b[3] = G.skip ? kPackedSkip : G.started ? kPackedStarted : kPackedFirst;
+    for (std::size_t j = 0; j < Jp; ++j) {
+      const bool pad = j >= J;
+      b[4 + j] = pad ? 0.0 : table.gains[j][i].K0;
+      b[4 + Jp + j] = pad ? 0.0 : table.gains[j][i].K1;
+      b[4 + 2 * Jp + j] = pad ? 1.0 : table.gains[j][i].sq;
+    }
+  }
 }
 
 void whiten_each_model(const GainTable& table, const Eigen::Ref<const Eigen::VectorXd>& m, std::vector<double>& w) {
@@ -597,6 +678,7 @@ void whiten(const GainTable& table, std::size_t j, const std::vector<const doubl
 std::size_t GainTable::bytes() const {
   std::size_t b = sizeof(GainTable) + models.size() * sizeof(NoiseParams) + sum_logS.size() * sizeof(double);
   for (const auto& g : gains) b += g.capacity() * sizeof(InnovationGain);
+  b += packed.capacity() * sizeof(double);
   return b;
 }
 

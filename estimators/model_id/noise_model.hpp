@@ -96,8 +96,18 @@ struct GainTable {
   /// writes them so: the frames kept out are the table's; whiten_each_model relies on it)
   std::vector<std::vector<InnovationGain>> gains;
   std::vector<double> sum_logS;  ///< per model: sum over the frames kept of log S_i (one product: the sum of the logs to about n eps)
+  /// The same gains packed for whiten_each_model (pack_gains; empty: not packed): per frame a
+  /// block of 4 + 3 Jp values, Jp = J rounded up to even: f0, f, H0 and a flag (0 kept out, 1
+  /// started, 2 not yet), then K0, K1 and sqrt(S) of each model (a last padding model: 0, 0, 1).
+  std::vector<double> packed;
   std::size_t bytes() const;     ///< memory held [B]
 };
+
+/// Packs table.gains into table.packed where every model of a frame shares its transitions f0
+/// and f (a grid's models at one tau, their shares > 0); otherwise leaves packed empty. A packed
+/// table's frames are about half as many bytes: whiten_each_model reads them instead (the same
+/// values bit for bit; the grid's whitening waited on memory more than on arithmetic).
+void pack_gains(GainTable& table);
 
 /// The gain table of the models ps (which must share nom_tau_s) at frame times t
 /// (gains h, empty: 1; frames skip kept out, empty: none), as whiten_batch computes it. Throws
