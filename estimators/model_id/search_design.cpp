@@ -171,48 +171,58 @@ Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::ve
   return out;
 }
 
+bool Design::one_block(std::size_t c) const {
+  // rows ascend: one block when the last minus the first is their count less one
+  return !rows[c].empty() && rows[c].back() - rows[c].front() + 1 == rows[c].size();
+}
+
+void Design::lay_out_catalogue() {
+  // (Cw's storage is kept from one noise to the next: the rows of the channels a grid point does
+  // not touch are 0 under every noise, written once; zeroing them again was a thirtieth of a
+  // landing diagnosis)
+  const Problem& p = *pb;
+  const std::size_t nc = rows.size();
+  Eigen::MatrixXd scratch;
+  Cw.assign(p.catalogue.size(), {});
+  cat_touched_.assign(p.catalogue.size(), {});
+  for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
+    const std::size_t nv = p.catalogue[e].variants();
+    std::vector<char>& touched = cat_touched_[e];
+    touched.resize(nv * nc);
+    for (std::size_t v = 0; v < nv; ++v) {
+      const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+      const std::vector<char>* kt = kept_touches(e, v);
+      const std::vector<char> own = kt ? std::vector<char>{} : touches(raw);
+      std::copy_n((kt ? *kt : own).begin(), nc, touched.begin() + static_cast<std::ptrdiff_t>(v * nc));
+      Eigen::MatrixXd& out = Cw[e].emplace_back(raw.rows(), raw.cols());  // the touched channels' rows: whiten_catalogue's
+      // the rows of the channels it does not touch: 0 (the channels' rows partition the observations)
+      for (std::size_t c = 0; c < nc; ++c) {
+        if (rows[c].empty() || touched[v * nc + c]) continue;
+        for (Eigen::Index j = 0; j < out.cols(); ++j) {
+          double* to = out.col(j).data();
+          if (one_block(c))
+            std::fill_n(to + rows[c].front(), rows[c].size(), 0.0);
+          else
+            for (std::size_t r : rows[c]) to[r] = 0;
+        }
+      }
+    }
+  }
+  catalogue_laid_out_ = true;
+}
+
 void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
   // Channel by channel, every column of every entry's grid points that touches it whitened at
   // once: whiten_through's values bit for bit (each column's recursion is its own), but eight
   // columns at a time where one grid point has one to three (a lone column's recursion is a chain
   // of dependent operations that leaves the processor mostly waiting). A channel whose rows are
-  // one block (rows ascend: the last minus the first is their count less one) is whitened in
-  // place in Cw; another's rows are gathered into one matrix, whitened and put back.
-  // (Cw's storage kept from one noise to the next: the rows of the channels a grid point does not
-  // touch are 0 under every noise, written once; zeroing them again was a thirtieth of a landing
-  // diagnosis)
+  // one block is whitened straight from the raw columns into Cw's rows; another's rows are
+  // gathered into one matrix, whitened and put back.
   const Problem& p = *pb;
   const std::size_t nc = rows.size();
-  auto one_block = [&](std::size_t c) { return !rows[c].empty() && rows[c].back() - rows[c].front() + 1 == rows[c].size(); };
+  if (!catalogue_laid_out_) lay_out_catalogue();
+  const std::vector<std::vector<char>>& touched = cat_touched_;  // [entry][variant * channels + channel]
   Eigen::MatrixXd scratch;
-  std::vector<std::vector<char>>& touched = cat_touched_;  // [entry][variant * channels + channel]
-  if (!catalogue_laid_out_) {
-    Cw.assign(p.catalogue.size(), {});
-    touched.assign(p.catalogue.size(), {});
-    for (std::size_t e = 0; e < p.catalogue.size(); ++e) {
-      const std::size_t nv = p.catalogue[e].variants();
-      touched[e].resize(nv * nc);
-      for (std::size_t v = 0; v < nv; ++v) {
-        const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
-        const std::vector<char>* kt = kept_touches(e, v);
-        const std::vector<char> own = kt ? std::vector<char>{} : touches(raw);
-        std::copy_n((kt ? *kt : own).begin(), nc, touched[e].begin() + static_cast<std::ptrdiff_t>(v * nc));
-        Eigen::MatrixXd& out = Cw[e].emplace_back(raw.rows(), raw.cols());  // the touched channels' rows written below
-        // the rows of the channels it does not touch: 0 (the channels' rows partition the observations)
-        for (std::size_t c = 0; c < nc; ++c) {
-          if (rows[c].empty() || touched[e][v * nc + c]) continue;
-          for (Eigen::Index j = 0; j < out.cols(); ++j) {
-            double* to = out.col(j).data();
-            if (one_block(c))
-              std::fill_n(to + rows[c].front(), rows[c].size(), 0.0);
-            else
-              for (std::size_t r : rows[c]) to[r] = 0;
-          }
-        }
-      }
-    }
-    catalogue_laid_out_ = true;
-  }
   thread_local Eigen::MatrixXd B;  // a scattered channel's rows of every column touching it
   std::vector<const double*> from;
   std::vector<double*> cols;
@@ -252,9 +262,9 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
         if (!touched[e][v * nc + c]) continue;
         const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
         for (Eigen::Index j = 0; j < raw.cols(); ++j, ++col) {
-          const double* from = raw.col(j).data();
+          const double* src = raw.col(j).data();
           double* b = B.col(col).data();
-          for (Eigen::Index r = 0; r < m; ++r) b[r] = from[rc[static_cast<std::size_t>(r)]];
+          for (Eigen::Index r = 0; r < m; ++r) b[r] = src[rc[static_cast<std::size_t>(r)]];
         }
       }
     rnav::whiten(tables[c], 0, B);

@@ -98,8 +98,13 @@ struct Design {
   /// Cw: every entry's columns at every grid point whitened through the channels' tables
   /// (whiten_through's values, bit for bit), and their Cg.
   void whiten_catalogue(const std::vector<GainTable>& tables);
-  /// Whether Cw is laid out for the catalogue (every grid point's matrix, 0 on the rows of the
-  /// channels it does not touch), and which channels each touches: [entry][variant * channels + channel].
+  /// Cw laid out for the catalogue: every grid point's matrix, 0 on the rows of the channels it
+  /// does not touch (cat_touched_), the other rows left for whiten_catalogue.
+  void lay_out_catalogue();
+  /// Whether channel c's rows are one block of consecutive observations.
+  bool one_block(std::size_t c) const;
+  /// Whether lay_out_catalogue has run, and which channels each grid point touches:
+  /// [entry][variant * channels + channel].
   bool catalogue_laid_out_ = false;
   std::vector<std::vector<char>> cat_touched_;
 };
