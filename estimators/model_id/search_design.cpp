@@ -143,31 +143,42 @@ std::vector<GainTable> Design::gain_tables(const std::vector<NoiseParams>& np) c
   return out;
 }
 
-Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables,
-                                       const std::vector<char>* touched_in) const {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
-  const Eigen::Index k = raw.cols();
-  thread_local Eigen::MatrixXd B;  // one channel's rows (kept per thread: set_noise whitens every grid point)
-  // a channel the columns do not touch stays zero (most entries touch one channel of several)
-  std::vector<char> own;
-  const std::vector<char>& touched = touched_in ? *touched_in : (own = touches(raw));
-  for (std::size_t c = 0; c < rows.size(); ++c) {
-    const std::vector<std::size_t>& rc = rows[c];
-    const auto m = static_cast<Eigen::Index>(rc.size());
-    if (!touched[c]) continue;
-    B.resize(m, k);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const double* col = raw.col(j).data();
-      double* b = B.col(j).data();
-      for (Eigen::Index r = 0; r < m; ++r) b[r] = col[rc[static_cast<std::size_t>(r)]];
-    }
-    rnav::whiten(tables[c], 0, B);
-    for (Eigen::Index j = 0; j < k; ++j) {
-      double* col = out.col(j).data();
-      const double* b = B.col(j).data();
-      for (Eigen::Index r = 0; r < m; ++r) col[rc[static_cast<std::size_t>(r)]] = b[r];
-    }
+void Design::whiten_channel(std::size_t c, const GainTable& table, const std::vector<const double*>& src,
+                            const std::vector<double*>& dst) const {
+  const std::vector<std::size_t>& rc = rows[c];
+  const auto m = static_cast<Eigen::Index>(rc.size());
+  const std::size_t k = src.size();
+  if (m == 0 || k == 0) return;
+  if (one_block(c)) {  // whitened where they are, all at once
+    thread_local std::vector<const double*> from;
+    thread_local std::vector<double*> to;
+    from.resize(k), to.resize(k);
+    for (std::size_t j = 0; j < k; ++j) from[j] = src[j] + rc.front(), to[j] = dst[j] + rc.front();
+    rnav::whiten(table, 0, from, to);
+    return;
   }
+  thread_local Eigen::MatrixXd B;  // the channel's rows, gathered (kept per thread: set_noise whitens every grid point)
+  B.resize(m, static_cast<Eigen::Index>(k));
+  for (std::size_t j = 0; j < k; ++j) {
+    double* b = B.col(static_cast<Eigen::Index>(j)).data();
+    for (Eigen::Index r = 0; r < m; ++r) b[r] = src[j][rc[static_cast<std::size_t>(r)]];
+  }
+  rnav::whiten(table, 0, B);
+  for (std::size_t j = 0; j < k; ++j) {
+    const double* b = B.col(static_cast<Eigen::Index>(j)).data();
+    for (Eigen::Index r = 0; r < m; ++r) dst[j][rc[static_cast<std::size_t>(r)]] = b[r];
+  }
+}
+
+Eigen::MatrixXd Design::whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw.rows(), raw.cols());
+  std::vector<const double*> src;
+  std::vector<double*> dst;
+  for (Eigen::Index j = 0; j < raw.cols(); ++j) src.push_back(raw.col(j).data()), dst.push_back(out.col(j).data());
+  // a channel the columns do not touch stays zero (most entries touch one channel of several)
+  const std::vector<char> touched = touches(raw);
+  for (std::size_t c = 0; c < rows.size(); ++c)
+    if (touched[c]) whiten_channel(c, tables[c], src, dst);
   return out;
 }
 
@@ -215,70 +226,30 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
   // Channel by channel, every column of every entry's grid points that touches it whitened at
   // once: whiten_through's values bit for bit (each column's recursion is its own), but eight
   // columns at a time where one grid point has one to three (a lone column's recursion is a chain
-  // of dependent operations that leaves the processor mostly waiting). A channel whose rows are
-  // one block is whitened straight from the raw columns into Cw's rows; another's rows are
-  // gathered into one matrix, whitened and put back.
+  // of dependent operations that leaves the processor mostly waiting; whiten_channel).
   const Problem& p = *pb;
   const std::size_t nc = rows.size();
   if (!catalogue_laid_out_) lay_out_catalogue();
   const std::vector<std::vector<char>>& touched = cat_touched_;  // [entry][variant * channels + channel]
   Eigen::MatrixXd scratch;
-  thread_local Eigen::MatrixXd B;  // a scattered channel's rows of every column touching it
-  std::vector<const double*> from;
-  std::vector<double*> cols;
+  std::vector<const double*> src;
+  std::vector<double*> dst;
   for (std::size_t c = 0; c < nc; ++c) {
-    const std::vector<std::size_t>& rc = rows[c];
-    const auto m = static_cast<Eigen::Index>(rc.size());
-    if (m == 0) continue;
-    if (one_block(c)) {
-      // straight from the raw columns into Cw's rows; a raw column computed into scratch (not
-      // kept) is copied first, as the next one's computation overwrites it
-      const auto a = static_cast<Eigen::Index>(rc.front());
-      from.clear(), cols.clear();
-      for (std::size_t e = 0; e < Cw.size(); ++e)
-        for (std::size_t v = 0; v < Cw[e].size(); ++v) {
-          if (!touched[e][v * nc + c]) continue;
-          const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
-          const bool own = &raw == &scratch;
-          for (Eigen::Index j = 0; j < raw.cols(); ++j) {
-            double* to = Cw[e][v].col(j).data() + a;
-            if (own) std::copy_n(raw.col(j).data() + a, m, to);
-            from.push_back(own ? to : raw.col(j).data() + a);
-            cols.push_back(to);
-          }
-        }
-      rnav::whiten(tables[c], 0, from, cols);
-      continue;
-    }
-    Eigen::Index k = 0;
-    for (std::size_t e = 0; e < Cw.size(); ++e)
-      for (std::size_t v = 0; v < Cw[e].size(); ++v)
-        if (touched[e][v * nc + c]) k += Cw[e][v].cols();
-    if (k == 0) continue;
-    B.resize(m, k);
-    Eigen::Index col = 0;
+    src.clear(), dst.clear();
     for (std::size_t e = 0; e < Cw.size(); ++e)
       for (std::size_t v = 0; v < Cw[e].size(); ++v) {
         if (!touched[e][v * nc + c]) continue;
         const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
-        for (Eigen::Index j = 0; j < raw.cols(); ++j, ++col) {
-          const double* src = raw.col(j).data();
-          double* b = B.col(col).data();
-          for (Eigen::Index r = 0; r < m; ++r) b[r] = src[rc[static_cast<std::size_t>(r)]];
+        const bool own = &raw == &scratch;  // computed into scratch, which the next one overwrites: its rows put in Cw first
+        for (Eigen::Index j = 0; j < raw.cols(); ++j) {
+          double* to = Cw[e][v].col(j).data();
+          if (own)
+            for (std::size_t r : rows[c]) to[r] = raw(static_cast<Eigen::Index>(r), j);
+          src.push_back(own ? to : raw.col(j).data());
+          dst.push_back(to);
         }
       }
-    rnav::whiten(tables[c], 0, B);
-    col = 0;
-    for (std::size_t e = 0; e < Cw.size(); ++e)
-      for (std::size_t v = 0; v < Cw[e].size(); ++v) {
-        if (!touched[e][v * nc + c]) continue;
-        Eigen::MatrixXd& out = Cw[e][v];
-        for (Eigen::Index j = 0; j < out.cols(); ++j, ++col) {
-          double* to = out.col(j).data();
-          const double* b = B.col(col).data();
-          for (Eigen::Index r = 0; r < m; ++r) to[rc[static_cast<std::size_t>(r)]] = b[r];
-        }
-      }
+    whiten_channel(c, tables[c], src, dst);
   }
   // each grid point's unit_gram, scanning for zeros only from the first touched channel's first
   // row to the last one's last

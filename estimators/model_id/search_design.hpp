@@ -81,9 +81,8 @@ struct Design {
   /// matrices under the same models (whiten_through).
   std::vector<GainTable> gain_tables(const std::vector<NoiseParams>& np) const;
   /// A raw n_obs x k matrix whitened channel by channel through gain_tables' tables: whiten_with's
-  /// result, bit for bit. touches (if given): touches(raw), known beforehand.
-  Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables,
-                                 const std::vector<char>* touches = nullptr) const;
+  /// result, bit for bit.
+  Eigen::MatrixXd whiten_through(const Eigen::MatrixXd& raw, const std::vector<GainTable>& tables) const;
   /// Per channel: whether raw's columns are not all 0 on its observations.
   std::vector<char> touches(const Eigen::MatrixXd& raw) const;
   /// Raw columns of entry e at grid point v (checked shape).
@@ -101,6 +100,11 @@ struct Design {
   /// Cw laid out for the catalogue: every grid point's matrix, 0 on the rows of the channels it
   /// does not touch (cat_touched_), the other rows left for whiten_catalogue.
   void lay_out_catalogue();
+  /// Channel c's rows of the n_obs-long columns src[j] whitened through table into the same rows
+  /// of dst[j] (dst[j] = src[j]: in place), all at once: where the channel's rows are one block,
+  /// where they are; else gathered, whitened and put back.
+  void whiten_channel(std::size_t c, const GainTable& table, const std::vector<const double*>& src,
+                      const std::vector<double*>& dst) const;
   /// Whether channel c's rows are one block of consecutive observations.
   bool one_block(std::size_t c) const;
   /// Whether lay_out_catalogue has run, and which channels each grid point touches:
