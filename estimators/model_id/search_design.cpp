@@ -232,6 +232,24 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
   if (!catalogue_laid_out_) lay_out_catalogue();
   const std::vector<std::vector<char>>& touched = cat_touched_;  // [entry][variant * channels + channel]
   Eigen::MatrixXd scratch;
+  // each grid point's raw columns once (computed, where they are not kept, into scratch, which
+  // the next one overwrites: their touched channels' rows are put in Cw first and whitened there)
+  std::vector<std::vector<std::vector<const double*>>> from(Cw.size());  // [entry][variant][column]
+  for (std::size_t e = 0; e < Cw.size(); ++e) {
+    from[e].resize(Cw[e].size());
+    for (std::size_t v = 0; v < Cw[e].size(); ++v) {
+      const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
+      const bool own = &raw == &scratch;
+      for (Eigen::Index j = 0; j < raw.cols(); ++j) {
+        double* to = Cw[e][v].col(j).data();
+        if (own)
+          for (std::size_t c = 0; c < nc; ++c)
+            if (touched[e][v * nc + c])
+              for (std::size_t r : rows[c]) to[r] = raw(static_cast<Eigen::Index>(r), j);
+        from[e][v].push_back(own ? to : raw.col(j).data());
+      }
+    }
+  }
   std::vector<const double*> src;
   std::vector<double*> dst;
   for (std::size_t c = 0; c < nc; ++c) {
@@ -239,14 +257,9 @@ void Design::whiten_catalogue(const std::vector<GainTable>& tables) {
     for (std::size_t e = 0; e < Cw.size(); ++e)
       for (std::size_t v = 0; v < Cw[e].size(); ++v) {
         if (!touched[e][v * nc + c]) continue;
-        const Eigen::MatrixXd& raw = raw_view(e, v, scratch);
-        const bool own = &raw == &scratch;  // computed into scratch, which the next one overwrites: its rows put in Cw first
-        for (Eigen::Index j = 0; j < raw.cols(); ++j) {
-          double* to = Cw[e][v].col(j).data();
-          if (own)
-            for (std::size_t r : rows[c]) to[r] = raw(static_cast<Eigen::Index>(r), j);
-          src.push_back(own ? to : raw.col(j).data());
-          dst.push_back(to);
+        for (Eigen::Index j = 0; j < Cw[e][v].cols(); ++j) {
+          src.push_back(from[e][v][static_cast<std::size_t>(j)]);
+          dst.push_back(Cw[e][v].col(j).data());
         }
       }
     whiten_channel(c, tables[c], src, dst);
